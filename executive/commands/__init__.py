@@ -1,0 +1,10 @@
+"""The ``csl`` subcommand modules, in the order ``csl --help`` lists them.
+
+Each module has ``register(subparsers)``; add a new group here.
+"""
+
+from __future__ import annotations
+
+from types import ModuleType
+
+MODULES: list[ModuleType] = []

@@ -1,0 +1,167 @@
+"""The driver interface: what the executive may ask of a robot, simulated or real.
+
+The executive holds a :class:`Driver` and nothing else of the robot. Two
+implementations exist: the in-process simulator (``hero_driver.sim_driver``) and the
+zenoh client (``hero_driver.zenoh_link.client``), which talks to any driver process
+that serves the protocol in ``docs/driver-protocol.md``.
+
+Every verb that takes robot time returns a :class:`concurrent.futures.Future` so that
+behaviours can start the work in ``initialise`` and watch it in ``update`` without
+blocking the tick. The in-process simulator returns futures that are already done
+(keeping tick-by-tick traces deterministic); the zenoh client returns futures that
+complete when the reply arrives. A failed call completes its future with a
+:class:`DriverError`.
+
+Units: inches, degrees (counter-clockwise from world +x), seconds of robot time.
+Geometry conventions shared with the planner are in ``docs/conventions.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Future
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+PROTOCOL_VERSION = 1
+
+# Error codes a driver may answer with (docs/driver-protocol.md lists when).
+BAD_REQUEST = "bad_request"  # malformed JSON, missing or mistyped field, wrong version
+UNKNOWN_VERB = "unknown_verb"
+UNKNOWN_PROCEDURE = "unknown_procedure"
+OUT_OF_RANGE = "out_of_range"  # procedure refused: object not within its distance range
+NO_TARGET = "no_target"  # nothing in front of the sonar to sense or grasp
+BUSY = "busy"  # another verb is still executing
+UNAVAILABLE = "unavailable"  # the driver is gone (client side) or not ready
+TIMEOUT = "timeout"  # no reply within the client's deadline
+INTERNAL = "internal"  # the driver failed; it keeps serving
+ERROR_CODES = frozenset(
+    {BAD_REQUEST, UNKNOWN_VERB, UNKNOWN_PROCEDURE, OUT_OF_RANGE, NO_TARGET, BUSY,
+     UNAVAILABLE, TIMEOUT, INTERNAL}
+)
+
+
+class DriverError(Exception):
+    """A verb the driver refused or could not carry out, with a protocol error code."""
+
+    def __init__(self, code: str, message: str) -> None:
+        super().__init__(f"{code}: {message}")
+        self.code = code
+        self.message = message
+
+
+@dataclass(frozen=True)
+class Pose:
+    """The robot base's centre and heading in the world frame."""
+
+    x_in: float
+    y_in: float
+    heading_deg: float
+
+
+@dataclass(frozen=True)
+class RobotState:
+    """What the driver publishes on ``hero/<robot>/state``."""
+
+    pose: Pose
+    clock_s: float  # robot time spent since the last reset
+    battery: float  # 0..1
+
+
+@dataclass(frozen=True)
+class MoveResult:
+    """End of a move: where the base stopped and what the move cost.
+
+    ``collided`` is true when the base stopped early on contact; ``pose`` is then where
+    it stopped. ``centred`` is true when sonar centring found an object to face.
+    """
+
+    pose: Pose
+    duration_s: float
+    collided: bool
+    centred: bool
+
+
+@dataclass(frozen=True)
+class SenseResult:
+    """Feature values yielded by one sensing procedure (None: the sonar dropped out)."""
+
+    procedure: str
+    values: Mapping[str, float | None]
+    duration_s: float
+    distance_in: float  # sonar-to-object distance the procedure was applied at
+
+
+@dataclass(frozen=True)
+class GraspResult:
+    """The finger infrared sensor's verdict: something is between the fingers."""
+
+    procedure: str
+    success: bool
+    duration_s: float
+
+
+@dataclass(frozen=True)
+class CameraImage:
+    """An overhead grayscale image and how its pixels map to the world.
+
+    ``pixels`` is HxW uint8. Pixel (row, col)'s centre, once undistorted, is at world
+    ``x = origin_x_in + (col + 0.5) * inches_per_pixel`` and
+    ``y = origin_y_in - (row + 0.5) * inches_per_pixel`` (row 0 is the room's far,
+    high-y edge). When ``fisheye`` is set the image was distorted with OpenCV's fisheye
+    model: ``camera_matrix`` (3x3) and ``fisheye`` (4 coefficients) undistort it with
+    ``cv2.fisheye.undistortImage(pixels, K, D, Knew=K)``.
+    """
+
+    pixels: np.ndarray
+    inches_per_pixel: float
+    origin_x_in: float
+    origin_y_in: float
+    camera_matrix: np.ndarray | None = None
+    fisheye: tuple[float, float, float, float] | None = None
+    clock_s: float = 0.0
+    meta: Mapping[str, object] = field(default_factory=dict)
+
+
+@runtime_checkable
+class Driver(Protocol):
+    """A robot the executive can drive: the simulated HERO or a hardware driver."""
+
+    robot: str
+
+    def state(self) -> RobotState:
+        """The latest known state (cheap; no robot time)."""
+        ...
+
+    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
+        """Follow ``waypoints`` (world poses; the last is the goal), then turn to
+        ``face`` (a world point, usually the object's centroid) and centre on the
+        object there with the sonar."""
+        ...
+
+    def sense(self, procedure: str) -> Future[SenseResult]:
+        """Apply a sensing procedure to the object in front of the sonar."""
+        ...
+
+    def grasp(self, procedure: str) -> Future[GraspResult]:
+        """Apply a grasping procedure to the object in front of the hand. A successful
+        grasp lifts the object off the floor; ``release`` puts it down and away."""
+        ...
+
+    def release(self) -> Future[RobotState]:
+        """Put a held object away (into the robot's bin); no-op when the hand is empty."""
+        ...
+
+    def camera(self) -> Future[CameraImage]:
+        """Take an overhead image."""
+        ...
+
+    def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
+        """Restore a world (a world-file name or path; None: the current one) and seed."""
+        ...
+
+    def close(self) -> None:
+        """Release the driver's resources; further calls fail with ``unavailable``."""
+        ...
