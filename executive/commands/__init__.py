@@ -7,4 +7,6 @@ from __future__ import annotations
 
 from types import ModuleType
 
-MODULES: list[ModuleType] = []
+from executive.commands import learning, library
+
+MODULES: list[ModuleType] = [learning, library]

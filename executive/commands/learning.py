@@ -1,0 +1,132 @@
+"""``csl tree`` and ``csl train``: the learner on its own, without a robot."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from executive import defaults
+from executive.tables import print_table
+from learner.costs import ModelMoveCost
+from learner.criteria import CRITERIA, criterion
+from learner.description import ObjectDescription
+from learner.knowledge import Knowledge, load_knowledge
+from learner.library import LibraryStore, load_library, write_library_json
+from learner.matrix import DescriptionMatrix
+from learner.position import parse_position
+from learner.render import tree_json, tree_text
+from learner.selection import Context, Node
+from learner.training import train
+from learner.training_data import read_objects, read_replay
+from learner.tree import grow
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "tree",
+        help="print the decision tree the learner grows from a pose",
+        description=(
+            "Print the whole run-time tree the learner would grow for an unknown object, "
+            "standing at POSE, every branch expanded, in the paper's style: a test is "
+            "'move-to-(d,θ) (Ns)' then 'Feature(d,θ) (Ns)', a branch '[lo, hi]', a leaf "
+            "'Grasp(d,θ) (Ns)'."
+        ),
+    )
+    p.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE,
+                   help="robot knowledge TOML (default: the shipped HERO 2000 profile)")
+    p.add_argument("--library", type=Path, default=defaults.EXAMPLE_LIBRARY,
+                   help="object descriptions, .json or a .sqlite store (default: the shipped example library)")
+    p.add_argument("--pose", default="60,0", metavar="D,THETA",
+                   help="the robot's position relative to the object, inches and degrees (default: 60,0)")
+    p.add_argument("--criterion", choices=CRITERIA, default="cs-id3",
+                   help="evaluation function: cs-id3 = I^2/C (CSL), id3 = I, idx = I/C, eg2 = (2^I-1)/(C+1)^w")
+    p.add_argument("--eg2-w", type=float, default=1.0, help="the w of eg2 (default 1)")
+    p.add_argument("--no-grasp-features", action="store_true",
+                   help="never try a grasp as a binary feature before sensing")
+    p.add_argument("--json", action="store_true", help="print the tree as JSON")
+    p.set_defaults(handler=run_tree)
+
+    t = sub.add_parser(
+        "train",
+        help="run the training stage on recorded measurements",
+        description=(
+            "Training stage (method.md §4): choose training positions from the objects' "
+            "footprints and sizes, then measure at each only what classifies every object. "
+            "Prints the positions, what was measured for each object and the robot time, "
+            "and writes the learned descriptions."
+        ),
+    )
+    t.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE, help="robot knowledge TOML")
+    t.add_argument("--objects", type=Path, required=True, help="training objects JSON (docs/training-format.md)")
+    t.add_argument("--measurements", type=Path, required=True,
+                   help="replay file of recorded measurements (docs/training-format.md)")
+    t.add_argument("--out", type=Path, required=True, help="where to write the library: .json, or .sqlite to add to a store")
+    t.set_defaults(handler=run_train)
+
+
+def run_tree(args: argparse.Namespace) -> int:
+    knowledge = load_knowledge(args.knowledge)
+    library = load_library(args.library)
+    if not library:
+        raise ValueError(f"{args.library}: the library is empty")
+    _check_library(library, knowledge, args.library)
+    start = parse_position(args.pose, "--pose")
+    if start.distance_in is None or start.orientation_deg is None:
+        raise ValueError("--pose: the robot's pose must be concrete (no '*')")
+    matrix = DescriptionMatrix(library, knowledge, grasps_as_features=not args.no_grasp_features)
+    ctx = Context(matrix, criterion(args.criterion, args.eg2_w), ModelMoveCost(knowledge.move))
+    tree = grow(Node.root(len(library)), start, ctx)
+    if args.json:
+        json.dump(tree_json(tree), sys.stdout, indent=2, ensure_ascii=False)
+        print()
+    else:
+        print(tree_text(tree))
+    return 0
+
+
+def _check_library(library: Sequence[ObjectDescription], knowledge: Knowledge, source: Path) -> None:
+    """Reject a library that names grasps or features this robot does not have."""
+    for d in library:
+        if not knowledge.has_grasp(d.grasp):
+            raise ValueError(f"{source}: description {d.object_id!r}: grasp {d.grasp!r} is not in the knowledge file")
+        for o in d.observations:
+            if not knowledge.has_feature(o.feature):
+                raise ValueError(f"{source}: description {d.object_id!r}: feature {o.feature!r} "
+                                 "is not yielded by any sensing procedure in the knowledge file")
+
+
+def run_train(args: argparse.Namespace) -> int:
+    knowledge = load_knowledge(args.knowledge)
+    objects = read_objects(args.objects)
+    for o in objects:
+        if not knowledge.has_grasp(o.grasp):
+            raise ValueError(f"{args.objects}: object {o.object_id!r}: grasp {o.grasp!r} is not in the knowledge file")
+    source = read_replay(args.measurements)
+    if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
+        raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
+    result = train(objects, knowledge, source, ModelMoveCost(knowledge.move))
+    log = result.log
+    print(f"training orientations (deg): {', '.join(f'{o:g}' for o in log.orientations)}")
+    print(f"training distances (in):     {', '.join(f'{d:g}' for d in log.distances)}")
+    for r in log.distance_reasons:
+        print(f"  {r.feature} separates {r.object_a} from {r.object_b} up to {r.distance_in:.1f} in")
+    per_object: dict[str, list[str]] = {}
+    for oid, proc, pos, _why in log.applied:
+        per_object.setdefault(oid, []).append(f"{proc}{pos}")
+    print_table(["object", "procedures applied", "n"],
+                [[o.object_id, ", ".join(per_object.get(o.object_id, [])), str(len(per_object.get(o.object_id, [])))]
+                 for o in objects], title="measured per object")
+    for oid, pos in log.unresolved:
+        print(f"warning: {oid} could not be told apart at {pos} with the procedures usable there")
+    print(f"training cost: {log.total_s:.0f} s of robot time "
+          f"({log.sensing_s:.0f} s sensing, {log.moving_s:.0f} s moving; {log.total_s / 3600:.1f} h)")
+    if args.out.suffix.lower() == ".json":
+        write_library_json(args.out, result.descriptions)
+    else:
+        with LibraryStore(args.out) as store:
+            store.add(result.descriptions, replace=True)
+    print(f"wrote {len(result.descriptions)} descriptions to {args.out}")
+    return 0

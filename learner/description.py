@@ -1,0 +1,67 @@
+"""Object descriptions: what CSL learns (method.md §2).
+
+``{object-id, grasp(position), [(feature(position), value), ...]}`` — incomplete on
+purpose: a feature is recorded only where it was needed to tell this object from
+others, so "missing" is the normal case, not an error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from learner.position import Position
+
+
+@dataclass(frozen=True, order=True)
+class Observation:
+    """``feature(position) = value``, e.g. ``Width-Degree-1°(26,0) = 16``."""
+
+    feature: str
+    position: Position
+    value: float
+
+    def __str__(self) -> str:
+        return f"({self.feature}{self.position}, {_num(self.value)})"
+
+
+@dataclass(frozen=True)
+class ObjectDescription:
+    """One object's grasp and the features measured on it."""
+
+    object_id: str
+    grasp: str
+    grasp_position: Position
+    observations: tuple[Observation, ...] = ()
+
+    def value_at(self, feature: str, position: Position) -> float | None:
+        """The value of ``feature`` valid at ``position``, or None when it is missing.
+
+        A value recorded at a generalised position covers the concrete one; with several
+        candidates the most specific (fewest ``*``) wins.
+        """
+        best: Observation | None = None
+        for obs in self.observations:
+            if obs.feature == feature and obs.position.covers(position):
+                if best is None or _specificity(obs.position) > _specificity(best.position):
+                    best = obs
+        return None if best is None else best.value
+
+    def with_observations(self, extra: Iterable[Observation]) -> ObjectDescription:
+        """A copy with ``extra`` added; a new value at an existing (feature, position) wins."""
+        merged = {(o.feature, o.position): o for o in self.observations}
+        for obs in extra:
+            merged[(obs.feature, obs.position)] = obs
+        return ObjectDescription(self.object_id, self.grasp, self.grasp_position, tuple(sorted(merged.values())))
+
+    def __str__(self) -> str:
+        obs = ", ".join(str(o) for o in self.observations)
+        return f"{{{self.object_id}, {self.grasp}{self.grasp_position}, [{obs}]}}"
+
+
+def _specificity(position: Position) -> int:
+    return (position.distance_in is not None) + (position.orientation_deg is not None)
+
+
+def _num(value: float) -> str:
+    return str(int(value)) if float(value).is_integer() else f"{value:g}"

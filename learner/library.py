@@ -1,0 +1,231 @@
+"""The library of object descriptions: a JSON exchange format and a SQLite store.
+
+JSON (``docs/library-format.md``) is for people and version control; the SQLite store
+is what a running robot appends to after every grasp. Each write is one transaction, so
+a crash mid-write loses nothing that was committed and leaves no half-written
+description behind.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sqlite3
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+from learner.description import ObjectDescription, Observation
+from learner.position import Position, position_from_json
+
+FORMAT = "csl-library"
+VERSION = 1
+
+
+# -- JSON ---------------------------------------------------------------------------
+def descriptions_to_json(descriptions: Iterable[ObjectDescription]) -> dict[str, object]:
+    """The documented JSON document for a set of descriptions."""
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "descriptions": [
+            {
+                "id": d.object_id,
+                "grasp": d.grasp,
+                "grasp_position": d.grasp_position.to_json(),
+                "features": [
+                    {"feature": o.feature, "position": o.position.to_json(), "value": _json_num(o.value)}
+                    for o in d.observations
+                ],
+            }
+            for d in descriptions
+        ],
+    }
+
+
+def descriptions_from_json(data: object, source: str = "<library>") -> list[ObjectDescription]:
+    """Parse and validate a library JSON document; errors name the entry and field."""
+    if not isinstance(data, dict):
+        raise ValueError(f"{source}: a library is a JSON object with 'format' and 'descriptions'")
+    if data.get("format") != FORMAT:
+        raise ValueError(f"{source}: 'format' must be {FORMAT!r}, got {data.get('format')!r}")
+    if data.get("version") != VERSION:
+        raise ValueError(f"{source}: unsupported 'version' {data.get('version')!r} (this csl reads {VERSION})")
+    unknown = sorted(set(data) - {"format", "version", "descriptions"})
+    if unknown:
+        raise ValueError(f"{source}: unknown key {unknown[0]!r}")
+    entries = data.get("descriptions")
+    if not isinstance(entries, list):
+        raise ValueError(f"{source}: 'descriptions' must be a list")
+    out = [_description(e, f"{source}: descriptions[{i}]") for i, e in enumerate(entries)]
+    seen: set[str] = set()
+    for d in out:
+        if d.object_id in seen:
+            raise ValueError(f"{source}: description id {d.object_id!r} appears twice")
+        seen.add(d.object_id)
+    return out
+
+
+def _description(entry: object, where: str) -> ObjectDescription:
+    if not isinstance(entry, dict):
+        raise ValueError(f"{where}: must be an object")
+    unknown = sorted(set(entry) - {"id", "grasp", "grasp_position", "features"})
+    if unknown:
+        raise ValueError(f"{where}: unknown key {unknown[0]!r}")
+    for key in ("id", "grasp"):
+        if not isinstance(entry.get(key), str) or not entry[key]:
+            raise ValueError(f"{where}: missing or empty string field '{key}'")
+    where = f"{where} ({entry['id']})"
+    if "grasp_position" not in entry:
+        raise ValueError(f"{where}: missing field 'grasp_position'")
+    grasp_position = position_from_json(entry["grasp_position"], f"{where}: grasp_position")
+    features = entry.get("features", [])
+    if not isinstance(features, list):
+        raise ValueError(f"{where}: 'features' must be a list")
+    observations = []
+    for j, f in enumerate(features):
+        fw = f"{where}: features[{j}]"
+        if not isinstance(f, dict):
+            raise ValueError(f"{fw}: must be an object")
+        unknown = sorted(set(f) - {"feature", "position", "value"})
+        if unknown:
+            raise ValueError(f"{fw}: unknown key {unknown[0]!r}")
+        if not isinstance(f.get("feature"), str) or not f["feature"]:
+            raise ValueError(f"{fw}: missing field 'feature'")
+        value = f.get("value")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(f"{fw}: 'value' must be a finite number, got {value!r}")
+        if "position" not in f:
+            raise ValueError(f"{fw}: missing field 'position'")
+        observations.append(Observation(f["feature"], position_from_json(f["position"], f"{fw}: position"), float(value)))
+    return ObjectDescription(entry["id"], entry["grasp"], grasp_position, tuple(sorted(observations)))
+
+
+def read_library_json(path: str | Path) -> list[ObjectDescription]:
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ValueError(f"{path}: library file not found") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: not valid JSON: {exc}") from None
+    return descriptions_from_json(data, str(path))
+
+
+def write_library_json(path: str | Path, descriptions: Iterable[ObjectDescription]) -> None:
+    """Write atomically: a reader never sees half a file."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(descriptions_to_json(descriptions), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    tmp.replace(path)
+
+
+def _json_num(v: float) -> float | int:
+    return int(v) if float(v).is_integer() else v
+
+
+# -- SQLite -------------------------------------------------------------------------
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS descriptions (
+    seq INTEGER PRIMARY KEY AUTOINCREMENT,
+    id TEXT NOT NULL UNIQUE,
+    grasp TEXT NOT NULL,
+    grasp_distance_in REAL,
+    grasp_orientation_deg REAL
+);
+CREATE TABLE IF NOT EXISTS observations (
+    description_seq INTEGER NOT NULL REFERENCES descriptions(seq) ON DELETE CASCADE,
+    feature TEXT NOT NULL,
+    distance_in REAL,
+    orientation_deg REAL,
+    value REAL NOT NULL
+);
+CREATE INDEX IF NOT EXISTS observations_by_description ON observations(description_seq);
+"""
+
+
+class LibraryStore:
+    """A persistent library in one SQLite file (``NULL`` stands for ``*``)."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._db = sqlite3.connect(self.path)
+            self._db.execute("PRAGMA foreign_keys = ON")
+            with self._db:
+                self._db.executescript(_SCHEMA)
+                self._db.execute("INSERT OR IGNORE INTO meta VALUES ('format', ?)", (f"{FORMAT}/{VERSION}",))
+            fmt = self._db.execute("SELECT value FROM meta WHERE key='format'").fetchone()[0]
+        except sqlite3.DatabaseError as exc:
+            raise ValueError(f"{self.path}: not a csl library database: {exc}") from None
+        if fmt != f"{FORMAT}/{VERSION}":
+            raise ValueError(f"{self.path}: library format {fmt!r}, this csl reads {FORMAT}/{VERSION}")
+
+    def close(self) -> None:
+        self._db.close()
+
+    def __enter__(self) -> LibraryStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def descriptions(self) -> list[ObjectDescription]:
+        """Every description, in the order they were added."""
+        rows = self._db.execute(
+            "SELECT seq, id, grasp, grasp_distance_in, grasp_orientation_deg FROM descriptions ORDER BY seq"
+        ).fetchall()
+        obs: dict[int, list[Observation]] = {}
+        for seq, feature, d, o, v in self._db.execute(
+            "SELECT description_seq, feature, distance_in, orientation_deg, value FROM observations"
+        ):
+            obs.setdefault(seq, []).append(Observation(feature, Position(d, o), v))
+        return [ObjectDescription(i, g, Position(d, o), tuple(sorted(obs.get(seq, []))))
+                for seq, i, g, d, o in rows]
+
+    def add(self, descriptions: Sequence[ObjectDescription], *, replace: bool = False) -> int:
+        """Add descriptions in one transaction; an existing id is an error unless ``replace``.
+
+        Returns how many were written. On any error nothing is written.
+        """
+        with self._db:
+            for d in descriptions:
+                exists = self._db.execute("SELECT seq FROM descriptions WHERE id = ?", (d.object_id,)).fetchone()
+                if exists and not replace:
+                    raise ValueError(f"{self.path}: description {d.object_id!r} is already in the library "
+                                     "(use --replace to overwrite)")
+                if exists:
+                    self._db.execute("DELETE FROM descriptions WHERE seq = ?", exists)
+                seq = self._db.execute(
+                    "INSERT INTO descriptions (id, grasp, grasp_distance_in, grasp_orientation_deg) VALUES (?,?,?,?)",
+                    (d.object_id, d.grasp, d.grasp_position.distance_in, d.grasp_position.orientation_deg),
+                ).lastrowid
+                self._db.executemany(
+                    "INSERT INTO observations VALUES (?,?,?,?,?)",
+                    [(seq, o.feature, o.position.distance_in, o.position.orientation_deg, o.value)
+                     for o in d.observations],
+                )
+        return len(descriptions)
+
+    def unique_id(self, stem: str) -> str:
+        """``stem`` if free, else ``stem#2``, ``stem#3``...: new encounters of an object."""
+        taken = {r[0] for r in self._db.execute("SELECT id FROM descriptions WHERE id = ? OR id LIKE ?",
+                                                (stem, f"{stem}#%"))}
+        if stem not in taken:
+            return stem
+        n = 2
+        while f"{stem}#{n}" in taken:
+            n += 1
+        return f"{stem}#{n}"
+
+
+def load_library(path: str | Path) -> list[ObjectDescription]:
+    """Descriptions from a ``.json`` file or a SQLite store (by extension)."""
+    path = Path(path)
+    if path.suffix.lower() == ".json":
+        return read_library_json(path)
+    if not path.exists():
+        raise ValueError(f"{path}: library not found")
+    with LibraryStore(path) as store:
+        return store.descriptions()

@@ -1,0 +1,83 @@
+"""The library as a matrix: one row per description, one column per test.
+
+Choosing a test scores every feature-position against every description at the node;
+doing that description by description in Python costs far more than the robot can wait
+for (the benchmark's 1,000 descriptions x 100 tests). Building the matrix once per
+library turns each choice into a few array operations.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from learner.description import ObjectDescription
+from learner.knowledge import Knowledge
+from learner.position import Position
+
+
+@dataclass(frozen=True, order=True)
+class Test:
+    """A feature (or a grasp, when ``is_grasp``) at a position as the library records it."""
+
+    feature: str
+    position: Position
+    procedure: str
+    is_grasp: bool = False
+
+    def __str__(self) -> str:
+        return f"{self.feature}{self.position}"
+
+
+class DescriptionMatrix:
+    """Values of every test for every description (NaN: missing), and their classes.
+
+    A grasp test's value is 1 for descriptions of that grasp at a compatible position
+    and 0 for the rest: grasps are binary features known for every labelled object.
+    """
+
+    def __init__(self, descriptions: Sequence[ObjectDescription], knowledge: Knowledge,
+                 grasps_as_features: bool = True) -> None:
+        self.descriptions = tuple(descriptions)
+        self.knowledge = knowledge
+        self.classes = tuple(sorted({d.grasp for d in self.descriptions}))
+        class_index = {c: i for i, c in enumerate(self.classes)}
+        self.class_of = np.array([class_index[d.grasp] for d in self.descriptions], dtype=np.int64)
+        self.tests = tuple(self._sense_tests() + (self._grasp_tests() if grasps_as_features else []))
+        self.column = {t: j for j, t in enumerate(self.tests)}
+        self.values = self._fill()
+        self.errors = np.array([0.0 if t.is_grasp else knowledge.feature(t.feature).error for t in self.tests])
+
+    def _sense_tests(self) -> list[Test]:
+        tests = {
+            Test(o.feature, o.position, self.knowledge.procedure_for(o.feature).name)
+            for d in self.descriptions for o in d.observations if self.knowledge.has_feature(o.feature)
+        }
+        return sorted(tests)
+
+    def _grasp_tests(self) -> list[Test]:
+        tests = {
+            Test(d.grasp, d.grasp_position, d.grasp, is_grasp=True)
+            for d in self.descriptions
+            if self.knowledge.has_grasp(d.grasp) and self.knowledge.grasp(d.grasp).verifiable
+        }
+        return sorted(tests)
+
+    def _fill(self) -> np.ndarray:
+        values = np.full((len(self.descriptions), len(self.tests)), np.nan)
+        sense_columns: dict[str, list[int]] = defaultdict(list)
+        for j, t in enumerate(self.tests):
+            if t.is_grasp:
+                values[:, j] = [1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
+                                for d in self.descriptions]
+            else:
+                sense_columns[t.feature].append(j)
+        for i, d in enumerate(self.descriptions):
+            for j in {j for o in d.observations for j in sense_columns.get(o.feature, [])}:
+                v = d.value_at(self.tests[j].feature, self.tests[j].position)
+                if v is not None:
+                    values[i, j] = v
+        return values

@@ -1,0 +1,53 @@
+"""Noise-tolerant partitions of a feature's values, and matching a measurement to them.
+
+Sonar values wobble within a procedure's expected error, so two observations that close
+cannot be told apart: they share a branch. Merging chains (a, a+e, a+2e are one branch)
+because each neighbour is indistinguishable from the next (method.md §3).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+Range = tuple[float, float]
+
+_EPS = 1e-9
+
+
+def partition(values: Iterable[float], error: float) -> list[Range]:
+    """Merge sorted values into ranges ``[lo, hi]`` where neighbours are within ``error``."""
+    ranges: list[Range] = []
+    for v in sorted(values):
+        if ranges and v - ranges[-1][1] <= error + _EPS:
+            ranges[-1] = (ranges[-1][0], v)
+        else:
+            ranges.append((v, v))
+    return ranges
+
+
+def range_of(value: float, ranges: Sequence[Range]) -> int:
+    """Index of the range holding ``value`` (a value that built the partition)."""
+    for i, (lo, hi) in enumerate(ranges):
+        if lo - _EPS <= value <= hi + _EPS:
+            return i
+    raise ValueError(f"value {value} lies in none of the ranges {list(ranges)}")
+
+
+def match(value: float, ranges: Sequence[Range], error: float) -> int | None:
+    """The branch a measured value belongs to, or None when it is unreliable.
+
+    It matches when it falls in exactly one branch's range widened by the feature's
+    error; in none (between or beyond the ranges) or in two (where widened ranges
+    overlap) it is not to be trusted, and the executive reselects.
+    """
+    hits = [i for i, (lo, hi) in enumerate(ranges) if lo - error - _EPS <= value <= hi + error + _EPS]
+    return hits[0] if len(hits) == 1 else None
+
+
+def nearest(value: float, ranges: Sequence[Range]) -> int:
+    """The branch whose range is nearest the value (the last resort of method.md §5)."""
+    def gap(r: Range) -> float:
+        lo, hi = r
+        return max(lo - value, 0.0, value - hi)
+
+    return min(range(len(ranges)), key=lambda i: (gap(ranges[i]), i))

@@ -1,0 +1,114 @@
+"""Positions of the sensor relative to an object: ``(distance in inches, orientation in degrees)``.
+
+Either slot may be ``*`` ("don't care"): a feature whose value does not depend on that
+slot was generalised there during training (method.md §4), e.g. ``Height(6,*)``. We
+store ``*`` as ``None``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+ANY = "*"
+
+
+@functools.total_ordering
+@dataclass(frozen=True)
+class Position:
+    """Where a feature was (or is to be) measured, relative to the object."""
+
+    distance_in: float | None
+    orientation_deg: float | None
+
+    def __lt__(self, other: Position) -> bool:
+        """Concrete slots sort before ``*``, so listings and ties are deterministic."""
+        return _sort_key(self) < _sort_key(other)
+
+    def covers(self, other: Position) -> bool:
+        """True when a value recorded at ``self`` holds at ``other``.
+
+        A slot covers another when it is ``*`` or equal: ``Height(6,*)`` holds at
+        ``(6, 90)``, but ``Width-Degree-1°(24,0)`` does not hold at ``(24, *)``.
+        """
+        return _slot_covers(self.distance_in, other.distance_in) and _slot_covers(
+            self.orientation_deg, other.orientation_deg
+        )
+
+    def compatible(self, other: Position) -> bool:
+        """True when some concrete position satisfies both (each slot ``*`` or equal)."""
+        return _slot_compatible(self.distance_in, other.distance_in) and _slot_compatible(
+            self.orientation_deg, other.orientation_deg
+        )
+
+    def concrete(self, current: Position) -> Position:
+        """Fill ``*`` slots from ``current``: the robot need not move along a don't-care slot."""
+        return Position(
+            self.distance_in if self.distance_in is not None else current.distance_in,
+            self.orientation_deg if self.orientation_deg is not None else current.orientation_deg,
+        )
+
+    def to_json(self) -> list[float | str]:
+        """``[d, theta]`` with ``"*"`` for a don't-care slot."""
+        return [_slot_json(self.distance_in), _slot_json(self.orientation_deg)]
+
+    def __str__(self) -> str:
+        return f"({_slot_text(self.distance_in)},{_slot_text(self.orientation_deg)})"
+
+
+def position_from_json(value: object, where: str) -> Position:
+    """Parse ``[d, theta]`` (numbers or ``"*"``); ``where`` names the field in errors."""
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise ValueError(f"{where}: a position is [distance, orientation], got {value!r}")
+    return Position(_slot_parse(value[0], f"{where}[0]"), _slot_parse(value[1], f"{where}[1]"))
+
+
+def parse_position(text: str, where: str = "position") -> Position:
+    """Parse ``"D,THETA"`` as typed on a command line (``*`` allowed)."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 2:
+        raise ValueError(f"{where}: expected DISTANCE,ORIENTATION (e.g. 60,0), got {text!r}")
+    return Position(_slot_parse(_number_or_any(parts[0]), f"{where} distance"),
+                    _slot_parse(_number_or_any(parts[1]), f"{where} orientation"))
+
+
+def _number_or_any(text: str) -> object:
+    if text == ANY:
+        return ANY
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def _slot_parse(value: object, where: str) -> float | None:
+    if value == ANY or value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{where}: expected a number or \"*\", got {value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"{where}: expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _slot_covers(mine: float | None, other: float | None) -> bool:
+    return mine is None or (other is not None and math.isclose(mine, other, abs_tol=1e-9))
+
+
+def _slot_compatible(a: float | None, b: float | None) -> bool:
+    return a is None or b is None or math.isclose(a, b, abs_tol=1e-9)
+
+
+def _slot_json(value: float | None) -> float | str:
+    if value is None:
+        return ANY
+    return int(value) if float(value).is_integer() else value
+
+
+def _slot_text(value: float | None) -> str:
+    return str(_slot_json(value))
+
+
+def _sort_key(p: Position) -> tuple[bool, float, bool, float]:
+    return (p.distance_in is None, p.distance_in or 0.0, p.orientation_deg is None, p.orientation_deg or 0.0)

@@ -1,0 +1,259 @@
+"""The execution stage as a state machine the executive steps through (method.md §5).
+
+A :class:`RecognitionSession` grows only the path the object at hand needs, one test
+at a time, from where the robot stands. The executive asks :meth:`decide` what to do,
+carries it out on the robot, and reports back; each control strategy of the paper is one
+method, so the behaviour tree can show each recovery as its own branch:
+
+- ``observe``: a measured value follows the branch it matches, or is *unreliable*;
+- ``decide`` after an unreliable value: *reselection*, the next-best test at the node;
+- ``backtrack``: invalidate the parent's value and choose a different test there;
+- ``follow_nearest``: the last resort, the branch nearest the measured value;
+- an ``AmbiguousLeaf`` decision: try its grasps as binary features;
+- ``grasp_failed``: drop the failed grasp's descriptions and rebuild from here, or, after
+  side effects, restore them all and start over.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from learner.costs import MoveCostEstimator
+from learner.criteria import Criterion
+from learner.description import ObjectDescription, Observation
+from learner.knowledge import Knowledge
+from learner.matrix import DescriptionMatrix, Test
+from learner.partition import match, nearest
+from learner.position import Position
+from learner.selection import Context, Node, ScoredTest, measured_value, rank, split, target_for
+from learner.tree import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
+
+
+@dataclass(frozen=True)
+class Exhausted:
+    """No reliable test is left at this node (or N alternatives were tried): backtrack."""
+
+    tried: int
+
+
+Decision = ScoredTest | GraspLeaf | AmbiguousLeaf | Exhausted
+
+
+@dataclass(frozen=True)
+class Matched:
+    """The measured value follows branch ``branch`` (range ``range``)."""
+
+    branch: int
+    range: tuple[float, float]
+    value: float
+
+
+@dataclass(frozen=True)
+class Unreliable:
+    """The value fell between or outside the branches (None: the sonar dropped out)."""
+
+    value: float | None
+
+
+@dataclass
+class _Frame:
+    """One node on the path: its descriptions, the test chosen there and what was tried."""
+
+    node: Node
+    position: Position
+    test: ScoredTest | None = None
+    value: float | None = None
+    tried: set[Test] = field(default_factory=set)
+
+
+class RecognitionSession:
+    """The run-time tree for one object, grown one decision at a time."""
+
+    def __init__(
+        self,
+        library: Sequence[ObjectDescription],
+        knowledge: Knowledge,
+        criterion: Criterion,
+        estimator: MoveCostEstimator,
+        start: Position,
+        *,
+        grasps_as_features: bool = True,
+        max_alternatives: int = 3,
+    ) -> None:
+        if not library:
+            raise ValueError("the library holds no object descriptions to recognise with")
+        if max_alternatives < 1:
+            raise ValueError(f"max_alternatives must be at least 1, got {max_alternatives}")
+        self.matrix = DescriptionMatrix(library, knowledge, grasps_as_features)
+        self.ctx = Context(self.matrix, criterion, estimator)
+        self.max_alternatives = max_alternatives
+        self.position = start
+        self.measurements: dict[tuple[str, Position], float] = {}
+        self.dropped_grasps: set[str] = set()
+        self.wrong_predictions: list[str] = []
+        self._frames = [_Frame(self._root_node(), start)]
+
+    # -- where we are -------------------------------------------------------------
+    @property
+    def depth(self) -> int:
+        """Tests followed so far on the current path."""
+        return len(self._frames) - 1
+
+    @property
+    def path(self) -> list[tuple[ScoredTest, float]]:
+        """The tests taken and the values that chose their branches."""
+        return [(f.test, f.value) for f in self._frames[:-1] if f.test is not None and f.value is not None]
+
+    @property
+    def candidates(self) -> tuple[str, ...]:
+        """Ids of the descriptions still consistent with what was measured."""
+        return object_ids(self._frames[-1].node, self.ctx)
+
+    # -- choosing -------------------------------------------------------------------
+    def decide(self) -> Decision:
+        """What to do next at the current node: a test, a grasp, grasps to try, or backtrack."""
+        frame = self._frames[-1]
+        leaf = leaf_at(frame.node, self.position, self.ctx)
+        if leaf is not None:
+            return leaf
+        on_path = frozenset(f.test.test for f in self._frames[:-1] if f.test is not None)
+        if len(frame.tried) >= self.max_alternatives:
+            return Exhausted(len(frame.tried))
+        ranked = rank(frame.node, self.position, self.ctx, self.measurements, on_path | frame.tried)
+        if ranked:
+            frame.test = ranked[0]
+            return ranked[0]
+        if frame.tried:
+            return Exhausted(len(frame.tried))
+        return AmbiguousLeaf(tuple(grasp_options(frame.node, self.position, self.ctx)),
+                             object_ids(frame.node, self.ctx))
+
+    def alternatives(self) -> list[ScoredTest]:
+        """The ranked tests at the current node, excluding those tried (for reports)."""
+        frame = self._frames[-1]
+        on_path = frozenset(f.test.test for f in self._frames[:-1] if f.test is not None)
+        return rank(frame.node, self.position, self.ctx, self.measurements, on_path | frame.tried)
+
+    # -- measuring ------------------------------------------------------------------
+    def observe(self, test: ScoredTest, values: Mapping[str, float | None], at: Position) -> Matched | Unreliable:
+        """Record a sensing procedure's values measured at ``at`` and follow ``test``'s branch.
+
+        Every feature the procedure yielded is kept (one procedure, several features, one
+        cost); an unreliable value marks the test tried at this node.
+        """
+        self.position = at
+        for feature, value in values.items():
+            if value is not None:
+                self.measurements[(feature, at)] = float(value)
+        value = values.get(test.test.feature)
+        if value is None:
+            value = measured_value(test.test, self.measurements)
+        return self._follow(test, value)
+
+    def grasp_as_feature(self, test: ScoredTest, success: bool, at: Position) -> Matched | Unreliable:
+        """A grasp tried as a binary feature: success ends recognition, failure follows
+        the 'failure' branch (the grasp had no side effects)."""
+        self.position = at
+        if not success:
+            self.wrong_predictions.append(test.test.feature)
+        return self._follow(test, 1.0 if success else 0.0)
+
+    def _follow(self, test: ScoredTest, value: float | None) -> Matched | Unreliable:
+        frame = self._frames[-1]
+        frame.test = test
+        frame.value = value
+        idx = None if value is None else match(value, test.ranges, test.error)
+        if idx is None:
+            frame.tried.add(test.test)
+            return Unreliable(value)
+        return self._push(frame, test, idx, value)
+
+    def follow_nearest(self) -> Matched:
+        """Follow the branch nearest the last unreliable value (method.md §5, last resort)."""
+        frame = self._frames[-1]
+        if frame.test is None or frame.value is None:
+            raise ValueError("nearest neighbour needs a measured value at the current node")
+        return self._push(frame, frame.test, nearest(frame.value, frame.test.ranges), frame.value)
+
+    def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
+        frame.test, frame.value = test, value
+        child = split(frame.node, test, self.matrix)[idx]
+        self._frames.append(_Frame(child, self.position))
+        return Matched(idx, test.ranges[idx], value)
+
+    def backtrack(self) -> bool:
+        """Invalidate the parent's measured value and make it choose a different test.
+
+        Returns False at the root, where there is nothing left to undo.
+        """
+        if len(self._frames) == 1:
+            return False
+        self._frames.pop()
+        parent = self._frames[-1]
+        if parent.test is not None:
+            parent.tried.add(parent.test.test)
+            for key in [k for k in self.measurements
+                        if k[0] == parent.test.test.feature and parent.test.test.position.covers(k[1])]:
+                del self.measurements[key]
+        parent.test, parent.value = None, None
+        return True
+
+    # -- grasping -------------------------------------------------------------------
+    def grasp_failed(self, grasp: str, *, side_effects: bool, changed: bool = False,
+                     position: Position | None = None) -> None:
+        """A grasp at a leaf failed.
+
+        Without side effects: the object is not of that grasp's class, so drop its
+        descriptions and rebuild from the current position, keeping what was measured.
+        With side effects everything is restored and recognition starts over; when the
+        object *changed* (knocked over) its measurements are void too.
+        """
+        if position is not None:
+            self.position = position
+        self.wrong_predictions.append(grasp)
+        if side_effects:
+            self.dropped_grasps.clear()
+            if changed:
+                self.measurements.clear()
+        else:
+            self.dropped_grasps.add(grasp)
+        self._frames = [_Frame(self._root_node(), self.position)]
+
+    def _root_node(self) -> Node:
+        dropped = [i for i, d in enumerate(self.matrix.descriptions) if d.grasp in self.dropped_grasps]
+        node = Node.root(len(self.matrix.descriptions), dropped)
+        if not node.rows:
+            raise ValueError("every grasp in the library has failed on this object")
+        return node
+
+    # -- learning -------------------------------------------------------------------
+    def discriminating_test(self, wrong_grasp: str) -> ScoredTest | None:
+        """The cheapest sensing test the wrongly predicted grasp's descriptions have and
+        this object lacks: measuring it lets the next tree tell the two apart."""
+        best: ScoredTest | None = None
+        for test in self.matrix.tests:
+            if test.is_grasp or measured_value(test, self.measurements) is not None:
+                continue
+            known = ~np.isnan(self.matrix.values[:, self.matrix.column[test]])
+            if not any(k and d.grasp == wrong_grasp for k, d in zip(known, self.matrix.descriptions)):
+                continue
+            target = target_for(test, self.position, self.ctx)
+            move = self.ctx.estimator.move_cost(self.position, target)
+            sense = self.ctx.knowledge.procedure_for(test.feature).time_s
+            if best is None or move + sense < best.cost:
+                best = ScoredTest(test, target, 0.0, move, sense, 0.0, (), self.ctx.knowledge.feature(test.feature).error)
+        return best
+
+    def record(self, values: Mapping[str, float | None], at: Position) -> None:
+        """Keep values measured outside a test (a discriminating measurement)."""
+        for feature, value in values.items():
+            if value is not None:
+                self.measurements[(feature, at)] = float(value)
+
+    def description(self, object_id: str, grasp: str, grasp_position: Position) -> ObjectDescription:
+        """The new object description to save after a successful grasp (method.md §5.3)."""
+        observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
+        return ObjectDescription(object_id, grasp, grasp_position, observations)

@@ -1,0 +1,254 @@
+"""Choosing a test at a node: candidates, their gain and cost, and the ranking.
+
+A *test* is a feature at a position (``Width-Degree-1°(24,0)``) or a grasp tried as a
+binary feature (``Top-Pinch(6,*)``: success or failure). Candidates come from the
+descriptions at the node: the learner can only test what some object was measured on.
+Each is scored with the criterion on its gain and its cost *from the current position*;
+the ranked list is kept so the executive can reselect the next-best test.
+
+Gains for all columns are computed at once on the :class:`DescriptionMatrix`
+(method.md §3): values within the feature's error chain into one range; descriptions
+lacking the value are spread evenly over the ranges (plus an "unknown" subset when the
+ranges, widened by the error, leave part of the feature's domain uncovered).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from learner.costs import MoveCostEstimator
+from learner.criteria import Criterion
+from learner.matrix import DescriptionMatrix, Test
+from learner.partition import Range
+from learner.position import Position
+
+_MIN_GAIN = 1e-12
+_EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class Node:
+    """The descriptions at a tree node: matrix rows, and which of them were *carried*
+    there only because they lacked a tested feature (they help score tests but never
+    decide a leaf's class)."""
+
+    rows: tuple[int, ...]
+    carried: tuple[bool, ...]
+
+    @staticmethod
+    def root(n: int, exclude: Sequence[int] = ()) -> Node:
+        dropped = set(exclude)
+        rows = tuple(i for i in range(n) if i not in dropped)
+        return Node(rows, (False,) * len(rows))
+
+
+@dataclass(frozen=True)
+class ScoredTest:
+    """A candidate test priced from the current position, with its branches."""
+
+    test: Test
+    target: Position  # the concrete position the robot goes to for it
+    gain: float
+    move_cost: float
+    sense_cost: float
+    score: float
+    ranges: tuple[Range, ...]
+    error: float  # the feature's expected error, for matching a measurement
+
+    @property
+    def cost(self) -> float:
+        return self.move_cost + self.sense_cost
+
+
+Measurements = Mapping[tuple[str, Position], float]
+
+
+@dataclass(frozen=True)
+class Context:
+    """What scoring needs besides the node: the library, the criterion, the move costs."""
+
+    matrix: DescriptionMatrix
+    criterion: Criterion
+    estimator: MoveCostEstimator
+
+    @property
+    def knowledge(self):  # noqa: ANN201 - Knowledge; kept short for call sites
+        return self.matrix.knowledge
+
+
+def deciding_rows(node: Node) -> list[int]:
+    """Rows whose class counts at a leaf: the genuine ones, or all when none is."""
+    genuine = [r for r, c in zip(node.rows, node.carried) if not c]
+    return genuine or list(node.rows)
+
+
+def leaf_classes(node: Node, matrix: DescriptionMatrix) -> list[str]:
+    """Grasps of the deciding rows, sorted: exactly one means the node is a leaf."""
+    return sorted({matrix.descriptions[r].grasp for r in deciding_rows(node)})
+
+
+def measured_value(test: Test, measurements: Measurements) -> float | None:
+    """A value already measured on this object that serves for ``test`` (free to use)."""
+    for (feature, at), value in measurements.items():
+        if feature == test.feature and test.position.covers(at):
+            return value
+    return None
+
+
+def target_for(test: Test, current: Position, ctx: Context) -> Position:
+    """Where the robot goes for a test: ``*`` slots stay where the robot is, within range."""
+    k = ctx.knowledge
+    lo, hi = k.grasp(test.procedure).range_in if test.is_grasp else k.procedure_for(test.feature).range_in
+    distance = test.position.distance_in
+    if distance is None:
+        distance = min(max(current.distance_in if current.distance_in is not None else lo, lo), hi)
+    orientation = test.position.orientation_deg
+    if orientation is None:
+        orientation = current.orientation_deg if current.orientation_deg is not None else 0.0
+    return Position(distance, orientation)
+
+
+@dataclass(frozen=True)
+class _Split:
+    """Per-column partition of a node's rows: the ranges and each row's range (-1: missing)."""
+
+    ranges: list[list[Range]]
+    gains: np.ndarray
+
+
+def _partition_node(node: Node, matrix: DescriptionMatrix, columns: np.ndarray) -> _Split:
+    """Chain-merged ranges and information gain of every column at once."""
+    rows = np.asarray(node.rows, dtype=np.int64)
+    n, k = len(rows), len(matrix.classes)
+    sub = matrix.values[np.ix_(rows, columns)]  # n x m
+    cls = matrix.class_of[rows]
+    order = np.argsort(sub, axis=0, kind="stable")  # NaNs last
+    vals = np.take_along_axis(sub, order, axis=0)
+    vcls = cls[order]
+    known = ~np.isnan(vals)
+    n_known = known.sum(axis=0)
+    err = matrix.errors[columns]
+    breaks = np.zeros_like(known)
+    if n > 1:
+        breaks[1:] = (vals[1:] - vals[:-1]) > (err + _EPS)
+    range_id = np.cumsum(breaks, axis=0)
+    m = len(columns)
+    n_ranges = np.where(n_known > 0, range_id[np.maximum(n_known - 1, 0), np.arange(m)] + 1, 0)
+
+    ranges: list[list[Range]] = []
+    unknown = np.zeros(m, dtype=bool)
+    for j in range(m):
+        col_vals = vals[: n_known[j], j]
+        ids = range_id[: n_known[j], j]
+        starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]]) if len(ids) else np.array([], dtype=int)
+        ends = np.r_[starts[1:] - 1, len(ids) - 1] if len(ids) else starts
+        col_ranges = [(float(col_vals[a]), float(col_vals[b])) for a, b in zip(starts, ends)]
+        ranges.append(col_ranges)
+        test = matrix.tests[columns[j]]
+        if not test.is_grasp and len(col_ranges) >= 2:
+            unknown[j] = not matrix.knowledge.feature(test.feature).covered_by(col_ranges)
+
+    subsets = n_ranges + unknown
+    max_r = int(n_ranges.max()) + 1 if m else 1
+    col_idx = np.broadcast_to(np.arange(m), vals.shape)
+    counts = np.zeros((m, max_r, k))
+    np.add.at(counts, (col_idx[known], range_id[known], vcls[known]), 1.0)
+    missing = np.zeros((m, k))
+    np.add.at(missing, (col_idx[~known], vcls[~known]), 1.0)
+    share = missing / np.maximum(subsets, 1)[:, None]
+    in_range = np.arange(max_r)[None, :] < n_ranges[:, None]
+    counts += np.where(in_range[:, :, None], share[:, None, :], 0.0)
+    weights = np.concatenate([counts, np.where(unknown[:, None], share, 0.0)[:, None, :]], axis=1)
+    totals = np.bincount(cls, minlength=k).astype(float)
+    h_total = _entropy(totals[None, :])[0]
+    sizes = weights.sum(axis=2)
+    remainder = (sizes / max(n, 1) * _entropy(weights)).sum(axis=1)
+    gains = np.maximum(h_total - remainder, 0.0)
+    gains[n_ranges < 2] = 0.0
+    return _Split(ranges, gains)
+
+
+def _entropy(counts: np.ndarray) -> np.ndarray:
+    """Entropy in bits along the last axis of (fractional) class counts."""
+    total = counts.sum(axis=-1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(total > 0, counts / total, 0.0)
+        terms = np.where(p > 0, p * np.log2(np.where(p > 0, p, 1.0)), 0.0)
+    return -terms.sum(axis=-1)
+
+
+def rank(
+    node: Node,
+    current: Position,
+    ctx: Context,
+    measurements: Measurements,
+    exclude: frozenset[Test] = frozenset(),
+) -> list[ScoredTest]:
+    """All usable tests at a node, best first (ties: the nearer, then the cheaper).
+
+    A test is usable when it splits the node into two or more branches with positive
+    gain; grasp tests only while the node holds more than one grasp.
+    """
+    matrix = ctx.matrix
+    several_classes = len({matrix.class_of[r] for r in node.rows}) > 1
+    columns = np.array([j for j, t in enumerate(matrix.tests)
+                        if t not in exclude and (several_classes or not t.is_grasp)], dtype=np.int64)
+    if len(columns) == 0 or not node.rows:
+        return []
+    split = _partition_node(node, matrix, columns)
+    scored: list[ScoredTest] = []
+    for j in np.flatnonzero(split.gains > _MIN_GAIN):
+        test = matrix.tests[columns[j]]
+        gain = float(split.gains[j])
+        if not test.is_grasp and measured_value(test, measurements) is not None:
+            target, move, sense = current, 0.0, 0.0
+        else:
+            target = target_for(test, current, ctx)
+            move = ctx.estimator.move_cost(current, target)
+            sense = (ctx.knowledge.grasp(test.procedure).feature_cost_s if test.is_grasp
+                     else ctx.knowledge.procedure_for(test.feature).time_s)
+        if not math.isfinite(move):
+            continue  # no path to the test's position: the learner cannot use it
+        score = ctx.criterion.score(gain, move + sense)
+        scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(split.ranges[j]),
+                                 float(matrix.errors[columns[j]])))
+    return sorted(scored, key=functools.cmp_to_key(_better))
+
+
+def _better(a: ScoredTest, b: ScoredTest) -> int:
+    """Order two scored tests; scores within 1e-9 relative are a tie."""
+    if math.isinf(a.score) and math.isinf(b.score):
+        if not math.isclose(a.gain, b.gain, rel_tol=1e-9, abs_tol=1e-12):
+            return -1 if a.gain > b.gain else 1
+    elif not math.isclose(a.score, b.score, rel_tol=1e-9, abs_tol=1e-12):
+        return -1 if a.score > b.score else 1
+    for x, y in ((a.move_cost, b.move_cost), (a.sense_cost, b.sense_cost)):
+        if not math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-9):
+            return -1 if x < y else 1
+    return -1 if a.test < b.test else (1 if b.test < a.test else 0)
+
+
+def split(node: Node, scored: ScoredTest, matrix: DescriptionMatrix) -> list[Node]:
+    """The node of each branch: rows in its range, plus every row lacking the value
+    (carried, so it does not decide a leaf)."""
+    j = matrix.column[scored.test]
+    rows: list[list[int]] = [[] for _ in scored.ranges]
+    carried: list[list[bool]] = [[] for _ in scored.ranges]
+    for r, c in zip(node.rows, node.carried):
+        v = matrix.values[r, j]
+        if np.isnan(v):
+            for b in range(len(rows)):
+                rows[b].append(r)
+                carried[b].append(True)
+            continue
+        for b, (lo, hi) in enumerate(scored.ranges):
+            if lo - _EPS <= v <= hi + _EPS:
+                rows[b].append(r)
+                carried[b].append(c)
+                break
+    return [Node(tuple(r), tuple(c)) for r, c in zip(rows, carried)]

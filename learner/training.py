@@ -1,0 +1,353 @@
+"""The training stage (method.md §4): choose training positions, then learn descriptions.
+
+Phase 1 picks a few positions worth sensing from: orientations perpendicular to the
+objects' faces (sonar works best there), and distances as far as a sweep still tells
+apart objects of similar size but different grasp. Phase 2 at each position measures
+only what is needed to classify every object (familiarize, discriminate, reorganize);
+the descriptions of all positions are then merged, generalising values that do not
+depend on orientation (or distance) to ``*``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+from learner.costs import MoveCostEstimator
+from learner.criteria import criterion
+from learner.description import ObjectDescription, Observation
+from learner.knowledge import Knowledge, SensingProcedure
+from learner.partition import match, nearest
+from learner.position import Position
+from learner.selection import Context, Node
+from learner.matrix import DescriptionMatrix
+from learner.training_data import MeasurementSource, TrainingObject
+from learner.tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grow
+
+ORIENTATION_TOLERANCE_DEG = 20.0  # face normals closer than this are one training orientation
+DISTANCE_TOLERANCE = 0.3  # candidate distances within 30% of a cluster's nearest are one
+
+
+# -- Phase 1 ----------------------------------------------------------------------------
+def face_normals(polygon: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
+    """``(direction in degrees, edge length)`` of each edge's outward normal.
+
+    The robot senses a face from outside, looking back along its normal; the direction
+    is relative to the object's reference axis (the polygon's +x).
+    """
+    area2 = sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(polygon, [*polygon[1:], polygon[0]]))
+    sign = 1.0 if area2 >= 0 else -1.0  # counter-clockwise: outward normal is the edge turned right
+    out = []
+    for (x0, y0), (x1, y1) in zip(polygon, [*polygon[1:], polygon[0]]):
+        dx, dy = x1 - x0, y1 - y0
+        length = math.hypot(dx, dy)
+        if length > 1e-9:
+            out.append((math.degrees(math.atan2(-dx * sign, dy * sign)) % 360.0, length))
+    return out
+
+
+def training_orientations(objects: Sequence[TrainingObject], tolerance_deg: float = ORIENTATION_TOLERANCE_DEG) -> list[float]:
+    """All objects' face normals, clustered (length-weighted circular means), sorted.
+
+    Round footprints have no faces: alone they give just 0°.
+    """
+    normals = [n for o in objects if not o.round for n in face_normals(o.polygon)]
+    if not normals:
+        return [0.0]
+    clusters: list[list[tuple[float, float]]] = []
+    for direction, length in sorted(normals):
+        for cluster in clusters:
+            if abs(_wrap(direction - _circular_mean(cluster))) <= tolerance_deg:
+                cluster.append((direction, length))
+                break
+        else:
+            clusters.append([(direction, length)])
+    total = sum(length for _, length in normals)
+    kept = [c for c in clusters if sum(l for _, l in c) >= 0.05 * total]
+    return sorted(round(_circular_mean(c)) % 360 for c in kept)
+
+
+def separation_distance(size_a: float, size_b: float, error_deg: float, range_in: tuple[float, float]) -> float | None:
+    """The greatest distance at which a sweep's angular sizes of two objects differ by more
+    than twice its expected error (angular size ``2 atan(w / 2d)``); None if never."""
+    def apart(d: float) -> bool:
+        return abs(_angular(size_a, d) - _angular(size_b, d)) > 2.0 * error_deg
+
+    lo, hi = range_in
+    if not apart(lo):
+        return None
+    if apart(hi):
+        return hi
+    for _ in range(60):  # bisection: separation shrinks monotonically with distance
+        mid = (lo + hi) / 2.0
+        lo, hi = (mid, hi) if apart(mid) else (lo, mid)
+    return lo
+
+
+def _angular(size: float, distance: float) -> float:
+    return math.degrees(2.0 * math.atan(size / (2.0 * distance)))
+
+
+@dataclass(frozen=True)
+class DistanceReason:
+    """Why a candidate distance was proposed: which sweep separates which two objects."""
+
+    feature: str
+    object_a: str
+    object_b: str
+    distance_in: float
+
+
+def candidate_distances(
+    objects: Sequence[TrainingObject],
+    sizes: Mapping[tuple[str, str], float],
+    knowledge: Knowledge,
+) -> list[DistanceReason]:
+    """For each angular feature and object, the distance that still separates it from the
+    most similar-sized object of a different grasp. ``sizes[(object, linear feature)]``."""
+    reasons = []
+    for proc in knowledge.sensing:
+        for feat in proc.features:
+            if feat.angular_of is None:
+                continue
+            measured = [(o, sizes[(o.object_id, feat.angular_of)]) for o in objects
+                        if (o.object_id, feat.angular_of) in sizes]
+            for obj, size in measured:
+                rivals = [(abs(size - s), other) for other, s in measured
+                          if other.grasp != obj.grasp and abs(size - s) > 0]
+                for _, other in sorted(rivals, key=lambda r: (r[0], r[1].object_id)):
+                    d = separation_distance(size, sizes[(other.object_id, feat.angular_of)], feat.error, proc.range_in)
+                    if d is not None:
+                        reasons.append(DistanceReason(feat.name, obj.object_id, other.object_id, d))
+                        break
+    return reasons
+
+
+def cluster_distances(candidates: Iterable[float], tolerance: float = DISTANCE_TOLERANCE) -> list[float]:
+    """Cluster candidate distances; each cluster is represented by its nearest distance
+    (conservative: every pair in the cluster still separates there), whole inches."""
+    clusters: list[float] = []
+    for d in sorted(candidates):
+        if not clusters or d > clusters[-1] * (1.0 + tolerance):
+            clusters.append(d)
+    return sorted({float(math.floor(d)) for d in clusters})
+
+
+# -- Phase 2 ----------------------------------------------------------------------------
+@dataclass
+class TrainingLog:
+    """What training did: positions, every procedure applied, and the robot time spent."""
+
+    orientations: list[float] = field(default_factory=list)
+    distances: list[float] = field(default_factory=list)
+    distance_reasons: list[DistanceReason] = field(default_factory=list)
+    applied: list[tuple[str, str, Position, str]] = field(default_factory=list)  # object, procedure, position, why
+    sensing_s: float = 0.0
+    moving_s: float = 0.0
+    unresolved: list[tuple[str, Position]] = field(default_factory=list)
+
+    @property
+    def total_s(self) -> float:
+        return self.sensing_s + self.moving_s
+
+
+class _Recorder:
+    """Applies procedures through the source once per (object, procedure, position)."""
+
+    def __init__(self, source: MeasurementSource, knowledge: Knowledge, log: TrainingLog) -> None:
+        self.source, self.knowledge, self.log = source, knowledge, log
+        self.applied: dict[tuple[str, Position], set[str]] = defaultdict(set)
+        self.values: dict[str, dict[tuple[str, Position], float]] = defaultdict(dict)
+
+    def apply(self, obj: TrainingObject, proc: SensingProcedure, at: Position, record_at: Position, why: str) -> None:
+        if proc.name in self.applied[(obj.object_id, record_at)]:
+            return
+        self.applied[(obj.object_id, record_at)].add(proc.name)
+        values = self.source.measure(obj.object_id, proc.name, at)
+        self.log.applied.append((obj.object_id, proc.name, record_at, why))
+        self.log.sensing_s += proc.time_s
+        for feat in proc.features:
+            v = values.get(feat.name)
+            if v is not None:
+                self.values[obj.object_id][(feat.name, record_at)] = float(v)
+
+    def description(self, obj: TrainingObject, at: Position | None = None) -> ObjectDescription:
+        obs = tuple(sorted(Observation(f, p, v) for (f, p), v in self.values[obj.object_id].items()
+                           if at is None or p == at))
+        return ObjectDescription(obj.object_id, obj.grasp, obj.grasp_position, obs)
+
+
+class _ZeroMove:
+    """At one training position nothing moves: only sensing costs count."""
+
+    def move_cost(self, start: Position, goal: Position) -> float:
+        return 0.0
+
+
+def _predict(tree: TreeNode, obj: TrainingObject, at: Position, recorder: _Recorder) -> str | None:
+    """Familiarize: classify ``obj`` with ``tree``, measuring any tested feature it lacks."""
+    node = tree
+    while isinstance(node, TestNode):
+        feature = node.test.test.feature
+        proc = recorder.knowledge.procedure_for(feature)
+        recorder.apply(obj, proc, _sense_at(obj, at), at, f"familiarize: tree tests {feature}")
+        value = recorder.values[obj.object_id].get((feature, at))
+        if value is None:
+            return None
+        ranges = [r for r, _ in node.branches]
+        idx = match(value, ranges, node.test.error)
+        node = node.branches[nearest(value, ranges) if idx is None else idx][1]
+    if isinstance(node, GraspLeaf):
+        return node.grasp
+    assert isinstance(node, AmbiguousLeaf)
+    return None
+
+
+def _sense_at(obj: TrainingObject, at: Position) -> Position:
+    """Round objects have no orientation: they are sensed at 0° and recorded at ``*``."""
+    return Position(at.distance_in, 0.0) if obj.round else at
+
+
+def _record_at(obj: TrainingObject, at: Position) -> Position:
+    return Position(at.distance_in, None) if obj.round else at
+
+
+def train_position(
+    objects: Sequence[TrainingObject],
+    at: Position,
+    knowledge: Knowledge,
+    recorder: _Recorder,
+    progress: Callable[[str], None] | None = None,
+) -> None:
+    """Phase 2 at one training position (Table 6): repeat familiarize / discriminate /
+    reorganize until every object is classified or every procedure was applied."""
+    assert at.distance_in is not None
+    procs = sorted((p for p in knowledge.sensing if p.applicable_at(at.distance_in)), key=lambda p: (p.time_s, p.name))
+    if not procs:
+        return
+    pending = list(objects)
+    while pending:
+        still_wrong = []
+        for obj in pending:
+            where = _record_at(obj, at)
+            descriptions = [recorder.description(o, _record_at(o, at)) for o in objects]
+            tree = _tree(descriptions, knowledge)
+            if _predict(tree, obj, where, recorder) == obj.grasp:
+                continue
+            done = recorder.applied[(obj.object_id, where)]
+            remaining = [p for p in procs if p.name not in done]
+            if not remaining:
+                recorder.log.unresolved.append((obj.object_id, where))
+                continue
+            recorder.apply(obj, remaining[0], _sense_at(obj, at), where, "discriminate: cheapest not yet applied")
+            still_wrong.append(obj)  # reorganize: the next tree is built from all descriptions
+        if progress:
+            progress(f"position {at}: {len(objects) - len(still_wrong)}/{len(objects)} classified")
+        pending = still_wrong
+
+
+def _tree(descriptions: Sequence[ObjectDescription], knowledge: Knowledge) -> TreeNode:
+    matrix = DescriptionMatrix(descriptions, knowledge, grasps_as_features=False)
+    ctx = Context(matrix, criterion("cs-id3"), _ZeroMove())
+    return grow(Node.root(len(descriptions)), Position(0.0, 0.0), ctx)
+
+
+# -- Merging ------------------------------------------------------------------------------
+def generalise(observations: Iterable[Observation], knowledge: Knowledge) -> list[Observation]:
+    """Replace a feature's values that agree within its error across orientations (at one
+    distance) by one value at ``(d,*)``, then across distances by ``(*,θ)``."""
+    obs = list(observations)
+    obs = _generalise_slot(obs, knowledge, keep="distance")
+    return _generalise_slot(obs, knowledge, keep="orientation")
+
+
+def _generalise_slot(obs: list[Observation], knowledge: Knowledge, keep: str) -> list[Observation]:
+    out: list[Observation] = []
+    groups: dict[tuple[str, float], list[Observation]] = defaultdict(list)
+    for o in obs:
+        p = o.position
+        fixed, varying = (p.distance_in, p.orientation_deg) if keep == "distance" else (p.orientation_deg, p.distance_in)
+        if fixed is None or varying is None:
+            out.append(o)
+        else:
+            groups[(o.feature, fixed)].append(o)
+    for (feature, fixed), members in groups.items():
+        values = [m.value for m in members]
+        error = knowledge.feature(feature).error if knowledge.has_feature(feature) else 0.0
+        if len(members) >= 2 and max(values) - min(values) <= error + 1e-9:
+            position = Position(fixed, None) if keep == "distance" else Position(None, fixed)
+            out.append(Observation(feature, position, round(sum(values) / len(values), 3)))
+        else:
+            out.extend(members)
+    return sorted(out)
+
+
+@dataclass(frozen=True)
+class TrainingResult:
+    descriptions: tuple[ObjectDescription, ...]
+    log: TrainingLog
+
+
+def train(
+    objects: Sequence[TrainingObject],
+    knowledge: Knowledge,
+    source: MeasurementSource,
+    estimator: MoveCostEstimator,
+    progress: Callable[[str], None] | None = None,
+) -> TrainingResult:
+    """Both phases: positions, per-position descriptions, then merged descriptions."""
+    log = TrainingLog()
+    recorder = _Recorder(source, knowledge, log)
+    log.orientations = training_orientations(objects)
+    scan_distances = sorted({p.range_in[0] for p in knowledge.sensing if p.range_in[0] == p.range_in[1]})
+    first = log.orientations[0]
+    sizes: dict[tuple[str, str], float] = {}
+    linear = {f.angular_of for p in knowledge.sensing for f in p.features if f.angular_of}
+    for obj in objects:
+        for proc in knowledge.sensing:
+            yielded = {f.name for f in proc.features} & linear
+            if yielded and proc.range_in[0] == proc.range_in[1]:
+                at = Position(proc.range_in[0], first)
+                recorder.apply(obj, proc, _sense_at(obj, at), _record_at(obj, at), "phase 1: size for distances")
+                for name in yielded:
+                    v = recorder.values[obj.object_id].get((name, _record_at(obj, at)))
+                    if v is not None:
+                        sizes[(obj.object_id, name)] = v
+    log.distance_reasons = candidate_distances(objects, sizes, knowledge)
+    log.distances = cluster_distances([*scan_distances, *(r.distance_in for r in log.distance_reasons)])
+    positions = [Position(d, o) for d in sorted(log.distances, reverse=True) for o in log.orientations]
+    for at in positions:
+        # round objects have no orientation: they are trained once per distance
+        members = [o for o in objects if not o.round or at.orientation_deg == first]
+        train_position(members, at, knowledge, recorder, progress)
+    log.moving_s = _moving_cost(objects, recorder, estimator)
+    merged = []
+    for obj in objects:
+        d = recorder.description(obj)
+        merged.append(ObjectDescription(d.object_id, d.grasp, d.grasp_position,
+                                        tuple(generalise(d.observations, knowledge))))
+    return TrainingResult(tuple(merged), log)
+
+
+def _moving_cost(objects: Sequence[TrainingObject], recorder: _Recorder, estimator: MoveCostEstimator) -> float:
+    """Robot time to visit, per object, the positions it was sensed at, far to near."""
+    total = 0.0
+    for obj in objects:
+        visited = sorted({_sense_at(obj, p) for (oid, p) in recorder.applied if oid == obj.object_id
+                          and p.distance_in is not None},
+                         key=lambda p: (-(p.distance_in or 0.0), p.orientation_deg or 0.0))
+        for a, b in zip(visited, visited[1:]):
+            total += estimator.move_cost(a, b)
+    return total
+
+
+def _circular_mean(items: Sequence[tuple[float, float]]) -> float:
+    x = sum(l * math.cos(math.radians(d)) for d, l in items)
+    y = sum(l * math.sin(math.radians(d)) for d, l in items)
+    return math.degrees(math.atan2(y, x)) % 360.0
+
+
+def _wrap(deg: float) -> float:
+    return (deg + 180.0) % 360.0 - 180.0

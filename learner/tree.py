@@ -1,0 +1,131 @@
+"""Run-time decision trees: nodes, leaves, and growing them from a position.
+
+At run time only the path the object at hand needs is grown (``learner.runtime``);
+``grow`` expands every branch, for inspection (``csl tree``) and for tests. Both use
+the same node rules: a node whose deciding descriptions share one grasp is a leaf; else
+the best-ranked test splits it; a node no test can split is an *ambiguous* leaf whose
+grasps the executive tries one by one as binary features.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from learner.matrix import Test
+from learner.partition import Range, match
+from learner.position import Position
+from learner.selection import Context, Measurements, Node, ScoredTest, deciding_rows, leaf_classes, rank, split, target_for
+
+
+@dataclass(frozen=True)
+class GraspLeaf:
+    """Execute ``grasp`` at ``position``. ``grasped``: reached by a successful grasp tried
+    as a feature, so the object is already in the hand and nothing is left to pay."""
+
+    grasp: str
+    position: Position
+    move_cost: float
+    grasp_cost: float
+    object_ids: tuple[str, ...]
+    grasped: bool = False
+
+
+@dataclass(frozen=True)
+class AmbiguousLeaf:
+    """No test separates these descriptions: try their grasps, cheapest first."""
+
+    options: tuple[GraspLeaf, ...]
+    object_ids: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class TestNode:
+    """A test with its ranked alternatives and one subtree per branch range."""
+
+    test: ScoredTest
+    alternatives: tuple[ScoredTest, ...]
+    branches: tuple[tuple[Range, TreeNode], ...]
+
+
+TreeNode = TestNode | GraspLeaf | AmbiguousLeaf
+
+
+def grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf]:
+    """One leaf per grasp of the deciding rows, at its cheapest position, cheapest first."""
+    by_grasp: dict[str, list[int]] = {}
+    for r in deciding_rows(node):
+        by_grasp.setdefault(ctx.matrix.descriptions[r].grasp, []).append(r)
+    options = []
+    for grasp, rows in by_grasp.items():
+        proc = ctx.knowledge.grasp(grasp)
+        best: GraspLeaf | None = None
+        for position in sorted({ctx.matrix.descriptions[r].grasp_position for r in rows}):
+            target = target_for(Test(grasp, position, grasp, is_grasp=True), current, ctx)
+            move = ctx.estimator.move_cost(current, target)
+            leaf = GraspLeaf(grasp, target, move, proc.time_s,
+                             tuple(sorted(ctx.matrix.descriptions[r].object_id for r in rows)))
+            if best is None or leaf.move_cost < best.move_cost:
+                best = leaf
+        assert best is not None
+        options.append(best)
+    return sorted(options, key=lambda o: (o.move_cost + o.grasp_cost, o.grasp))
+
+
+def leaf_at(node: Node, current: Position, ctx: Context) -> GraspLeaf | None:
+    """The leaf this node is, when its deciding descriptions share one grasp."""
+    if len(leaf_classes(node, ctx.matrix)) == 1:
+        return grasp_options(node, current, ctx)[0]
+    return None
+
+
+def object_ids(node: Node, ctx: Context) -> tuple[str, ...]:
+    return tuple(sorted({ctx.matrix.descriptions[r].object_id for r in deciding_rows(node)}))
+
+
+def grow(
+    node: Node,
+    current: Position,
+    ctx: Context,
+    measurements: Measurements | None = None,
+    exclude: frozenset[Test] = frozenset(),
+) -> TreeNode:
+    """The whole tree from ``current``, every branch expanded.
+
+    Each test moves the robot, so a subtree is grown from its parent test's position.
+    """
+    measurements = measurements or {}
+    leaf = leaf_at(node, current, ctx)
+    if leaf is not None:
+        return leaf
+    ranked = rank(node, current, ctx, measurements, exclude)
+    if not ranked:
+        return AmbiguousLeaf(tuple(grasp_options(node, current, ctx)), object_ids(node, ctx))
+    best = ranked[0]
+    children: list[tuple[Range, TreeNode]] = []
+    for rng, child in zip(best.ranges, split(node, best, ctx.matrix)):
+        if best.test.is_grasp and rng[0] >= 1.0:
+            sub: TreeNode = GraspLeaf(best.test.feature, best.target, 0.0, 0.0, object_ids(child, ctx), grasped=True)
+        else:
+            sub = grow(child, best.target, ctx, measurements, exclude | {best.test})
+        children.append((rng, sub))
+    return TestNode(best, tuple(ranked[1:]), tuple(children))
+
+
+def classify(tree: TreeNode, values: dict[Test, float]) -> list[str]:
+    """Follow ``tree`` with known test values (a grasp test's value: 1 for its grasp).
+
+    Returns the grasps the reached leaf offers (one for a grasp leaf); an unmatched or
+    missing value returns the empty list.
+    """
+    node = tree
+    while isinstance(node, TestNode):
+        value = values.get(node.test.test)
+        if value is None:
+            return []
+        idx = match(value, [r for r, _ in node.branches], node.test.error)
+        if idx is None:
+            return []
+        node = node.branches[idx][1]
+    if isinstance(node, GraspLeaf):
+        return [node.grasp]
+    return [o.grasp for o in node.options]
