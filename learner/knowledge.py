@@ -189,9 +189,9 @@ def _robot(table: object, where: str) -> None:
 
 def _sensing(entry: object, where: str) -> SensingProcedure:
     entry = _as_table(entry, where)
-    _only_keys(entry, {"name", "time_s", "range_in", "features"}, where)
     name = _name(entry, where)
     where = f"{where} ({name})"
+    _only_keys(entry, {"name", "time_s", "range_in", "features"}, where)
     features_raw = entry.get("features")
     if not isinstance(features_raw, list) or not features_raw:
         raise ValueError(f"{where}: 'features' must be a non-empty array of tables")
@@ -203,9 +203,9 @@ def _sensing(entry: object, where: str) -> SensingProcedure:
 
 def _feature(entry: object, where: str) -> FeatureSpec:
     entry = _as_table(entry, where)
-    _only_keys(entry, {"name", "error", "unit", "span", "binary", "angular_of"}, where)
     name = _name(entry, where)
     where = f"{where} ({name})"
+    _only_keys(entry, {"name", "error", "unit", "span", "binary", "angular_of"}, where)
     binary = entry.get("binary", False)
     if not isinstance(binary, bool):
         raise ValueError(f"{where}: 'binary' must be true or false")
@@ -227,9 +227,9 @@ def _feature(entry: object, where: str) -> FeatureSpec:
 
 def _grasping(entry: object, where: str) -> GraspingProcedure:
     entry = _as_table(entry, where)
-    _only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "verifiable"}, where)
     name = _name(entry, where)
     where = f"{where} ({name})"
+    _only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "verifiable"}, where)
     verifiable = entry.get("verifiable", True)
     if not isinstance(verifiable, bool):
         raise ValueError(f"{where}: 'verifiable' must be true or false")

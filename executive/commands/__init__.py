@@ -8,5 +8,6 @@ from __future__ import annotations
 from types import ModuleType
 
 from executive.commands import learning, library
+from hero_driver import cli as driver
 
-MODULES: list[ModuleType] = [learning, library]
+MODULES: list[ModuleType] = [learning, library, driver]

@@ -1,0 +1,104 @@
+"""The training stage: positions from footprints and sizes, then only the needed features."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from learner.costs import ModelMoveCost
+from learner.description import Observation
+from learner.position import Position
+from learner.training import (cluster_distances, face_normals, generalise, separation_distance, train,
+                              training_orientations)
+from learner.training_data import TrainingObject
+from tests.learner.fixtures import P, hero
+
+
+def rect(w: float, h: float) -> tuple[tuple[float, float], ...]:
+    return ((-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2))
+
+
+def obj(oid: str, grasp: str, poly=(), round_=False) -> TrainingObject:  # noqa: ANN001
+    return TrainingObject(oid, grasp, P(6, None), tuple(poly), round_)
+
+
+def test_face_normals_of_a_box_point_outwards() -> None:
+    assert face_normals(rect(9, 4)) == [(270.0, 9.0), (0.0, 4.0), (90.0, 9.0), (180.0, 4.0)]
+    clockwise = tuple(reversed(rect(9, 4)))
+    assert sorted(face_normals(clockwise)) == sorted(face_normals(rect(9, 4)))
+
+
+def test_training_orientations_are_clustered_face_normals() -> None:
+    tilted = tuple((x * math.cos(0.03) - y * math.sin(0.03), x * math.sin(0.03) + y * math.cos(0.03))
+                   for x, y in rect(11, 9))  # 1.7° off: one cluster with the box's faces
+    objects = [obj("box", "Front-Pinch", rect(9, 4)), obj("closed", "No-Grab", tilted)]
+    assert training_orientations(objects) == [1, 91, 181, 271]
+    assert training_orientations([obj("cup", "Front-Wrap", round_=True)]) == [0.0]
+
+
+def test_separation_distance_by_hand() -> None:
+    # a 3.5 in cup and a 6.04 in face: 2 atan(6.04/48) - 2 atan(3.5/48) = 6.0° = 2 x 3°
+    assert separation_distance(3.5, 6.04, 3.0, (6, 127)) == pytest.approx(24.0, abs=0.05)
+    assert separation_distance(3.0, 4.0, 5.0, (6, 127)) is None  # 8.8° apart at 6 in: never 10°
+    assert separation_distance(1.0, 60.0, 3.0, (6, 127)) == 127  # still apart at the far end
+
+
+def test_distances_cluster_to_their_nearest_member() -> None:
+    assert cluster_distances([6, 16.4, 17.0, 20.9, 24.5, 26.0, 30.0]) == [6, 16, 24]
+
+
+def test_generalisation_to_dont_care_slots() -> None:
+    k = hero()
+    obs = [Observation("Height", P(6, 0), 5.0), Observation("Height", P(6, 90), 5.4),
+           Observation("Width-Degree-1°", P(24, 0), 10), Observation("Width-Degree-1°", P(24, 90), 20),
+           Observation("Width", P(6, 90), 4.0)]
+    out = {str(o) for o in generalise(obs, k)}
+    assert out == {"(Height(6,*), 5.2)", "(Width-Degree-1°(24,0), 10)", "(Width-Degree-1°(24,90), 20)",
+                   "(Width(6,90), 4)"}
+
+
+class Geometry:
+    """A toy measurement source: boxes and cylinders sensed along their faces."""
+
+    def __init__(self, shapes: dict[str, tuple[float, float, float, bool]]) -> None:
+        self.shapes = shapes  # id -> (length along axis, width across, height, top hole)
+        self.calls = 0
+
+    def measure(self, object_id: str, procedure: str, position: Position) -> dict[str, float | None]:
+        self.calls += 1
+        length, width, height, hole = self.shapes[object_id]
+        face = width if round((position.orientation_deg or 0) / 90) % 2 == 0 else length
+        d = position.distance_in or 6.0
+        ang = lambda s, step: step * round(math.degrees(2 * math.atan(s / (2 * d))) / step)  # noqa: E731
+        return {
+            "H-Sweep-1°": {"Width-Degree-1°": ang(face, 1)}, "H-Sweep-5°": {"Width-Degree-5°": ang(face, 5)},
+            "V-Sweep-1°": {"Height-Degree-1°": ang(height, 1)}, "V-Sweep-5°": {"Height-Degree-5°": ang(height, 5)},
+            "S-Sweep-1°": {"Depth-Degree-1°": ang(length if face == width else width, 1)},
+            "H-Scan-0.3": {"Width": face, "Front-Hole?": 0.0},
+            "D-Scan-0.3": {"Height": height, "Depth": length if face == width else width, "Top-Hole?": float(hole)},
+        }[procedure]
+
+
+def test_training_classifies_every_object_and_measures_only_what_it_needs() -> None:
+    k = hero()
+    objects = [obj("cup", "Front-Wrap", round_=True), obj("box", "Front-Pinch", rect(9, 4)),
+               obj("tumbler", "Top-Pinch", round_=True), obj("closed", "No-Grab", rect(11, 9))]
+    source = Geometry({"cup": (3.5, 3.5, 3.5, True), "box": (9, 4, 5, True),
+                       "tumbler": (3.5, 3.5, 6, True), "closed": (11, 9, 12, False)})
+    result = train(objects, k, source, ModelMoveCost(k.move))
+    log = result.log
+    assert log.orientations == [0, 90, 180, 270]
+    assert log.distances[0] == 6 and len(log.distances) >= 2
+    # far away only sweeps apply and some objects look alike; at 6 in every procedure does
+    assert log.unresolved and all(pos.distance_in > 6 for _, pos in log.unresolved)
+    exhaustive = len(objects) * len(log.orientations) * sum(
+        sum(p.applicable_at(d) for p in k.sensing) for d in log.distances)
+    assert len(log.applied) < exhaustive / 3
+    times = {p.name: p.time_s for p in k.sensing}
+    assert log.sensing_s == sum(times[proc] for _, proc, _, _ in log.applied)
+    assert source.calls == len(log.applied)  # each procedure applied once per object and position
+    cup = next(d for d in result.descriptions if d.object_id == "cup")
+    assert all(o.position.orientation_deg is None for o in cup.observations)  # round: no orientation
+    assert {d.object_id: d.grasp for d in result.descriptions} == {
+        "cup": "Front-Wrap", "box": "Front-Pinch", "tumbler": "Top-Pinch", "closed": "No-Grab"}
