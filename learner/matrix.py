@@ -49,7 +49,19 @@ class DescriptionMatrix:
         self.tests = tuple(self._sense_tests() + (self._grasp_tests() if grasps_as_features else []))
         self.column = {t: j for j, t in enumerate(self.tests)}
         self.values = self._fill()
-        self.errors = np.array([0.0 if t.is_grasp else knowledge.feature(t.feature).error for t in self.tests])
+        specs = [None if t.is_grasp else knowledge.feature(t.feature) for t in self.tests]
+        self.errors = np.array([0.0 if f is None else f.error for f in specs])
+        # grasps are binary features known for everyone: never an "unknown" subset
+        self.binary = np.array([f is None or f.binary for f in specs], dtype=bool)
+        self.is_grasp = np.array([t.is_grasp for t in self.tests], dtype=bool)
+        self.span_lo = np.array([0.0 if f is None else f.span[0] for f in specs])
+        self.span_hi = np.array([1.0 if f is None else f.span[1] for f in specs])
+        # each column's rows sorted by value (NaN last), once: a node's sorted values are
+        # then a filter of this order instead of a sort per choice
+        self.values_by_test = np.ascontiguousarray(self.values.T)
+        self.order = np.argsort(self.values_by_test, axis=1, kind="stable")
+        self.sorted_values = np.take_along_axis(self.values_by_test, self.order, axis=1)
+        self.class_of = self.class_of.astype(np.int32)
 
     def _sense_tests(self) -> list[Test]:
         tests = {
@@ -68,15 +80,25 @@ class DescriptionMatrix:
 
     def _fill(self) -> np.ndarray:
         values = np.full((len(self.descriptions), len(self.tests)), np.nan)
-        sense_columns: dict[str, list[int]] = defaultdict(list)
+        exact: dict[tuple[str, object], int] = {}
+        general: dict[str, list[int]] = defaultdict(list)  # columns at positions holding "*"
         for j, t in enumerate(self.tests):
             if t.is_grasp:
                 values[:, j] = [1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
                                 for d in self.descriptions]
             else:
-                sense_columns[t.feature].append(j)
+                exact[(t.feature, t.position)] = j
+                general[t.feature].append(j)
         for i, d in enumerate(self.descriptions):
-            for j in {j for o in d.observations for j in sense_columns.get(o.feature, [])}:
+            if all(o.position.distance_in is not None and o.position.orientation_deg is not None
+                   for o in d.observations):
+                # concrete values cover only their own column: a direct look-up
+                for o in d.observations:
+                    j = exact.get((o.feature, o.position))
+                    if j is not None:
+                        values[i, j] = o.value
+                continue
+            for j in {j for o in d.observations for j in general.get(o.feature, [])}:
                 v = d.value_at(self.tests[j].feature, self.tests[j].position)
                 if v is not None:
                     values[i, j] = v

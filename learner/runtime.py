@@ -74,27 +74,35 @@ class RecognitionSession:
 
     def __init__(
         self,
-        library: Sequence[ObjectDescription],
-        knowledge: Knowledge,
+        matrix: DescriptionMatrix,
         criterion: Criterion,
         estimator: MoveCostEstimator,
         start: Position,
         *,
-        grasps_as_features: bool = True,
         max_alternatives: int = 3,
     ) -> None:
-        if not library:
+        """Start recognising one object from ``start``; ``matrix`` is the library, built
+        once and shared by every object until the library changes."""
+        if not matrix.descriptions:
             raise ValueError("the library holds no object descriptions to recognise with")
         if max_alternatives < 1:
             raise ValueError(f"max_alternatives must be at least 1, got {max_alternatives}")
-        self.matrix = DescriptionMatrix(library, knowledge, grasps_as_features)
-        self.ctx = Context(self.matrix, criterion, estimator)
+        self.matrix = matrix
+        self.ctx = Context(matrix, criterion, estimator)
         self.max_alternatives = max_alternatives
         self.position = start
         self.measurements: dict[tuple[str, Position], float] = {}
         self.dropped_grasps: set[str] = set()
         self.wrong_predictions: list[str] = []
         self._frames = [_Frame(self._root_node(), start)]
+
+    @classmethod
+    def for_library(cls, library: Sequence[ObjectDescription], knowledge: Knowledge, criterion: Criterion,
+                    estimator: MoveCostEstimator, start: Position, *, grasps_as_features: bool = True,
+                    max_alternatives: int = 3) -> RecognitionSession:
+        """A session over a library not yet built into a matrix."""
+        return cls(DescriptionMatrix(library, knowledge, grasps_as_features), criterion, estimator, start,
+                   max_alternatives=max_alternatives)
 
     # -- where we are -------------------------------------------------------------
     @property

@@ -115,7 +115,7 @@ def target_for(test: Test, current: Position, ctx: Context) -> Position:
 
 @dataclass(frozen=True)
 class _Split:
-    """Per-column partition of a node's rows: the ranges and each row's range (-1: missing)."""
+    """Per-column partition of a node's rows: the ranges and the information gain."""
 
     ranges: list[list[Range]]
     gains: np.ndarray
@@ -123,53 +123,55 @@ class _Split:
 
 def _partition_node(node: Node, matrix: DescriptionMatrix, columns: np.ndarray) -> _Split:
     """Chain-merged ranges and information gain of every column at once."""
-    rows = np.asarray(node.rows, dtype=np.int64)
-    n, k = len(rows), len(matrix.classes)
-    sub = matrix.values[np.ix_(rows, columns)]  # n x m
-    cls = matrix.class_of[rows]
-    order = np.argsort(sub, axis=0, kind="stable")  # NaNs last
-    vals = np.take_along_axis(sub, order, axis=0)
-    vcls = cls[order]
+    n, k, m = len(node.rows), len(matrix.classes), len(columns)
+    order, vals = matrix.order[columns], matrix.sorted_values[columns]
+    if n < len(matrix.descriptions):  # keep the node's rows, still sorted by value, NaN last
+        member = np.zeros(len(matrix.descriptions), dtype=bool)
+        member[list(node.rows)] = True
+        keep = member[order]
+        order, vals = order[keep].reshape(m, n), vals[keep].reshape(m, n)
+    vcls = matrix.class_of[order]
     known = ~np.isnan(vals)
-    n_known = known.sum(axis=0)
-    err = matrix.errors[columns]
-    breaks = np.zeros_like(known)
-    if n > 1:
-        breaks[1:] = (vals[1:] - vals[:-1]) > (err + _EPS)
-    range_id = np.cumsum(breaks, axis=0)
-    m = len(columns)
-    n_ranges = np.where(n_known > 0, range_id[np.maximum(n_known - 1, 0), np.arange(m)] + 1, 0)
+    n_known = known.sum(axis=1)
+    err = matrix.errors[columns][:, None]
+    step = np.zeros_like(vals)
+    step[:, 1:] = vals[:, 1:] - vals[:, :-1]
+    breaks = known & (step > err + _EPS)
+    starts = breaks.copy()
+    starts[:, 0] = known[:, 0]
+    range_id = np.cumsum(starts, axis=1, dtype=np.int32) - 1
+    n_ranges = starts.sum(axis=1)
 
-    ranges: list[list[Range]] = []
-    unknown = np.zeros(m, dtype=bool)
-    for j in range(m):
-        col_vals = vals[: n_known[j], j]
-        ids = range_id[: n_known[j], j]
-        starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]]) if len(ids) else np.array([], dtype=int)
-        ends = np.r_[starts[1:] - 1, len(ids) - 1] if len(ids) else starts
-        col_ranges = [(float(col_vals[a]), float(col_vals[b])) for a, b in zip(starts, ends)]
-        ranges.append(col_ranges)
-        test = matrix.tests[columns[j]]
-        if not test.is_grasp and len(col_ranges) >= 2:
-            unknown[j] = not matrix.knowledge.feature(test.feature).covered_by(col_ranges)
+    # the "unknown" subset: the ranges widened by the error leave part of the domain open
+    last = np.take_along_axis(vals, np.maximum(n_known - 1, 0)[:, None], axis=1)[:, 0]
+    widest_gap = np.where(breaks, step, 0.0).max(axis=1) if n > 1 else np.zeros(m)
+    e = err[:, 0]
+    numeric_covered = ((vals[:, 0] - e <= matrix.span_lo[columns] + _EPS)
+                       & (last + e >= matrix.span_hi[columns] - _EPS) & (widest_gap <= 2 * e + _EPS))
+    unknown = np.where(matrix.binary[columns], n_ranges < 2, ~numeric_covered) & ~matrix.is_grasp[columns]
 
     subsets = n_ranges + unknown
     max_r = int(n_ranges.max()) + 1 if m else 1
-    col_idx = np.broadcast_to(np.arange(m), vals.shape)
-    counts = np.zeros((m, max_r, k))
-    np.add.at(counts, (col_idx[known], range_id[known], vcls[known]), 1.0)
-    missing = np.zeros((m, k))
-    np.add.at(missing, (col_idx[~known], vcls[~known]), 1.0)
+    col = np.arange(m, dtype=np.int32)[:, None]
+    counts = np.bincount(((col * max_r + range_id) * k + vcls)[known],
+                         minlength=m * max_r * k).astype(float).reshape(m, max_r, k)
+    missing = np.bincount((col * k + vcls)[~known], minlength=m * k).astype(float).reshape(m, k)
     share = missing / np.maximum(subsets, 1)[:, None]
     in_range = np.arange(max_r)[None, :] < n_ranges[:, None]
     counts += np.where(in_range[:, :, None], share[:, None, :], 0.0)
     weights = np.concatenate([counts, np.where(unknown[:, None], share, 0.0)[:, None, :]], axis=1)
-    totals = np.bincount(cls, minlength=k).astype(float)
+    totals = np.bincount(matrix.class_of[list(node.rows)], minlength=k).astype(float)
     h_total = _entropy(totals[None, :])[0]
-    sizes = weights.sum(axis=2)
-    remainder = (sizes / max(n, 1) * _entropy(weights)).sum(axis=1)
-    gains = np.maximum(h_total - remainder, 0.0)
-    gains[n_ranges < 2] = 0.0
+    remainder = (weights.sum(axis=2) / max(n, 1) * _entropy(weights)).sum(axis=1)
+    gains = np.where(n_ranges >= 2, np.maximum(h_total - remainder, 0.0), 0.0)
+
+    ends = starts.copy()
+    ends[:, :-1] = starts[:, 1:]
+    ends[:, -1] = False
+    ends |= known & (np.arange(n)[None, :] == (n_known - 1)[:, None])
+    los, his = vals[starts].tolist(), vals[ends].tolist()
+    bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
+    ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in range(m)]
     return _Split(ranges, gains)
 
 
@@ -195,12 +197,13 @@ def rank(
     gain; grasp tests only while the node holds more than one grasp.
     """
     matrix = ctx.matrix
-    several_classes = len({matrix.class_of[r] for r in node.rows}) > 1
+    several_classes = len(np.unique(matrix.class_of[list(node.rows)])) > 1
     columns = np.array([j for j, t in enumerate(matrix.tests)
                         if t not in exclude and (several_classes or not t.is_grasp)], dtype=np.int64)
     if len(columns) == 0 or not node.rows:
         return []
     split = _partition_node(node, matrix, columns)
+    move_costs: dict[Position, float] = {}  # many tests share a position: price each once
     scored: list[ScoredTest] = []
     for j in np.flatnonzero(split.gains > _MIN_GAIN):
         test = matrix.tests[columns[j]]
@@ -209,7 +212,9 @@ def rank(
             target, move, sense = current, 0.0, 0.0
         else:
             target = target_for(test, current, ctx)
-            move = ctx.estimator.move_cost(current, target)
+            if target not in move_costs:
+                move_costs[target] = ctx.estimator.move_cost(current, target)
+            move = move_costs[target]
             sense = (ctx.knowledge.grasp(test.procedure).feature_cost_s if test.is_grasp
                      else ctx.knowledge.procedure_for(test.feature).time_s)
         if not math.isfinite(move):

@@ -28,6 +28,7 @@ from learner.tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grow
 
 ORIENTATION_TOLERANCE_DEG = 20.0  # face normals closer than this are one training orientation
 DISTANCE_TOLERANCE = 0.3  # candidate distances within 30% of a cluster's nearest are one
+MAX_DISTANCES = 3  # "a few" training distances (the paper's Table 3 run: 6, 16, 24 in)
 
 
 # -- Phase 1 ----------------------------------------------------------------------------
@@ -125,14 +126,25 @@ def candidate_distances(
     return reasons
 
 
-def cluster_distances(candidates: Iterable[float], tolerance: float = DISTANCE_TOLERANCE) -> list[float]:
-    """Cluster candidate distances; each cluster is represented by its nearest distance
-    (conservative: every pair in the cluster still separates there), whole inches."""
-    clusters: list[float] = []
+def cluster_distances(candidates: Iterable[float], tolerance: float = DISTANCE_TOLERANCE,
+                      most: int = MAX_DISTANCES) -> list[float]:
+    """Cluster candidate distances into at most ``most`` training distances.
+
+    Neighbours within ``tolerance`` (relative) share a cluster; while there are too
+    many, the two adjacent clusters closest in ratio merge (the paper keeps "a few":
+    each distance multiplies the positions to train at). A cluster is represented by its
+    nearest distance, in whole inches: every pair it stands for still separates there.
+    """
+    clusters: list[list[float]] = []
     for d in sorted(candidates):
-        if not clusters or d > clusters[-1] * (1.0 + tolerance):
-            clusters.append(d)
-    return sorted({float(math.floor(d)) for d in clusters})
+        if clusters and d <= clusters[-1][0] * (1.0 + tolerance):
+            clusters[-1].append(d)
+        else:
+            clusters.append([d])
+    while len(clusters) > max(most, 1):
+        i = min(range(len(clusters) - 1), key=lambda j: clusters[j + 1][-1] / clusters[j][0])
+        clusters[i:i + 2] = [clusters[i] + clusters[i + 1]]
+    return sorted({float(math.floor(c[0])) for c in clusters})
 
 
 # -- Phase 2 ----------------------------------------------------------------------------

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol, runtime_checkable
@@ -127,6 +127,19 @@ def replay_document(records: Mapping[tuple[str, str, Position], Mapping[str, flo
         "measurements": [
             {"object": o, "procedure": p, "position": pos.to_json(), "values": dict(v)}
             for (o, p, pos), v in sorted(records.items(), key=lambda kv: (kv[0][0], kv[0][1], kv[0][2]))
+        ],
+    }
+
+
+def objects_document(objects: Sequence[TrainingObject]) -> dict[str, object]:
+    """The JSON document for training objects (``read_objects`` reads it back)."""
+    return {
+        "format": "csl-training-objects",
+        "version": 1,
+        "objects": [
+            {"id": o.object_id, "grasp": o.grasp, "grasp_position": o.grasp_position.to_json(),
+             **({"round": True} if o.round else {"polygon": [list(p) for p in o.polygon]})}
+            for o in objects
         ],
     }
 

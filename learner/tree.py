@@ -9,6 +9,7 @@ grasps the executive tries one by one as binary features.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from learner.matrix import Test
@@ -92,6 +93,9 @@ def grow(
     """The whole tree from ``current``, every branch expanded.
 
     Each test moves the robot, so a subtree is grown from its parent test's position.
+    A procedure yields all its features at once, so below a test its siblings at the
+    same position are free; their values are unknown here (NaN), only that they are
+    measured matters.
     """
     measurements = measurements or {}
     leaf = leaf_at(node, current, ctx)
@@ -106,9 +110,16 @@ def grow(
         if best.test.is_grasp and rng[0] >= 1.0:
             sub: TreeNode = GraspLeaf(best.test.feature, best.target, 0.0, 0.0, object_ids(child, ctx), grasped=True)
         else:
-            sub = grow(child, best.target, ctx, measurements, exclude | {best.test})
+            sub = grow(child, best.target, ctx, {**measurements, **_yielded(best, ctx)}, exclude | {best.test})
         children.append((rng, sub))
     return TestNode(best, tuple(ranked[1:]), tuple(children))
+
+
+def _yielded(test: ScoredTest, ctx: Context) -> dict[tuple[str, Position], float]:
+    if test.test.is_grasp:
+        return {}
+    proc = ctx.knowledge.procedure_for(test.test.feature)
+    return {(f.name, test.target): math.nan for f in proc.features}
 
 
 def classify(tree: TreeNode, values: dict[Test, float]) -> list[str]:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from executive import defaults
 from executive.tables import print_table
+from executive.training_sources import RecordingSource, SimulatorSource, catalogue_objects
 from learner.costs import ModelMoveCost
 from learner.criteria import CRITERIA, criterion
 from learner.description import ObjectDescription
@@ -20,7 +21,7 @@ from learner.position import parse_position
 from learner.render import tree_json, tree_text
 from learner.selection import Context, Node
 from learner.training import train
-from learner.training_data import read_objects, read_replay
+from learner.training_data import MeasurementSource, objects_document, read_objects, read_replay, replay_document
 from learner.tree import grow
 
 
@@ -60,9 +61,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         ),
     )
     t.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE, help="robot knowledge TOML")
-    t.add_argument("--objects", type=Path, required=True, help="training objects JSON (docs/training-format.md)")
-    t.add_argument("--measurements", type=Path, required=True,
+    t.add_argument("--objects", type=Path, help="training objects JSON (docs/training-format.md)")
+    t.add_argument("--measurements", type=Path,
                    help="replay file of recorded measurements (docs/training-format.md)")
+    t.add_argument("--sim", action="store_true",
+                   help="measure in the simulator instead: the catalogue's Table 3 training objects, each "
+                        "alone with the robot staged at every training position")
+    t.add_argument("--seed", type=int, default=0, help="simulator seed (with --sim)")
+    t.add_argument("--noise", action="store_true", help="simulated sonar noise on (with --sim; default: exact)")
+    t.add_argument("--record", type=Path, metavar="FILE",
+                   help="with --sim: also write what was measured as a replay file, and the objects next to it")
     t.add_argument("--out", type=Path, required=True, help="where to write the library: .json, or .sqlite to add to a store")
     t.set_defaults(handler=run_train)
 
@@ -87,6 +95,12 @@ def run_tree(args: argparse.Namespace) -> int:
     return 0
 
 
+def _write_json(path: Path, document: dict) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(document, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+    tmp.replace(path)
+
+
 def _check_library(library: Sequence[ObjectDescription], knowledge: Knowledge, source: Path) -> None:
     """Reject a library that names grasps or features this robot does not have."""
     for d in library:
@@ -100,13 +114,23 @@ def _check_library(library: Sequence[ObjectDescription], knowledge: Knowledge, s
 
 def run_train(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(args.knowledge)
-    objects = read_objects(args.objects)
+    if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
+        raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
+    if args.sim:
+        if args.objects or args.measurements:
+            raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
+        objects = catalogue_objects("training")
+        source: MeasurementSource = RecordingSource(SimulatorSource(args.seed, args.noise))
+    else:
+        if not (args.objects and args.measurements):
+            raise ValueError("train needs --objects and --measurements (or --sim)")
+        if args.record:
+            raise ValueError("--record goes with --sim")
+        objects = read_objects(args.objects)
+        source = read_replay(args.measurements)
     for o in objects:
         if not knowledge.has_grasp(o.grasp):
             raise ValueError(f"{args.objects}: object {o.object_id!r}: grasp {o.grasp!r} is not in the knowledge file")
-    source = read_replay(args.measurements)
-    if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
-        raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
     result = train(objects, knowledge, source, ModelMoveCost(knowledge.move))
     log = result.log
     print(f"training orientations (deg): {', '.join(f'{o:g}' for o in log.orientations)}")
@@ -119,8 +143,10 @@ def run_train(args: argparse.Namespace) -> int:
     print_table(["object", "procedures applied", "n"],
                 [[o.object_id, ", ".join(per_object.get(o.object_id, [])), str(len(per_object.get(o.object_id, [])))]
                  for o in objects], title="measured per object")
-    for oid, pos in log.unresolved:
-        print(f"warning: {oid} could not be told apart at {pos} with the procedures usable there")
+    if log.unresolved:
+        where = sorted({str(pos) for _, pos in log.unresolved})
+        print(f"note: at {len(where)} position(s) ({', '.join(where)}) {len(log.unresolved)} object(s) "
+              "could not be told apart with the procedures usable there; nearer positions resolve them")
     print(f"training cost: {log.total_s:.0f} s of robot time "
           f"({log.sensing_s:.0f} s sensing, {log.moving_s:.0f} s moving; {log.total_s / 3600:.1f} h)")
     if args.out.suffix.lower() == ".json":
@@ -129,4 +155,10 @@ def run_train(args: argparse.Namespace) -> int:
         with LibraryStore(args.out) as store:
             store.add(result.descriptions, replace=True)
     print(f"wrote {len(result.descriptions)} descriptions to {args.out}")
+    if args.record and isinstance(source, RecordingSource):
+        _write_json(args.record, replay_document(source.records))
+        objects_path = args.record.with_name(args.record.stem + "-objects.json")
+        _write_json(objects_path, objects_document(objects))
+        print(f"recorded {len(source.records)} measurements to {args.record}, objects to {objects_path}")
+
     return 0

@@ -14,7 +14,7 @@ from tests.learner.fixtures import P, desc, four_objects, hero
 
 def session(library=None, n: int = 3, start=P(60, 0)) -> RecognitionSession:  # noqa: ANN001
     k = hero()
-    return RecognitionSession(library or four_objects(), k, criterion("cs-id3"), ModelMoveCost(k.move), start,
+    return RecognitionSession.for_library(library or four_objects(), k, criterion("cs-id3"), ModelMoveCost(k.move), start,
                               max_alternatives=n)
 
 
@@ -89,7 +89,7 @@ def test_nearest_neighbour_follows_the_closest_branch() -> None:
 def test_an_ambiguous_leaf_offers_its_grasps_cheapest_first() -> None:
     lib = [desc("a", "Front-Wrap", ("Width", P(6, 0), 3)), desc("b", "Top-Pinch", ("Width", P(6, 0), 3.2))]
     k = hero()
-    s = RecognitionSession(lib, k, criterion("cs-id3"), ModelMoveCost(k.move), P(6, 0), grasps_as_features=False)
+    s = RecognitionSession.for_library(lib, k, criterion("cs-id3"), ModelMoveCost(k.move), P(6, 0), grasps_as_features=False)
     leaf = s.decide()
     assert isinstance(leaf, AmbiguousLeaf)
     assert [o.grasp for o in leaf.options] == ["Front-Wrap", "Top-Pinch"]

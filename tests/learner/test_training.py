@@ -46,6 +46,10 @@ def test_separation_distance_by_hand() -> None:
 
 def test_distances_cluster_to_their_nearest_member() -> None:
     assert cluster_distances([6, 16.4, 17.0, 20.9, 24.5, 26.0, 30.0]) == [6, 16, 24]
+    # six clusters at 30%; the closest neighbours by ratio merge until three are left:
+    # 8+10 (1.25), then 6+8..10 (1.67), then 15+23 (1.53 < 39/23)
+    assert cluster_distances([6, 8, 10, 15, 23, 39]) == [6, 15, 39]
+    assert cluster_distances([6, 8, 10, 15, 23, 39], most=5) == [6, 8, 15, 23, 39]
 
 
 def test_generalisation_to_dont_care_slots() -> None:
