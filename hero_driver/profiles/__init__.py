@@ -1,0 +1,1 @@
+"""The HERO 2000 profile: knowledge file, recorded training data, example library."""

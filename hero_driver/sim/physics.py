@@ -1,0 +1,162 @@
+"""The pymunk space behind the simulated world: walls, furniture and the objects on
+the floor, used for every geometric question (sonar rays, the base's swept path) and
+for the motion a failed grasp causes.
+
+There is no gravity in a top-down world; floor friction is a pivot joint and a gear
+joint from each object to the static body with zero bias and a bounded force, which
+brakes a pushed object at a constant deceleration (Coulomb friction). A round object
+lying on its side rolls: it is pushed across its axis and braked far less.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import pymunk
+
+from hero_driver.sim.catalogue import CatalogueEntry
+from hero_driver.sim.worldfile import WorldSpec, rect_polygon
+
+WALL_IN = 6.0  # wall thickness, outside the room's interior
+SLIDE_DECEL_IN_S2 = 12.0  # friction braking of a sliding object
+ROLL_DECEL_IN_S2 = 1.5  # rolling resistance of a lying round object
+SPIN_FRICTION = 40.0  # bound of the gear joint's torque: pushes rarely spin objects far
+SETTLE_DT_S = 1.0 / 120.0
+SETTLE_MAX_STEPS = 1200
+REST_SPEED_IN_S = 0.01
+
+
+@dataclass
+class SimObject:
+    """One physical object: its catalogue entry may change (knocked over) while its
+    index stays, so the executive's notion of "the same object" survives."""
+
+    index: int
+    entry: CatalogueEntry
+    body: pymunk.Body
+    shape: pymunk.Shape
+    joints: tuple[pymunk.Constraint, ...]
+    status: str = "floor"  # "floor", "held" or "binned"
+
+    @property
+    def x_in(self) -> float:
+        return float(self.body.position.x)
+
+    @property
+    def y_in(self) -> float:
+        return float(self.body.position.y)
+
+    @property
+    def yaw_deg(self) -> float:
+        return math.degrees(self.body.angle) % 360.0
+
+
+class Physics:
+    """Owns the pymunk space and keeps every body and shape referenced (pymunk does not
+    keep Python objects alive on its own)."""
+
+    def __init__(self, spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry]) -> None:
+        self.space = pymunk.Space()
+        self.space.gravity = (0.0, 0.0)
+        self.static_shapes: list[pymunk.Shape] = []
+        w, d, t = spec.room_width_in, spec.room_depth_in, WALL_IN
+        walls = ((w / 2, -t / 2, w + 2 * t, t), (w / 2, d + t / 2, w + 2 * t, t),
+                 (-t / 2, d / 2, t, d + 2 * t), (w + t / 2, d / 2, t, d + 2 * t))
+        for x, y, length, width in walls:
+            self._add_static(rect_polygon(x, y, length, width, 0.0))
+        for f in spec.furniture:
+            self._add_static(rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
+        self.objects: list[SimObject] = []
+        self._owner: dict[pymunk.Shape, SimObject] = {}
+        for i, p in enumerate(spec.objects):
+            self.objects.append(self._make_object(i, catalogue[p.entry_id], p.x_in, p.y_in, p.yaw_deg))
+
+    def _add_static(self, polygon: list[tuple[float, float]]) -> None:
+        shape = pymunk.Poly(self.space.static_body, polygon)
+        shape.friction, shape.elasticity = 0.6, 0.2
+        self.space.add(shape)
+        self.static_shapes.append(shape)
+
+    def _make_object(self, index: int, entry: CatalogueEntry, x: float, y: float, yaw_deg: float) -> SimObject:
+        body = pymunk.Body(mass=1.0, moment=1.0)
+        fp = entry.footprint
+        if fp.shape == "circle":
+            shape: pymunk.Shape = pymunk.Circle(body, fp.radius_in)
+            body.moment = pymunk.moment_for_circle(1.0, 0.0, fp.radius_in)
+        else:
+            shape = pymunk.Poly.create_box(body, (fp.length_in, fp.width_in))
+            body.moment = pymunk.moment_for_box(1.0, (fp.length_in, fp.width_in))
+        shape.friction, shape.elasticity = 0.5, 0.2
+        body.position = (x, y)
+        body.angle = math.radians(yaw_deg)
+        slide = pymunk.PivotJoint(self.space.static_body, body, (0.0, 0.0), (0.0, 0.0))
+        slide.max_bias, slide.max_force = 0.0, SLIDE_DECEL_IN_S2
+        spin = pymunk.GearJoint(self.space.static_body, body, 0.0, 1.0)
+        spin.max_bias, spin.max_force = 0.0, SPIN_FRICTION
+        self.space.add(body, shape, slide, spin)
+        obj = SimObject(index, entry, body, shape, (slide, spin))
+        self._owner[shape] = obj
+        return obj
+
+    def owner(self, shape: pymunk.Shape | None) -> SimObject | None:
+        """The floor object a shape belongs to; None for walls and furniture."""
+        return self._owner.get(shape) if shape is not None else None
+
+    def ray(self, start: tuple[float, float], end: tuple[float, float]) -> pymunk.SegmentQueryInfo | None:
+        """First shape a thin ray meets (walls, furniture and objects all occlude)."""
+        return self.space.segment_query_first(start, end, 0.0, pymunk.ShapeFilter())
+
+    def sweep_circle(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> float | None:
+        """Fraction of the way from start to end at which a disc of ``radius`` first
+        touches anything, or None when the whole path is clear. A shape the disc
+        already touches at the start only counts when the path heads into it, so a
+        base that stopped against something can still back away."""
+        dx, dy = end[0] - start[0], end[1] - start[1]
+        hits = sorted(self.space.segment_query(start, end, radius, pymunk.ShapeFilter()), key=lambda h: h.alpha)
+        for hit in hits:
+            touching = hit.shape.point_query(start)
+            if touching.distance < radius and dx * touching.gradient.x + dy * touching.gradient.y >= 0:
+                continue
+            return float(hit.alpha)
+        return None
+
+    def overlaps_disc(self, centre: tuple[float, float], radius: float) -> bool:
+        """Whether a disc at ``centre`` touches any wall, furniture or object."""
+        hit = self.space.point_query_nearest(centre, radius, pymunk.ShapeFilter())
+        return hit is not None
+
+    def lift(self, obj: SimObject) -> None:
+        """Take an object off the floor (held or binned): gone from rays and images."""
+        self.space.remove(obj.body, obj.shape, *obj.joints)
+        del self._owner[obj.shape]
+        obj.status = "held"
+
+    def replace(self, obj: SimObject, entry: CatalogueEntry, x: float, y: float, yaw_deg: float) -> None:
+        """Swap an object's entry in place (a knocked-over cup becomes a lying cup)."""
+        self.space.remove(obj.body, obj.shape, *obj.joints)
+        del self._owner[obj.shape]
+        fresh = self._make_object(obj.index, entry, x, y, yaw_deg)
+        obj.entry, obj.body, obj.shape, obj.joints = fresh.entry, fresh.body, fresh.shape, fresh.joints
+        self._owner[obj.shape] = obj
+
+    def push(self, obj: SimObject, direction: tuple[float, float], distance_in: float, rolling: bool) -> None:
+        """Give an object the speed that friction brakes to rest after ``distance_in``
+        (v0 = sqrt(2 a s)); walls and other objects may stop it sooner."""
+        decel = ROLL_DECEL_IN_S2 if rolling else SLIDE_DECEL_IN_S2
+        obj.joints[0].max_force = decel * obj.body.mass
+        speed = math.sqrt(2.0 * decel * max(distance_in, 0.0))
+        obj.body.velocity = (direction[0] * speed, direction[1] * speed)
+        self.settle()
+        obj.joints[0].max_force = SLIDE_DECEL_IN_S2 * obj.body.mass
+
+    def settle(self) -> None:
+        """Step until every object rests (also resolves overlaps after a knock-over)."""
+        bodies = [o.body for o in self.objects if o.status == "floor"]
+        for _ in range(SETTLE_MAX_STEPS):
+            self.space.step(SETTLE_DT_S)
+            if all(b.velocity.length < REST_SPEED_IN_S and abs(b.angular_velocity) < 0.01 for b in bodies):
+                break
+        for b in bodies:
+            b.velocity, b.angular_velocity = (0.0, 0.0), 0.0

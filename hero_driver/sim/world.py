@@ -1,0 +1,293 @@
+"""The simulated HERO 2000 in its world: one mutable aggregate that owns the physics,
+the robot's pose, the simulated clock and the seeded random stream.
+
+Every verb charges the profile's robot time to the clock and nothing else advances it,
+so a run is as fast as the CPU allows and repeatable for a seed. Verbs raise
+:class:`DriverError`; wrapping them in futures is the driver's business.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+from hero_driver.interface import (
+    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, CameraImage, DriverError, GraspResult,
+    MoveResult, Pose, RobotState, SenseResult,
+)
+from hero_driver.sim import camera, grasping, sonar
+from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
+from hero_driver.sim.noise import NoiseConfig, perturb, perturb_flag
+from hero_driver.sim.physics import Physics, SimObject
+from hero_driver.sim.profile import Profile, load_profile
+from hero_driver.sim.worldfile import WorldSpec, load_world
+
+RANGE_TOLERANCE_IN = 1.5  # docs/conventions.md: a procedure accepts its range ± this
+CENTRING_RADIUS_IN = 12.0  # sonar centring finds an object whose centre is this near `face`
+COLLISION_BACKOFF_IN = 0.1  # the bumper stops the base this short of contact
+BATTERY_LIFE_S = 36000.0  # a full charge lasts ten hours of robot time
+KNOCK_YAW_SIGMA_DEG = 5.0
+PUSH_SPREAD = (0.6, 1.4)  # a push travels this fraction of the entry's push_in
+ROLL_FACTOR = 3.0  # a rolling object travels this much farther than a sliding one
+
+
+@dataclass(frozen=True)
+class ObjectTruth:
+    """Ground truth about one object, for reports and tests (never for the executive's
+    decisions: the robot cannot know it)."""
+
+    index: int
+    entry_id: str
+    name: str
+    pose: str
+    x_in: float
+    y_in: float
+    yaw_deg: float
+    grasps: tuple[GraspRule, ...]
+    round: bool
+    held: bool
+    binned: bool
+
+
+@lru_cache(maxsize=4)
+def knowledge(profile: str | None = None) -> tuple[Profile, Mapping[str, CatalogueEntry]]:
+    """The profile and the shipped catalogue, read once per profile: training probes
+    build thousands of one-object worlds and must not re-parse files each time."""
+    loaded = load_profile(profile)
+    return loaded, MappingProxyType(load_catalogue(loaded.grasping))
+
+
+def _wrap_deg(angle: float) -> float:
+    return (angle + 180.0) % 360.0 - 180.0
+
+
+def normalise_deg(angle: float) -> float:
+    """An angle in [0, 360): float modulo can return 360.0 for a tiny negative."""
+    wrapped = angle % 360.0
+    return 0.0 if wrapped >= 360.0 - 1e-9 else wrapped
+
+
+class SimWorld:
+    """The simulated robot and its world; see the module docstring."""
+
+    def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
+                 profile: str | Path | None = None, noise: NoiseConfig | None = None) -> None:
+        self.profile, self.catalogue = knowledge(None if profile is None else str(profile))
+        self._explicit_noise = noise
+        self.load(world if isinstance(world, WorldSpec) else load_world(world, self.catalogue), seed)
+
+    def load(self, spec: WorldSpec, seed: int) -> None:
+        """Put the world back to the spec's initial state with a fresh random stream."""
+        robot = self.profile.robot
+        physics = Physics(spec, self.catalogue)
+        x, y, heading = spec.robot
+        if physics.overlaps_disc((x, y), robot.base_radius_in):
+            raise ValueError(f"{spec.source}: robot: base at ({x:g}, {y:g}) overlaps a wall, furniture or object")
+        self.spec, self.seed, self.physics = spec, seed, physics
+        self.noise = next((n for n in (self._explicit_noise, spec.noise) if n is not None), NoiseConfig())
+        self.rng = np.random.default_rng(seed)
+        self.pose = Pose(x, y, normalise_deg(heading))
+        self.clock_s = 0.0
+        self.held: SimObject | None = None
+        self.last_effect = grasping.NOTHING
+
+    # -- state -------------------------------------------------------------------
+
+    def state(self) -> RobotState:
+        return RobotState(self.pose, self.clock_s, max(0.0, 1.0 - self.clock_s / BATTERY_LIFE_S))
+
+    def truth(self) -> list[ObjectTruth]:
+        return [ObjectTruth(o.index, o.entry.id, o.entry.name, o.entry.pose, o.x_in, o.y_in, o.yaw_deg,
+                            o.entry.grasps, o.entry.round, o.status == "held", o.status == "binned")
+                for o in self.physics.objects]
+
+    def sonar_point(self) -> tuple[float, float]:
+        h = math.radians(self.pose.heading_deg)
+        off = self.profile.robot.sensor_offset_in
+        return self.pose.x_in + off * math.cos(h), self.pose.y_in + off * math.sin(h)
+
+    # -- moving ------------------------------------------------------------------
+
+    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None) -> MoveResult:
+        """Drive straight segments through the waypoints (turning in place onto each),
+        stop short of any contact, then turn to ``face`` and centre the sonar on the
+        object there, or else to the last waypoint's heading."""
+        if not waypoints or not all(isinstance(w, Pose) for w in waypoints):
+            raise DriverError(BAD_REQUEST, "move: waypoints must be a non-empty list of Pose")
+        robot = self.profile.robot
+        duration = robot.vision_s
+        x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg
+        collided = False
+        for wp in waypoints:
+            dx, dy = wp.x_in - x, wp.y_in - y
+            length = math.hypot(dx, dy)
+            if length < 1e-6:
+                continue
+            course = math.degrees(math.atan2(dy, dx))
+            duration += abs(_wrap_deg(course - heading)) / robot.turn_deg_per_s
+            heading = course
+            alpha = self.physics.sweep_circle((x, y), (wp.x_in, wp.y_in), robot.base_radius_in)
+            travel = length if alpha is None else max(0.0, alpha * length - COLLISION_BACKOFF_IN)
+            collided = alpha is not None
+            duration += travel / robot.speed_in_per_s
+            stop = (wp.x_in, wp.y_in) if alpha is None else (x + travel * dx / length, y + travel * dy / length)
+            x, y = self._odometry(stop, course, travel)
+            if collided:
+                break
+        centred = False
+        if not collided:
+            if face is not None:
+                target = self._centring_target(x, y, face)
+                goal = (target.x_in, target.y_in) if target is not None else face
+                final = math.degrees(math.atan2(goal[1] - y, goal[0] - x))
+                duration += abs(_wrap_deg(final - heading)) / robot.turn_deg_per_s + robot.centring_s
+                centred = target is not None
+                heading = final if centred else final + self._heading_error()
+            else:
+                final = waypoints[-1].heading_deg
+                duration += abs(_wrap_deg(final - heading)) / robot.turn_deg_per_s
+                heading = final + self._heading_error()
+        self.pose = Pose(x, y, normalise_deg(heading))
+        self.clock_s += duration
+        return MoveResult(self.pose, duration, collided, centred)
+
+    def _odometry(self, stop: tuple[float, float], course_deg: float, travel: float) -> tuple[float, float]:
+        """Where the base really ends when told to ``stop`` after driving ``travel``
+        along ``course``: off by a Gaussian error proportional to the distance, unless
+        that would put it into something (the bumper would have stopped it)."""
+        sigma = self.noise.odometry_frac * travel
+        if sigma <= 0:
+            return stop
+        c, s = math.cos(math.radians(course_deg)), math.sin(math.radians(course_deg))
+        along, across = self.rng.normal(0.0, sigma, 2)
+        jx, jy = stop[0] + along * c - across * s, stop[1] + along * s + across * c
+        if self.physics.overlaps_disc((jx, jy), self.profile.robot.base_radius_in):
+            return stop
+        return float(jx), float(jy)
+
+    def _heading_error(self) -> float:
+        sigma = self.noise.odometry_heading_deg
+        return float(self.rng.normal(0.0, sigma)) if sigma > 0 else 0.0
+
+    def _centring_target(self, x: float, y: float, face: tuple[float, float]) -> SimObject | None:
+        best, best_d = None, CENTRING_RADIUS_IN
+        for o in self.physics.objects:
+            d = math.hypot(o.x_in - face[0], o.y_in - face[1])
+            if o.status == "floor" and d <= best_d:
+                best, best_d = o, d
+        return best
+
+    # -- sensing -----------------------------------------------------------------
+
+    def _aim(self, procedure: str, range_in: tuple[float, float]) -> sonar.Aim:
+        """The object in front of the sonar, checked against a procedure's range."""
+        origin = self.sonar_point()
+        reach = math.hypot(self.spec.room_width_in, self.spec.room_depth_in) + 50.0
+        target, distance = sonar.find_target(self.physics, origin, self.pose.heading_deg, reach)
+        if target is None:
+            raise DriverError(NO_TARGET, f"{procedure}: no object in front of the sonar")
+        lo, hi = range_in
+        if not lo - RANGE_TOLERANCE_IN <= distance <= hi + RANGE_TOLERANCE_IN:
+            raise DriverError(OUT_OF_RANGE, f"{procedure}: object at {distance:.1f} in, range is {lo:g}-{hi:g} in")
+        return sonar.Aim(origin, self.pose.heading_deg, target, distance,
+                         self.profile.robot.sensor_height_in, hi + RANGE_TOLERANCE_IN)
+
+    def sense(self, procedure: str) -> SenseResult:
+        spec = self.profile.sensing.get(procedure)
+        model = sonar.PROCEDURES.get(procedure)
+        if spec is None or model is None:
+            raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure '{procedure}'")
+        aim = self._aim(procedure, spec.range_in)
+        ideal = model(self.physics, aim)
+        values: dict[str, float | None] = {}
+        for feature in spec.features:
+            if feature.name not in ideal:
+                raise DriverError(UNKNOWN_PROCEDURE, f"{procedure}: simulator cannot compute feature '{feature.name}'")
+            value, step = ideal[feature.name]
+            if feature.binary:
+                values[feature.name] = perturb_flag(value > 0.5, self.rng, self.noise)
+                continue
+            if feature.name == "Depth" and self._curved_end_on(aim):
+                value *= float(self.rng.uniform(0.25, 0.5))
+            values[feature.name] = perturb(value, feature.error, step, self.rng, self.noise)
+        self.clock_s += spec.time_s
+        return SenseResult(procedure, values, spec.time_s, aim.distance_in)
+
+    def _curved_end_on(self, aim: sonar.Aim) -> bool:
+        """The paper's curved-surface effect: looking end-on along a lying round object,
+        the echo over its top is often lost early, so Depth comes out far too small."""
+        return (aim.target.entry.rolls and sonar.approach_is_end_on(aim.heading_deg, aim.target)
+                and self.noise.curved_depth_p > 0 and self.rng.random() < self.noise.curved_depth_p)
+
+    # -- grasping ----------------------------------------------------------------
+
+    def grasp(self, procedure: str) -> GraspResult:
+        spec = self.profile.grasping.get(procedure)
+        if spec is None:
+            raise DriverError(UNKNOWN_PROCEDURE, f"grasp: unknown grasping procedure '{procedure}'")
+        if self.held is not None:
+            raise DriverError(BAD_REQUEST, f"grasp: the hand holds object {self.held.index}; release it first")
+        aim = self._aim(procedure, spec.range_in)
+        obj = aim.target
+        end_on = sonar.approach_is_end_on(aim.heading_deg, obj)
+        success = grasping.picks_up(obj.entry, procedure, end_on)
+        if success:
+            self.physics.lift(obj)
+            self.held = obj
+            self.last_effect = grasping.LIFTED
+        else:
+            self.last_effect = grasping.failure_effect(obj.entry, procedure, self.rng)
+            if self.last_effect == grasping.PUSHED:
+                self._push(obj, aim.u)
+            elif self.last_effect == grasping.KNOCKED_OVER:
+                self._knock_over(obj, aim.u)
+        self.clock_s += spec.time_s
+        return GraspResult(procedure, success, spec.time_s)
+
+    def _push(self, obj: SimObject, u: tuple[float, float]) -> None:
+        """The fingers shove the object away from the robot; a lying round object rolls
+        across its axis unless it was pushed nearly end-on."""
+        distance = obj.entry.side_effects.push_in * float(self.rng.uniform(*PUSH_SPREAD))
+        direction, rolling = u, False
+        if obj.entry.rolls:
+            yaw = obj.body.angle
+            ax, ay = math.cos(yaw), math.sin(yaw)
+            along = u[0] * ax + u[1] * ay
+            px, py = u[0] - along * ax, u[1] - along * ay
+            norm = math.hypot(px, py)
+            if norm > 0.5:
+                direction, rolling, distance = (px / norm, py / norm), True, distance * ROLL_FACTOR
+        self.physics.push(obj, direction, distance, rolling)
+
+    def _knock_over(self, obj: SimObject, u: tuple[float, float]) -> None:
+        """The object tips away from the robot about its far bottom edge: the lying
+        entry's axis points along the push, its centre r + H/2 beyond the old one; an
+        open top ends up facing away (the lying entry's +x end)."""
+        old, new = obj.entry, self.catalogue[obj.entry.side_effects.knocks_to or obj.entry.id]
+        reach = old.footprint.radius_in + new.footprint.length_in / 2
+        heading = math.degrees(math.atan2(u[1], u[0]))
+        yaw = heading if old.top_hole or new.front_hole is None else heading + 180.0
+        yaw += float(self.rng.normal(0.0, KNOCK_YAW_SIGMA_DEG))
+        self.physics.replace(obj, new, obj.x_in + reach * u[0], obj.y_in + reach * u[1], yaw)
+        self.physics.settle()
+
+    def release(self) -> RobotState:
+        """Drop a held object into the robot's bin (takes no robot time)."""
+        if self.held is not None:
+            self.held.status = "binned"
+            self.held = None
+        return self.state()
+
+    # -- camera ------------------------------------------------------------------
+
+    def camera(self) -> CameraImage:
+        """The overhead image (vision time is charged to moves, not here)."""
+        floor = [(o.entry.footprint, o.x_in, o.y_in, o.yaw_deg) for o in self.physics.objects if o.status == "floor"]
+        return camera.render(self.spec, floor, self.pose, self.profile.robot.base_radius_in,
+                             self.noise, self.rng, self.clock_s)

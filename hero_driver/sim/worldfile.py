@@ -1,0 +1,178 @@
+"""World files: the room, its furniture, the robot's start pose and the objects on the
+floor (catalogue ids and poses), as JSON in ``hero_driver/worlds/``.
+
+A world is data so that scenarios (the demo lab, the training floor, one-object probe
+worlds) differ by a file, not by code. Loading checks geometry too: an object through
+a wall or inside another one would make every later measurement meaningless.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
+from hero_driver.sim.noise import NoiseConfig
+
+WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
+DEFAULT_WORLD = "lab"
+
+
+@dataclass(frozen=True)
+class Furniture:
+    """A rectangle the robot must not enter: a table's legs and top, a cabinet."""
+
+    name: str
+    x_in: float
+    y_in: float
+    width_in: float  # along the furniture's own x
+    depth_in: float  # along its own y
+    yaw_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class Placement:
+    """One object on the floor: a catalogue entry at a centre and yaw (of local x)."""
+
+    entry_id: str
+    x_in: float
+    y_in: float
+    yaw_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class WorldSpec:
+    name: str
+    source: str
+    room_width_in: float  # x from 0 to width
+    room_depth_in: float  # y from 0 to depth
+    furniture: tuple[Furniture, ...]
+    robot: tuple[float, float, float]  # x_in, y_in, heading_deg
+    objects: tuple[Placement, ...]
+    noise: NoiseConfig | None
+
+
+def resolve(world: str | Path | None) -> Path:
+    """A world argument as the driver takes it: None (the default lab), a bare name of
+    a shipped world ("lab", "training") or a path."""
+    if world is None:
+        world = DEFAULT_WORLD
+    candidate = Path(world)
+    if candidate.suffix == "" and not candidate.exists() and (WORLDS_DIR / f"{world}.json").exists():
+        return WORLDS_DIR / f"{world}.json"
+    return candidate
+
+
+def footprint_polygon(footprint: Footprint, x: float, y: float, yaw_deg: float,
+                      segments: int = 48) -> list[tuple[float, float]]:
+    """World-frame outline (counter-clockwise); circles become ``segments``-gons."""
+    if footprint.shape == "circle":
+        return [(x + footprint.radius_in * math.cos(2 * math.pi * k / segments),
+                 y + footprint.radius_in * math.sin(2 * math.pi * k / segments)) for k in range(segments)]
+    return rect_polygon(x, y, footprint.length_in, footprint.width_in, yaw_deg)
+
+
+def rect_polygon(x: float, y: float, length: float, width: float, yaw_deg: float) -> list[tuple[float, float]]:
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    corners = ((length / 2, width / 2), (-length / 2, width / 2), (-length / 2, -width / 2), (length / 2, -width / 2))
+    return [(x + c * u - s * v, y + s * u + c * v) for u, v in corners][::-1]
+
+
+def _bounds(points: list[tuple[float, float]]) -> tuple[float, float, float, float]:
+    xs, ys = [p[0] for p in points], [p[1] for p in points]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def _overlap(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool:
+    """Separating-axis test for convex polygons."""
+    for poly in (a, b):
+        for i in range(len(poly)):
+            (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % len(poly)]
+            nx, ny = y2 - y1, x1 - x2
+            pa = [nx * px + ny * py for px, py in a]
+            pb = [nx * px + ny * py for px, py in b]
+            if max(pa) <= min(pb) or max(pb) <= min(pa):
+                return False
+    return True
+
+
+def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
+    """Check and build a world from decoded JSON (``source`` names it in errors)."""
+    top = FieldReader(source, "world", data)
+    top.only("about", "name", "room", "furniture", "robot", "objects", "noise")
+    room = FieldReader(source, "room", top.table.get("room"))
+    room.only("width_in", "depth_in")
+    width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
+    furniture = []
+    for i, raw in enumerate(top.table.get("furniture", [])):
+        r = FieldReader(source, f"furniture[{i}]", raw)
+        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg")
+        furniture.append(Furniture(r.text("name"), r.number("x_in"), r.number("y_in"),
+                                   r.number("width_in", 0.5), r.number("depth_in", 0.5),
+                                   r.number("yaw_deg", -360.0, 0.0)))
+    rr = FieldReader(source, "robot", top.table.get("robot"))
+    rr.only("x_in", "y_in", "heading_deg")
+    robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))
+    objects = []
+    for i, raw in enumerate(top.table.get("objects", [])):
+        r = FieldReader(source, f"objects[{i}]", raw)
+        r.only("id", "x_in", "y_in", "yaw_deg")
+        entry_id = r.text("id")
+        if entry_id not in catalogue:
+            raise r.fail("id", f"names unknown catalogue entry '{entry_id}'")
+        objects.append(Placement(entry_id, r.number("x_in"), r.number("y_in"), r.number("yaw_deg", -360.0, 0.0)))
+    noise_table = top.table.get("noise")
+    noise = None
+    if noise_table is not None:
+        if not isinstance(noise_table, dict):
+            raise top.fail("noise", "must be an object")
+        noise = NoiseConfig.from_mapping(noise_table, f"{source}: noise")
+    spec = WorldSpec(str(top.table.get("name", Path(source).stem)), source, width, depth,
+                     tuple(furniture), robot, tuple(objects), noise)
+    _check_layout(spec, catalogue)
+    return spec
+
+
+def _check_layout(spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry]) -> None:
+    shapes: list[tuple[str, list[tuple[float, float]]]] = [
+        (f"furniture '{f.name}'", rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
+        for f in spec.furniture]
+    for i, p in enumerate(spec.objects):
+        shapes.append((f"objects[{i}] '{p.entry_id}'",
+                       footprint_polygon(catalogue[p.entry_id].footprint, p.x_in, p.y_in, p.yaw_deg)))
+    for label, poly in shapes:
+        x0, y0, x1, y1 = _bounds(poly)
+        if x0 < 0 or y0 < 0 or x1 > spec.room_width_in or y1 > spec.room_depth_in:
+            room = f"{spec.room_width_in:g}x{spec.room_depth_in:g} in"
+            raise ValueError(f"{spec.source}: {label}: lies outside the {room} room")
+    for i, (label_a, a) in enumerate(shapes):
+        for label_b, b in shapes[i + 1:]:
+            if _overlap(a, b):
+                raise ValueError(f"{spec.source}: {label_b}: overlaps {label_a}")
+
+
+def load_world(world: str | Path | None, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
+    """Read a world file (see :func:`resolve` for what ``world`` may be)."""
+    path = resolve(world)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read world file: {exc}") from exc
+    return parse_world(data, str(path), catalogue)
+
+
+def one_object_world(entry_id: str, catalogue: Mapping[str, CatalogueEntry], *,
+                     yaw_deg: float = 0.0, room_in: float = 400.0) -> WorldSpec:
+    """An empty square room with one object at its centre, for training probes: large
+    enough that a sweep at the sonar's full range never sees a wall behind the robot
+    interfere with the object."""
+    if entry_id not in catalogue:
+        raise ValueError(f"one_object_world: unknown catalogue entry '{entry_id}'")
+    centre = room_in / 2
+    data = {"name": f"probe:{entry_id}", "room": {"width_in": room_in, "depth_in": room_in},
+            "robot": {"x_in": 20.0, "y_in": 20.0, "heading_deg": 0.0},
+            "objects": [{"id": entry_id, "x_in": centre, "y_in": centre, "yaw_deg": yaw_deg}]}
+    return parse_world(data, f"<probe {entry_id}>", catalogue)
