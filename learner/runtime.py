@@ -67,6 +67,7 @@ class _Frame:
     test: ScoredTest | None = None
     value: float | None = None
     tried: set[Test] = field(default_factory=set)
+    unreliable: list[tuple[ScoredTest, float]] = field(default_factory=list)  # for nearest neighbour
 
 
 class RecognitionSession:
@@ -176,15 +177,24 @@ class RecognitionSession:
         idx = None if value is None else match(value, test.ranges, test.error)
         if idx is None:
             frame.tried.add(test.test)
+            if value is not None:
+                frame.unreliable.append((test, value))
             return Unreliable(value)
         return self._push(frame, test, idx, value)
 
+    @property
+    def can_follow_nearest(self) -> bool:
+        """True when a value measured at this node was unreliable (nearest neighbour applies)."""
+        return bool(self._frames[-1].unreliable)
+
     def follow_nearest(self) -> Matched:
-        """Follow the branch nearest the last unreliable value (method.md §5, last resort)."""
+        """Follow the branch nearest the node's latest unreliable value (method.md §5,
+        the last resort)."""
         frame = self._frames[-1]
-        if frame.test is None or frame.value is None:
-            raise ValueError("nearest neighbour needs a measured value at the current node")
-        return self._push(frame, frame.test, nearest(frame.value, frame.test.ranges), frame.value)
+        if not frame.unreliable:
+            raise ValueError("nearest neighbour needs an unreliable value measured at the current node")
+        test, value = frame.unreliable[-1]
+        return self._push(frame, test, nearest(value, test.ranges), value)
 
     def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
         frame.test, frame.value = test, value

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from executive.commands import learning, library
+from executive.commands import learner_cmd, learning, library
 from hero_driver import cli as driver
 
-MODULES: list[ModuleType] = [learning, library, driver]
+MODULES: list[ModuleType] = [learning, library, learner_cmd, driver]

@@ -1,0 +1,86 @@
+"""``csl learner serve``: the learner service as a zenoh node, so several robots share
+one library (docs/learner-protocol.md)."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from pathlib import Path
+from types import FrameType
+
+from executive import defaults
+from learner.library import read_library_json
+from learner.service import protocol
+from learner.service.config import DEFAULT_ENDPOINT, check_endpoint
+from learner.service.local import LocalLearner
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``learner`` group and its ``serve`` command."""
+    group = sub.add_parser(
+        "learner",
+        help="serve the shared library over zenoh so several robots learn into it",
+        description=(
+            "The learner service owns the library of object descriptions and adds what "
+            "robots learn after each grasp. Robots use it in-process by default; "
+            "'serve' runs it as a zenoh node on keys csl/learner/<name>/... "
+            "(docs/learner-protocol.md) so that every robot started with '--learner "
+            "zenoh' shares one library."
+        ),
+    )
+    actions = group.add_subparsers(dest="learner_command", metavar="ACTION", required=True)
+    serve = actions.add_parser(
+        "serve",
+        help="serve a library database until interrupted",
+        description=(
+            "Serve the library in a SQLite database: declares the liveliness token "
+            "csl/learner/<name>/alive and answers csl/learner/<name>/rpc/library, "
+            "rpc/learn and rpc/version. A store with no description yet is first seeded "
+            "from --seed-library; a store in use is never overwritten. Prints one line "
+            "once serving; stops cleanly on Ctrl-C or SIGTERM."
+        ),
+    )
+    serve.add_argument("--name", default="default",
+                       help="service name, one key chunk of letters, digits, '_', '-', '.' "
+                            "(default: default)")
+    serve.add_argument("--db", type=Path, default=None, metavar="PATH",
+                       help="the library database (default: $CSL_HOME/library.sqlite, "
+                            "CSL_HOME defaulting to ~/.local/share/csl)")
+    serve.add_argument("--seed-library", type=Path, default=defaults.EXAMPLE_LIBRARY, metavar="JSON",
+                       help="library JSON imported only into an empty database "
+                            "(default: the shipped HERO 2000 example library)")
+    serve.add_argument("--listen", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
+                       help=f"zenoh endpoint to listen on (default {DEFAULT_ENDPOINT})")
+    serve.set_defaults(handler=run_serve)
+
+
+def run_serve(args: argparse.Namespace) -> int:
+    """Serve until SIGINT or SIGTERM; exit status 0 after a clean shutdown."""
+    protocol.check_name(args.name)
+    check_endpoint(args.listen)
+    # Imported here: zenoh costs `csl --help` and every other command its start-up time.
+    from learner.service.zenoh_node import serve_learner
+
+    db = args.db or defaults.library_db()
+    service = LocalLearner(db, seed_library=read_library_json(args.seed_library))
+    stop = threading.Event()
+
+    def on_signal(_signum: int, _frame: FrameType | None) -> None:
+        stop.set()
+
+    def on_ready() -> None:
+        snapshot = service.library()
+        print(f"serving learner {args.name!r} on {args.listen}: {len(snapshot.descriptions)} "
+              f"descriptions, version {snapshot.version}, from {db} (Ctrl-C to stop)", flush=True)
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        serve_learner(service, args.name, [args.listen], stop, on_ready=on_ready)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        service.close()
+    print(f"learner {args.name!r} stopped", file=sys.stderr)
+    return 0

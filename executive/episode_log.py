@@ -1,0 +1,48 @@
+"""The episode log: one JSON line per event, tagged with the tick it happened in.
+
+Events are what a person replaying or analysing a run needs: objects located, tests
+chosen and why (gain, move and sensing cost), values measured, branches followed,
+recoveries, grasps, what was learned. No wall-clock times, so two runs of the same seed
+give the same log.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import IO
+
+
+class EpisodeLog:
+    """Collects events in memory and, given a path, appends them to a JSON-lines file."""
+
+    def __init__(self, path: str | Path | None = None) -> None:
+        self.events: list[dict[str, object]] = []
+        self.tick = 0
+        self._file: IO[str] | None = None
+        if path is not None:
+            path = Path(path)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            self._file = path.open("w", encoding="utf-8")
+
+    def event(self, kind: str, **data: object) -> None:
+        record = {"tick": self.tick, "event": kind, **data}
+        self.events.append(record)
+        if self._file is not None:
+            self._file.write(json.dumps(record, ensure_ascii=False, default=str) + "\n")
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+
+def read_log(path: str | Path) -> list[dict[str, object]]:
+    """Read an episode log back (for replay and analysis)."""
+    events = []
+    for n, line in enumerate(Path(path).read_text(encoding="utf-8").splitlines(), 1):
+        try:
+            events.append(json.loads(line))
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{path}:{n}: not a JSON event: {exc.msg}") from None
+    return events
