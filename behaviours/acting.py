@@ -54,9 +54,11 @@ class MoveTo(DriverAction):
 
     def finish(self, result: MoveResult) -> Status:
         obj = self.obj
+        self.services.last_pose = result.pose
         obj.ledger.moving_s += result.duration_s
         self.note("move", to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
-                  collided=result.collided)
+                  collided=result.collided,
+                  pose=[round(result.pose.x_in, 1), round(result.pose.y_in, 1), round(result.pose.heading_deg, 1)])
         if result.collided:
             return self._unusable()
         assert self._goal is not None

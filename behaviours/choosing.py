@@ -114,8 +114,9 @@ class NearestNeighbour(_Choose):
 
 
 class ChooseGrasp(_Choose):
-    """At a leaf: its grasp. At an ambiguous leaf: the cheapest of its grasps, tried as
-    a binary feature (a failure drops that grasp and the next one comes up)."""
+    """At a leaf: its grasp. At an ambiguous leaf, or when every strategy failed at the
+    node (a classification failure): the cheapest of its grasps, tried as a binary
+    feature (a failure drops that grasp and the next one comes up)."""
 
     def __init__(self, services: Services, name: str = "ChooseGrasp") -> None:
         super().__init__(name, services)
@@ -123,6 +124,8 @@ class ChooseGrasp(_Choose):
     def update(self) -> Status:
         obj = self.obj
         decision = self.decide()
+        if isinstance(decision, Exhausted) and obj.no_alternative and not obj.session.can_follow_nearest:
+            decision = obj.session.classification_failure()  # every strategy failed here
         if isinstance(decision, AmbiguousLeaf) and decision.options:
             obj.ledger.recoveries["ambiguous leaf"] += 1
             leaf = decision.options[0]

@@ -57,6 +57,7 @@ class Services:
     params: Params
     log: EventSink
     clock: Callable[[], float] = time.perf_counter
+    last_pose: DriverPose | None = None  # from the latest move result: fresher than state()
     _matrix: tuple[int, DescriptionMatrix] | None = None
 
     @property
@@ -73,7 +74,8 @@ class Services:
         return self._matrix[1]
 
     def robot_pose(self) -> PlannerPose:
-        return to_planner_pose(self.driver.state().pose)
+        """Where the robot is: the end of its last move, else what the driver reports."""
+        return to_planner_pose(self.last_pose or self.driver.state().pose)
 
 
 @dataclass
@@ -177,6 +179,6 @@ class PlannerMoveCost:
 def relative_position(navigator: Navigator, region: Region, pose: PlannerPose) -> Position:
     """Where a robot pose stands relative to an object, in the learner's terms (rounded)."""
     d, o = navigator.position_of(region, pose)
-    return Position(round(max(d, 0.0), 1), round(o % 360.0, 1))
+    return Position(round(max(d, 0.0), 1), round(o, 1) % 360.0)
 
 

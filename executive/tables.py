@@ -14,4 +14,7 @@ def print_table(headers: Sequence[str], rows: Sequence[Sequence[str]], title: st
         table.add_column(h, overflow="fold")
     for r in rows:
         table.add_row(*r)
-    Console(soft_wrap=False).print(table)
+    console = Console(soft_wrap=False)
+    if not console.is_terminal:  # a log or a pipe: do not squeeze the table into 80 columns
+        console = Console(soft_wrap=False, width=max(console.width, 180))
+    console.print(table)

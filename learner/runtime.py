@@ -68,6 +68,7 @@ class _Frame:
     value: float | None = None
     tried: set[Test] = field(default_factory=set)
     unreliable: list[tuple[ScoredTest, float]] = field(default_factory=list)  # for nearest neighbour
+    nearest_used: bool = False  # nearest neighbour is followed once per node, never in a loop
 
 
 class RecognitionSession:
@@ -184,8 +185,17 @@ class RecognitionSession:
 
     @property
     def can_follow_nearest(self) -> bool:
-        """True when a value measured at this node was unreliable (nearest neighbour applies)."""
-        return bool(self._frames[-1].unreliable)
+        """True when a value measured at this node was unreliable and nearest neighbour
+        has not been followed from here yet."""
+        frame = self._frames[-1]
+        return bool(frame.unreliable) and not frame.nearest_used
+
+    def classification_failure(self) -> AmbiguousLeaf:
+        """Nothing reliable is left to test here: offer the node's grasps, to be tried
+        as binary features (method.md §5, ambiguous leaf)."""
+        frame = self._frames[-1]
+        return AmbiguousLeaf(tuple(grasp_options(frame.node, self.position, self.ctx)),
+                             object_ids(frame.node, self.ctx))
 
     def follow_nearest(self) -> Matched:
         """Follow the branch nearest the node's latest unreliable value (method.md §5,
@@ -194,6 +204,7 @@ class RecognitionSession:
         if not frame.unreliable:
             raise ValueError("nearest neighbour needs an unreliable value measured at the current node")
         test, value = frame.unreliable[-1]
+        frame.nearest_used = True
         return self._push(frame, test, nearest(value, test.ranges), value)
 
     def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
@@ -222,20 +233,21 @@ class RecognitionSession:
     # -- grasping -------------------------------------------------------------------
     def grasp_failed(self, grasp: str, *, side_effects: bool, changed: bool = False,
                      position: Position | None = None) -> None:
-        """A grasp at a leaf failed.
+        """A grasp at a leaf failed; rebuild the tree from the current position.
 
-        Without side effects: the object is not of that grasp's class, so drop its
-        descriptions and rebuild from the current position, keeping what was measured.
-        With side effects everything is restored and recognition starts over; when the
-        object *changed* (knocked over) its measurements are void too.
+        Without side effects the object is not of that grasp's class: drop its
+        descriptions, keep what was measured. With side effects (method.md §5.4) we
+        tell the two the camera distinguishes apart: *pushed* is the same object, moved,
+        so grasps that already failed stay ruled out (this one too) and every value
+        measured relative to the object still holds; *changed* (knocked over) is in
+        effect a new object: all descriptions are restored and all sensing is void.
         """
         if position is not None:
             self.position = position
         self.wrong_predictions.append(grasp)
-        if side_effects:
+        if side_effects and changed:
             self.dropped_grasps.clear()
-            if changed:
-                self.measurements.clear()
+            self.measurements.clear()
         else:
             self.dropped_grasps.add(grasp)
         self._frames = [_Frame(self._root_node(), self.position)]

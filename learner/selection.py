@@ -119,6 +119,7 @@ class _Split:
 
     ranges: list[list[Range]]
     gains: np.ndarray
+    n_ranges: np.ndarray
 
 
 def _partition_node(node: Node, matrix: DescriptionMatrix, columns: np.ndarray) -> _Split:
@@ -172,7 +173,7 @@ def _partition_node(node: Node, matrix: DescriptionMatrix, columns: np.ndarray) 
     los, his = vals[starts].tolist(), vals[ends].tolist()
     bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
     ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in range(m)]
-    return _Split(ranges, gains)
+    return _Split(ranges, gains, n_ranges)
 
 
 def _entropy(counts: np.ndarray) -> np.ndarray:
@@ -194,7 +195,8 @@ def rank(
     """All usable tests at a node, best first (ties: the nearer, then the cheaper).
 
     A test is usable when it splits the node into two or more branches with positive
-    gain; grasp tests only while the node holds more than one grasp.
+    gain (or, when none gains anything, any test that splits); grasp tests only while
+    the node holds more than one grasp.
     """
     matrix = ctx.matrix
     several_classes = len(np.unique(matrix.class_of[list(node.rows)])) > 1
@@ -203,9 +205,14 @@ def rank(
     if len(columns) == 0 or not node.rows:
         return []
     split = _partition_node(node, matrix, columns)
+    usable = split.gains > _MIN_GAIN
+    if not usable.any():
+        # No single test gains anything (XOR-like data), yet a split may separate the
+        # classes one level down: take splitting tests anyway, cheapest first.
+        usable = split.n_ranges >= 2
     move_costs: dict[Position, float] = {}  # many tests share a position: price each once
     scored: list[ScoredTest] = []
-    for j in np.flatnonzero(split.gains > _MIN_GAIN):
+    for j in np.flatnonzero(usable):
         test = matrix.tests[columns[j]]
         gain = float(split.gains[j])
         if not test.is_grasp and measured_value(test, measurements) is not None:

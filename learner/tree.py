@@ -69,7 +69,9 @@ def grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf
                 best = leaf
         assert best is not None
         options.append(best)
-    return sorted(options, key=lambda o: (o.move_cost + o.grasp_cost, o.grasp))
+    # a grasp the finger sensor cannot confirm (No-Grab) proves nothing when tried: last
+    return sorted(options, key=lambda o: (not ctx.knowledge.grasp(o.grasp).verifiable,
+                                          o.move_cost + o.grasp_cost, o.grasp))
 
 
 def leaf_at(node: Node, current: Position, ctx: Context) -> GraspLeaf | None:

@@ -123,15 +123,16 @@ def test_a_failed_grasp_without_side_effects_drops_its_class_and_rebuilds_from_h
     assert s.decide().grasp == "Top-Pinch"
 
 
-def test_side_effects_restore_every_description_and_a_change_voids_what_was_measured() -> None:
+def test_a_push_keeps_what_is_known_and_a_change_restores_everything() -> None:
     s = session()
     sweep = s.decide()
     s.observe(sweep, {"Width-Degree-1°": 8.5}, sweep.target)
     s.grasp_failed("Front-Wrap", side_effects=False)
-    s.grasp_failed("Top-Pinch", side_effects=True, position=P(30, 10))
-    assert set(s.candidates) == {"cup", "box", "tumbler", "closed"}
+    s.grasp_failed("Top-Pinch", side_effects=True, position=P(30, 10))  # pushed: same object
+    assert set(s.candidates) == {"box", "closed"}
     assert s.measurements and s.position == P(30, 10)
-    s.grasp_failed("Top-Pinch", side_effects=True, changed=True)
+    s.grasp_failed("Front-Pinch", side_effects=True, changed=True)  # knocked over: a new object
+    assert set(s.candidates) == {"cup", "box", "tumbler", "closed"}
     assert not s.measurements
 
 
