@@ -1,0 +1,179 @@
+"""The learner protocol on zenoh (docs/learner-protocol.md): keys and JSON messages.
+
+Keys, message shapes and error codes live in one module so the node and the client
+cannot drift apart. Descriptions travel in the library JSON format
+(docs/library-format.md), so a library reply is also a valid library file and the
+validation of ``csl library import`` guards what a robot may learn.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Mapping
+from typing import cast
+
+from learner.description import ObjectDescription
+from learner.library import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
+from learner.service.interface import LibrarySnapshot
+
+PREFIX = "csl/learner"
+PROTOCOL_VERSION = 1
+
+LIBRARY, LEARN, VERSION_VERB = "library", "learn", "version"
+VERBS = (LIBRARY, LEARN, VERSION_VERB)
+
+BAD_REQUEST = "bad_request"  # the request is malformed or cannot be stored; resending will not help
+INTERNAL = "internal"  # the service failed (disk full, a bug); the library is unchanged
+ERROR_CODES = (BAD_REQUEST, INTERNAL)
+
+_NAME = re.compile(r"[A-Za-z0-9_.-]+")
+
+
+class ProtocolError(ValueError):
+    """A message that does not follow the protocol; the text names the field."""
+
+
+# -- keys -----------------------------------------------------------------------------
+def check_name(name: str) -> str:
+    """Return ``name`` if it is one key chunk, so it cannot smuggle ``*`` or ``/`` into
+    a key; ValueError otherwise."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ValueError(f"learner name {name!r} must be letters, digits, '_', '-' or '.' (one key chunk)")
+    return name
+
+
+def alive_key(name: str) -> str:
+    """The liveliness token the service declares while it serves."""
+    return f"{PREFIX}/{check_name(name)}/alive"
+
+
+def rpc_key(name: str, verb: str) -> str:
+    """The queryable that answers ``verb``."""
+    return f"{PREFIX}/{check_name(name)}/rpc/{verb}"
+
+
+def rpc_prefix(name: str) -> str:
+    """Every key below ``rpc/``: where unknown verbs and wildcards are refused."""
+    return f"{PREFIX}/{check_name(name)}/rpc/**"
+
+
+# -- requests -------------------------------------------------------------------------
+def encode_empty_request() -> bytes:
+    """The request of ``library`` and ``version``: ``{"v": 1}``."""
+    return _dumps({})
+
+
+def decode_empty_request(data: bytes) -> None:
+    """Check a ``library`` or ``version`` request."""
+    _fields(data, ())
+
+
+def encode_learn_request(description: ObjectDescription) -> bytes:
+    """``{"v": 1, "description": <one library entry>}``."""
+    return _dumps({"description": _entry(description)})
+
+
+def decode_learn_request(data: bytes) -> ObjectDescription:
+    """The description a ``learn`` request carries, validated like a library file."""
+    return _description(_fields(data, ("description",))["description"], "description")
+
+
+# -- replies --------------------------------------------------------------------------
+def encode_library_reply(snapshot: LibrarySnapshot) -> bytes:
+    """``{"v": 1, "version": N, "library": <library JSON document>}``."""
+    return _dumps({"version": snapshot.version, "library": descriptions_to_json(snapshot.descriptions)})
+
+
+def decode_library_reply(data: bytes) -> LibrarySnapshot:
+    fields = _fields(data, ("version", "library"))
+    try:
+        descriptions = descriptions_from_json(fields["library"], "library")
+    except ValueError as exc:
+        raise ProtocolError(str(exc)) from None
+    return LibrarySnapshot(_version(fields["version"]), tuple(descriptions))
+
+
+def encode_learn_reply(object_id: str) -> bytes:
+    """``{"v": 1, "id": <the id the description was stored under>}``."""
+    return _dumps({"id": object_id})
+
+
+def decode_learn_reply(data: bytes) -> str:
+    object_id = _fields(data, ("id",))["id"]
+    if not isinstance(object_id, str) or not object_id:
+        raise ProtocolError(f"id: must be a non-empty string, got {object_id!r}")
+    return object_id
+
+
+def encode_version_reply(version: int) -> bytes:
+    """``{"v": 1, "version": N}``."""
+    return _dumps({"version": version})
+
+
+def decode_version_reply(data: bytes) -> int:
+    return _version(_fields(data, ("version",))["version"])
+
+
+def encode_error(code: str, message: str) -> bytes:
+    """The ``reply_err`` body: ``{"v": 1, "code": ..., "message": ...}``."""
+    if code not in ERROR_CODES:
+        raise ProtocolError(f"code: {code!r} is not a protocol error code")
+    return _dumps({"code": code, "message": message})
+
+
+def decode_error(data: bytes) -> tuple[str, str]:
+    """``(code, message)`` of an error reply."""
+    fields = _fields(data, ("code", "message"))
+    code, message = fields["code"], fields["message"]
+    if code not in ERROR_CODES:
+        raise ProtocolError(f"code: {code!r} is not a protocol error code")
+    if not isinstance(message, str):
+        raise ProtocolError(f"message: must be a string, got {message!r}")
+    return cast(str, code), message
+
+
+# -- helpers --------------------------------------------------------------------------
+def _dumps(fields: Mapping[str, object]) -> bytes:
+    return json.dumps({"v": PROTOCOL_VERSION, **fields}, ensure_ascii=False, allow_nan=False).encode()
+
+
+def _fields(data: bytes, expected: tuple[str, ...]) -> dict[str, object]:
+    """The fields of a message that must carry exactly ``"v"`` and ``expected``."""
+    if not data:
+        raise ProtocolError(f'empty payload: messages are JSON objects with "v": {PROTOCOL_VERSION}')
+    try:
+        message = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ProtocolError(f"not valid JSON: {exc}") from None
+    if not isinstance(message, dict):
+        raise ProtocolError(f"a message must be a JSON object, got {type(message).__name__}")
+    if type(message.get("v")) is not int or message["v"] != PROTOCOL_VERSION:
+        raise ProtocolError(f"v: unsupported protocol version {message.get('v')!r} "
+                            f"(this learner speaks {PROTOCOL_VERSION})")
+    unknown = sorted(set(message) - {"v", *expected})
+    if unknown:
+        raise ProtocolError(f"unknown field {unknown[0]!r}")
+    missing = [f for f in expected if f not in message]
+    if missing:
+        raise ProtocolError(f"missing field {missing[0]!r}")
+    return message
+
+
+def _version(value: object) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise ProtocolError(f"version: must be a non-negative integer, got {value!r}")
+    return value
+
+
+def _entry(description: ObjectDescription) -> object:
+    entries = cast(list[object], descriptions_to_json([description])["descriptions"])
+    return entries[0]
+
+
+def _description(entry: object, where: str) -> ObjectDescription:
+    document = {"format": FORMAT, "version": VERSION, "descriptions": [entry]}
+    try:
+        return descriptions_from_json(document, where)[0]
+    except ValueError as exc:
+        raise ProtocolError(str(exc)) from None

@@ -1,0 +1,143 @@
+"""The zenoh client: a :class:`LearnerService` whose library lives in another process
+(``csl learner serve``), shared with every robot connected to it.
+
+Calls are synchronous: ``library()`` is asked before a decision and ``learn()`` after
+a grasp, both between ticks, and each is one round trip of a few milliseconds on a
+LAN. The snapshot is cached by version, so a robot that polls ``library()`` before
+every decision moves the whole library only when another robot learned something.
+A service that is not there is reported at construction (its liveliness token is
+missing) and on every call that finds no answer, as a one-line ConnectionError: a
+robot must never hang waiting for its library.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Sequence
+from typing import TypeVar
+
+import zenoh
+
+from learner.description import ObjectDescription
+from learner.service import protocol
+from learner.service.config import DEFAULT_ENDPOINT, open_session
+from learner.service.interface import LibrarySnapshot
+from learner.service.protocol import LEARN, LIBRARY, VERSION_VERB, ProtocolError
+
+T = TypeVar("T")
+
+
+class ZenohLearner:
+    """Reaches the learner service ``name`` through the nodes at ``connect``.
+
+    Every wait, from connecting to each reply, is bounded by ``timeout_s``. Raises
+    ConnectionError when no endpoint can be reached or no service ``name`` is alive
+    there; later, an unanswered call raises ConnectionError and an error reply from
+    the service raises ValueError.
+    """
+
+    def __init__(self, name: str = "default", connect: Sequence[str] = (DEFAULT_ENDPOINT,),
+                 timeout_s: float = 5.0) -> None:
+        self.name = protocol.check_name(name)
+        if not timeout_s > 0:
+            raise ValueError(f"timeout_s must be a positive number of seconds, got {timeout_s}")
+        self.timeout_s = timeout_s
+        self._where = ", ".join(connect)
+        self._lock = threading.Lock()
+        self._cached: LibrarySnapshot | None = None
+        self._closed = False
+        try:
+            self._session = open_session(connect=connect, connect_timeout_s=timeout_s)
+        except ConnectionError as exc:
+            raise ConnectionError(f"learner {self.name!r}: cannot reach a service: {exc}") from None
+        try:
+            self._wait_alive()
+        except BaseException:
+            self._session.close()
+            raise
+
+    def _wait_alive(self) -> None:
+        """Wait for the service's liveliness token: connected is not yet served."""
+        alive = threading.Event()
+
+        def on_token(sample: zenoh.Sample) -> None:
+            if sample.kind == zenoh.SampleKind.PUT:
+                alive.set()
+
+        key = protocol.alive_key(self.name)
+        subscriber = self._session.liveliness().declare_subscriber(key, on_token, history=True)
+        try:
+            found = alive.wait(self.timeout_s)
+        finally:
+            subscriber.undeclare()
+        if not found:
+            raise ConnectionError(f"no learner service {self.name!r} on {self._where} "
+                                  f"(no liveliness token {key} within {self.timeout_s:g} s)")
+
+    def library(self) -> LibrarySnapshot:
+        version = self.version()
+        with self._lock:
+            if self._cached is not None and self._cached.version == version:
+                return self._cached
+        snapshot = self._decode(protocol.decode_library_reply,
+                                self._call(LIBRARY, protocol.encode_empty_request()))
+        with self._lock:
+            if self._cached is None or snapshot.version >= self._cached.version:
+                self._cached = snapshot
+        return snapshot
+
+    def learn(self, description: ObjectDescription) -> str:
+        return self._decode(protocol.decode_learn_reply,
+                            self._call(LEARN, protocol.encode_learn_request(description)))
+
+    def version(self) -> int:
+        return self._decode(protocol.decode_version_reply,
+                            self._call(VERSION_VERB, protocol.encode_empty_request()))
+
+    def close(self) -> None:
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+        self._session.close()
+
+    def __enter__(self) -> ZenohLearner:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()
+
+    def _call(self, verb: str, payload: bytes) -> bytes:
+        """The payload of the first reply to ``verb``; the error cases as documented."""
+        with self._lock:
+            if self._closed:
+                raise ConnectionError(f"learner {self.name!r}: {verb}: the client is closed")
+        key = protocol.rpc_key(self.name, verb)
+        try:
+            replies = self._session.get(key, payload=payload, encoding=zenoh.Encoding.APPLICATION_JSON,
+                                        timeout=self.timeout_s)
+            reply = next(iter(replies), None)
+        except zenoh.ZError as exc:
+            raise ConnectionError(f"learner {self.name!r}: {verb}: {exc}") from None
+        if reply is None:
+            raise ConnectionError(f"learner {self.name!r}: {verb}: no service answered on {key} "
+                                  f"(is 'csl learner serve' running at {self._where}?)")
+        if reply.ok is not None:
+            return reply.ok.payload.to_bytes()
+        data = reply.err.payload.to_bytes()
+        try:
+            code, message = protocol.decode_error(data)
+        except ProtocolError:  # not the service's: zenoh's own, e.g. the query timed out
+            text = data.decode("utf-8", "replace").splitlines()[0] if data else "no reason given"
+            raise ConnectionError(f"learner {self.name!r}: {verb}: {text}") from None
+        raise ValueError(f"learner {self.name!r}: {code}: {_one_line(message)}")
+
+    def _decode(self, decode: Callable[[bytes], T], data: bytes) -> T:
+        try:
+            return decode(data)
+        except ProtocolError as exc:
+            raise ConnectionError(f"learner {self.name!r}: malformed reply: {exc}") from None
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())

@@ -1,0 +1,221 @@
+"""The learner service over zenoh: ``csl learner serve`` in its own process, robots as
+``ZenohLearner`` clients, malformed requests, and a service that is not there.
+
+Every service runs as a child process on a free 127.0.0.1 port with a temporary
+database, and is killed when its test ends, pass or fail.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import select
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from executive.cli import main
+from learner.library import write_library_json
+from learner.service import protocol
+from learner.service.config import open_session
+from learner.service.zenoh_client import ZenohLearner
+from tests.learner.fixtures import P, desc, four_objects
+
+pytestmark = pytest.mark.zenoh
+
+REPO = Path(__file__).resolve().parents[2]
+START_TIMEOUT_S = 20.0  # a cold interpreter importing numpy and zenoh on a busy box
+MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Handle?", P(6, None), 1))
+
+
+def free_endpoint() -> str:
+    """A TCP endpoint on 127.0.0.1 that nothing listens on right now."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        probe.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
+
+
+class ServiceProcess:
+    """``csl learner serve`` as a child process; :meth:`close` always ends it."""
+
+    def __init__(self, db: Path, endpoint: str, seed: Path, name: str = "test") -> None:
+        self.endpoint = endpoint
+        self.name = name
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "executive.cli", "learner", "serve", "--name", name, "--db", str(db),
+             "--seed-library", str(seed), "--listen", endpoint],
+            cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def ready(self) -> str:
+        """The process's one line printed once serving (it fails the test on exit or
+        after START_TIMEOUT_S rather than hang)."""
+        assert self.process.stdout is not None
+        readable, _, _ = select.select([self.process.stdout], [], [], START_TIMEOUT_S)
+        line = self.process.stdout.readline() if readable else ""
+        if not line:
+            self.close()
+            pytest.fail(f"learner service did not start: {self.process.stderr.read() if self.process.stderr else ''}")
+        return line
+
+    def terminate(self) -> int:
+        """SIGTERM, as a service manager would; the exit status."""
+        self.process.send_signal(signal.SIGTERM)
+        return self.process.wait(10)
+
+    def close(self) -> None:
+        if self.process.poll() is None:
+            self.process.kill()
+        self.process.wait(10)
+        for stream in (self.process.stdout, self.process.stderr):
+            if stream:
+                stream.close()
+
+
+@pytest.fixture
+def seed(tmp_path: Path) -> Path:
+    path = tmp_path / "seed.json"
+    write_library_json(path, four_objects())
+    return path
+
+
+@pytest.fixture
+def service(tmp_path: Path, seed: Path) -> Iterator[ServiceProcess]:
+    process = ServiceProcess(tmp_path / "lib.sqlite", free_endpoint(), seed)
+    try:
+        process.ready()
+        yield process
+    finally:
+        process.close()
+
+
+def robot(service: ServiceProcess) -> ZenohLearner:
+    return ZenohLearner(service.name, connect=[service.endpoint], timeout_s=3.0)
+
+
+def test_one_robot_learns_and_the_other_sees_it(service: ServiceProcess) -> None:
+    with robot(service) as r1, robot(service) as r2:
+        seen = r2.library()
+        assert seen.version == 1 and seen.descriptions == tuple(four_objects())
+        assert r2.library() is seen  # unchanged version: the cached snapshot, no refetch
+
+        assert r1.learn(MUG) == "mug"
+        assert r2.version() == 2
+        after = r2.library()
+        assert after.version == 2 and after.descriptions == (*four_objects(), MUG)
+
+        assert r2.learn(four_objects()[0]) == "cup#2"  # an id clash is a new encounter
+        assert [d.object_id for d in r1.library().descriptions][-2:] == ["mug", "cup#2"]
+
+
+def test_the_library_outlives_the_service_process(tmp_path: Path, seed: Path) -> None:
+    endpoint = free_endpoint()
+    first = ServiceProcess(tmp_path / "lib.sqlite", endpoint, seed)
+    try:
+        assert "4 descriptions, version 1" in first.ready()
+        with robot(first) as r1:
+            r1.learn(MUG)
+        assert first.terminate() == 0  # SIGTERM is a clean shutdown
+    finally:
+        first.close()
+    second = ServiceProcess(tmp_path / "lib.sqlite", endpoint, seed)
+    try:
+        assert "5 descriptions, version 2" in second.ready()  # the seed is not imported again
+        with robot(second) as r1:
+            assert r1.library().descriptions[-1] == MUG
+    finally:
+        second.close()
+
+
+BAD_REQUESTS = [
+    ("version", b"", "empty payload"),
+    ("version", b"{not json", "not valid JSON"),
+    ("version", b"[1]", "must be a JSON object"),
+    ("version", b'{"v": 2}', "unsupported protocol version 2"),
+    ("library", b'{"v": 1, "since": 3}', "unknown field 'since'"),
+    ("learn", b'{"v": 1}', "missing field 'description'"),
+    ("learn", b'{"v": 1, "description": {"id": "x", "grasp": "G"}}', "missing field 'grasp_position'"),
+    ("learn", json.dumps({"v": 1, "description": {"id": "x", "grasp": "G", "grasp_position": [6, "*"],
+                                                  "features": [{"feature": "H", "position": [6, "*"],
+                                                                "value": float("nan")}]}}).encode(),
+     "'value' must be a finite number"),
+    ("*", b'{"v": 1}', "verbs must be addressed by their exact key"),
+    ("forget", b'{"v": 1}', "'forget' is not a verb"),
+]
+
+
+def test_malformed_requests_get_error_replies_and_the_node_keeps_serving(service: ServiceProcess) -> None:
+    session = open_session(connect=[service.endpoint], connect_timeout_s=3.0)
+    try:
+        for verb, payload, message in BAD_REQUESTS:
+            replies = list(session.get(protocol.rpc_key(service.name, verb), payload=payload, timeout=3.0))
+            assert len(replies) == 1 and replies[0].err is not None, (verb, payload)
+            body = json.loads(replies[0].err.payload.to_bytes())
+            assert body["v"] == 1 and body["code"] == "bad_request" and message in body["message"], body
+    finally:
+        session.close()
+    with robot(service) as r1:
+        assert r1.version() == 1  # nothing was learned from the bad requests
+        assert r1.learn(MUG) == "mug"
+
+
+def test_a_description_the_service_refuses_is_a_one_line_value_error(service: ServiceProcess) -> None:
+    with robot(service) as r1:
+        with pytest.raises(ValueError) as err:
+            r1.learn(desc("", "Front-Wrap"))
+        assert "bad_request" in str(err.value) and "'id'" in str(err.value) and "\n" not in str(err.value)
+        assert r1.version() == 1
+
+
+def test_no_service_running_fails_at_once_with_one_line() -> None:
+    started = time.monotonic()
+    with pytest.raises(ConnectionError) as err:
+        ZenohLearner("test", connect=[free_endpoint()], timeout_s=0.5)
+    assert time.monotonic() - started < 3.0
+    assert "learner 'test'" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_service_under_another_name_is_not_this_one(service: ServiceProcess) -> None:
+    with pytest.raises(ConnectionError, match="no learner service 'other'"):
+        ZenohLearner("other", connect=[service.endpoint], timeout_s=0.5)
+
+
+def test_a_call_after_the_service_stopped_fails_without_hanging(service: ServiceProcess) -> None:
+    with robot(service) as r1:
+        assert service.terminate() == 0
+        started = time.monotonic()
+        with pytest.raises(ConnectionError, match="learner 'test'"):
+            r1.version()
+        assert time.monotonic() - started < 4.0
+
+
+def test_serve_refuses_bad_arguments_with_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["learner", "serve", "--name", "a/b", "--db", str(tmp_path / "l.sqlite")]) == 2
+    assert "learner name 'a/b'" in capsys.readouterr().err
+    assert main(["learner", "serve", "--listen", "7448", "--db", str(tmp_path / "l.sqlite")]) == 2
+    assert "must look like tcp/HOST:PORT" in capsys.readouterr().err
+
+
+def test_serve_on_a_taken_port_exits_2_with_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    endpoint = free_endpoint()
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as squatter:
+        squatter.bind(("127.0.0.1", int(endpoint.rsplit(":", 1)[1])))
+        squatter.listen()
+        assert main(["learner", "serve", "--listen", endpoint, "--db", str(tmp_path / "l.sqlite")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("csl: error: zenoh session on ") and err.count("\n") == 1
+
+
+def test_a_call_to_a_killed_service_fails_within_the_timeout(service: ServiceProcess) -> None:
+    with ZenohLearner(service.name, connect=[service.endpoint], timeout_s=1.0) as r1:
+        service.close()  # SIGKILL: nothing is undeclared, the lease has to run out
+        started = time.monotonic()
+        with pytest.raises(ConnectionError, match="learner 'test': version: ") as err:
+            r1.version()
+        assert time.monotonic() - started < 2.5 and "\n" not in str(err.value)
