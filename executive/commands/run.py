@@ -93,6 +93,7 @@ def run_demo(args: argparse.Namespace) -> int:
     console = Console(stderr=True)
     knowledge = load_knowledge(defaults.KNOWLEDGE)
     params = _params(args)
+    driver = SimulatedHero("r1", world=args.world, seed=args.seed)  # a bad world fails before training
     args.out.mkdir(parents=True, exist_ok=True)
     with console.status("training on the Table 3 objects in the simulator..."):
         result = train(catalogue_objects("training"), knowledge, SimulatorSource(args.seed),
@@ -104,7 +105,6 @@ def run_demo(args: argparse.Namespace) -> int:
     store = args.out / "library.sqlite"
     store.unlink(missing_ok=True)
     learner = LocalLearner(store, seed_library=list(result.descriptions))
-    driver = SimulatedHero("r1", world=args.world, seed=args.seed)
     return _episode(args, driver, learner, knowledge, params, console)
 
 

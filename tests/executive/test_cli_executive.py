@@ -1,0 +1,45 @@
+"""``csl demo``, ``csl run`` and ``csl bt`` as a user runs them."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from executive.cli import main
+
+
+def test_demo_handles_every_test_object_and_draws_it(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    assert main(["demo", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    rows = [line for line in out.splitlines() if line.startswith("│ ") and line[2] != " "]  # not wrapped lines
+    assert len(rows) == 7  # the lab's seven test objects, each reported
+    assert all(any(w in r for w in ("grasped", "left", "failed")) for r in rows)
+    assert "7 objects:" in out and "handled correctly" in out
+    for name in ("map.png", "behaviour-tree.png", "tree-0.png", "tree-6.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    events = [json.loads(x) for x in (tmp_path / "episode.jsonl").read_text().splitlines()]
+    assert events[-1]["event"] == "episode_end" and events[-1]["status"] == "SUCCESS"
+
+
+def test_bt_prints_and_renders(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    assert main(["bt"]) == 0
+    text = capsys.readouterr().out
+    assert "recognise and grasp" in text and "NearestNeighbour" in text
+    assert main(["bt", "--render", str(tmp_path / "bt.png")]) == 0
+    assert (tmp_path / "bt.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["demo", "--alternatives", "0"], "--alternatives must be at least 1"),
+        (["demo", "--world", "/nonexistent/world.json"], "world"),
+        (["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:9"], "no driver is serving robot 'r1'"),
+    ],
+)
+def test_bad_arguments_are_one_line(tmp_path: Path, capsys, argv, message) -> None:  # noqa: ANN001
+    assert main([*argv, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("csl: error: ") and message in err[0]
