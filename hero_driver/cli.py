@@ -1,0 +1,119 @@
+"""``csl driver``: run the simulated HERO as a driver process, or check any driver
+process against the protocol (docs/driver-protocol.md).
+
+Registered into ``csl`` by ``executive/commands``; this module imports nothing from
+the executive, so the driver side stays usable on a robot's own computer.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from types import FrameType
+
+from hero_driver.zenoh_link import keys
+from hero_driver.zenoh_link.config import DEFAULT_ENDPOINT, check_endpoint
+
+DEFAULT_CHECK_TIMEOUT_S = 30.0
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``driver`` group and its ``sim`` and ``check`` commands."""
+    group = subparsers.add_parser(
+        "driver",
+        help="serve the simulated robot over zenoh, or check a driver process",
+        description=(
+            "Driver processes serve a robot on zenoh keys hero/<robot>/... "
+            "(docs/driver-protocol.md). 'sim' serves the simulated HERO 2000; 'check' runs "
+            "the conformance suite against any driver, simulated or hardware."
+        ),
+    )
+    actions = group.add_subparsers(dest="driver_command", metavar="ACTION", required=True)
+
+    sim = actions.add_parser(
+        "sim",
+        help="serve the simulated HERO 2000 until interrupted",
+        description=(
+            "Run the simulated HERO 2000 as its own driver process: declares the liveliness "
+            "token hero/<robot>/alive, publishes hero/<robot>/state at 5 Hz and after every "
+            "verb, and answers hero/<robot>/rpc/<verb>. Stops cleanly on Ctrl-C or SIGTERM."
+        ),
+    )
+    sim.add_argument("--robot", default="r1",
+                     help="robot name, one key chunk of letters, digits, '_', '-', '.' (default r1)")
+    sim.add_argument("--world", default=None, metavar="FILE",
+                     help="world file, or the name of a shipped world such as 'lab' or "
+                          "'training' (default: the lab)")
+    sim.add_argument("--seed", type=int, default=0, metavar="N",
+                     help="seed of the simulator's random stream (default 0)")
+    sim.add_argument("--listen", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
+                     help=f"zenoh endpoint to listen on (default {DEFAULT_ENDPOINT})")
+    sim.set_defaults(handler=_run_sim)
+
+    check = actions.add_parser(
+        "check",
+        help="run the protocol conformance suite against a driver process",
+        description=(
+            "Connect to the driver serving ROBOT and exercise every verb, the liveliness "
+            "token, the state publications and a set of bad requests (unknown verb, unknown "
+            "procedure, malformed JSON, wrong types, missing and unknown fields, NaN, wrong "
+            "protocol version, out-of-range target). Prints one PASS/FAIL line per named "
+            "check; exits 0 when all pass, 1 otherwise. The robot must be free to turn in "
+            "place and have nothing within contact range of its sonar after a reset."
+        ),
+    )
+    check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
+    check.add_argument("--connect", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
+                       help=f"zenoh endpoint of the driver process (default {DEFAULT_ENDPOINT})")
+    check.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
+                       help="seconds to wait for the driver to appear and for each reply "
+                            f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
+    check.add_argument("--profile", default=None, metavar="FILE",
+                       help="knowledge profile naming the robot's procedures "
+                            "(default: the HERO 2000's)")
+    check.set_defaults(handler=_run_check)
+
+
+def _run_sim(args: argparse.Namespace) -> int:
+    keys.check_robot(args.robot)
+    check_endpoint(args.listen)
+    # Imported here: the simulator pulls in pymunk and the world files, which
+    # `csl --help` and `csl driver check` have no use for.
+    from hero_driver.sim_driver import SimulatedHero
+    from hero_driver.zenoh_link.node import serve
+
+    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed)
+    stop = threading.Event()
+
+    def on_signal(_signum: int, _frame: FrameType | None) -> None:
+        stop.set()
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+    def on_ready() -> None:
+        print(f"serving {keys.rpc_key(args.robot, '*')} on {args.listen} (Ctrl-C to stop)",
+              flush=True)
+
+    try:
+        serve(driver, listen=[args.listen], stop=stop, on_ready=on_ready)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        driver.close()
+    print(f"driver {args.robot} stopped", file=sys.stderr)
+    return 0
+
+
+def _run_check(args: argparse.Namespace) -> int:
+    keys.check_robot(args.robot)
+    check_endpoint(args.connect)
+    if not args.timeout > 0:
+        raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")
+    from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
+
+    procedures = Procedures.from_profile(args.profile)
+    results = run_checks(args.robot, [args.connect], timeout_s=args.timeout, procedures=procedures)
+    print(format_table(results))
+    return 0 if all(r.passed for r in results) else 1

@@ -1,0 +1,540 @@
+"""JSON wire format of the driver protocol: interface dataclasses <-> bytes.
+
+Every message is a JSON object carrying ``"v": PROTOCOL_VERSION``. Decoding is strict
+(a missing, unknown or mistyped field, a non-finite number, a wrong version) because a
+driver written by another team in another language must fail loudly at the boundary,
+with the offending field named, rather than hand the executive a half-right value.
+Encoding applies the same checks, so a Python driver that returns a wrong type is
+caught on its own side before anything is sent.
+
+Problems raise :class:`CodecError` naming the field path (``waypoints[1].x_in``); the
+node answers them as ``bad_request``, the client reports a malformed reply as
+``internal``. The formats are specified in ``docs/driver-protocol.md``.
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import json
+import math
+import numbers
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import cv2
+import numpy as np
+
+from hero_driver.interface import (
+    ERROR_CODES,
+    PROTOCOL_VERSION,
+    CameraImage,
+    DriverError,
+    GraspResult,
+    MoveResult,
+    Pose,
+    RobotState,
+    SenseResult,
+)
+
+Json = dict[str, Any]
+
+
+class CodecError(ValueError):
+    """A message that does not follow the protocol; the text starts with the field."""
+
+
+# ----------------------------------------------------------------------------- requests
+
+
+@dataclass(frozen=True)
+class MoveRequest:
+    waypoints: tuple[Pose, ...]
+    face: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class ProcedureRequest:
+    """``sense`` and ``grasp`` name one procedure of the robot's knowledge."""
+
+    procedure: str
+
+
+@dataclass(frozen=True)
+class ResetRequest:
+    world: str | None = None
+    seed: int | None = None
+
+
+@dataclass(frozen=True)
+class EmptyRequest:
+    """``release``, ``camera`` and ``noop`` take no arguments."""
+
+
+Request = MoveRequest | ProcedureRequest | ResetRequest | EmptyRequest
+
+
+# --------------------------------------------------------------------------- primitives
+
+
+def loads(data: bytes) -> Json:
+    """Parse one protocol message: a JSON object of the supported version.
+
+    ``NaN`` and ``Infinity`` (which some JSON writers emit) are parsed so that the
+    field holding one can be named when it is rejected.
+    """
+    try:
+        message = json.loads(bytes(data).decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise CodecError(f"message: not UTF-8 ({exc.reason})") from None
+    except json.JSONDecodeError as exc:
+        raise CodecError(f"message: malformed JSON ({exc.msg} at char {exc.pos})") from None
+    if not isinstance(message, dict):
+        raise CodecError(f"message: expected a JSON object, got {_kind(message)}")
+    if "v" not in message:
+        raise CodecError("v: missing field (the protocol version)")
+    version = message["v"]
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise CodecError(f"v: expected an integer, got {_kind(version)}")
+    if version != PROTOCOL_VERSION:
+        raise CodecError(f"v: protocol version {version} not supported (speaks {PROTOCOL_VERSION})")
+    return message
+
+
+def dumps(fields: Json) -> bytes:
+    """Serialise a message body, adding the version; never emits NaN or Infinity."""
+    try:
+        text = json.dumps({"v": PROTOCOL_VERSION, **fields}, allow_nan=False,
+                          separators=(",", ":"), ensure_ascii=False)
+    except (TypeError, ValueError) as exc:
+        raise CodecError(f"message: not serialisable as JSON ({exc})") from None
+    return text.encode("utf-8")
+
+
+def _kind(value: object) -> str:
+    if value is None:
+        return "null"
+    return {bool: "a boolean", str: "a string", list: "an array", dict: "an object",
+            int: "an integer", float: "a number"}.get(type(value), type(value).__name__)
+
+
+def _fields(obj: object, path: str, required: Sequence[str], optional: Sequence[str] = ()) -> Json:
+    """Check that ``obj`` is an object with exactly the allowed keys."""
+    if not isinstance(obj, dict):
+        raise CodecError(f"{path or 'message'}: expected an object, got {_kind(obj)}")
+    prefix = f"{path}." if path else ""
+    for key in required:
+        if key not in obj:
+            raise CodecError(f"{prefix}{key}: missing field")
+    allowed = set(required) | set(optional) | ({"v"} if not path else set())
+    for key in obj:
+        if key not in allowed:
+            raise CodecError(f"{prefix}{key}: unknown field")
+    return obj
+
+
+def _real(value: object, path: str) -> float:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise CodecError(f"{path}: expected a number, got {_kind(value)}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise CodecError(f"{path}: expected a finite number, got {number}")
+    return number
+
+
+def _integer(value: object, path: str) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise CodecError(f"{path}: expected an integer, got {_kind(value)}")
+    return int(value)
+
+
+def _boolean(value: object, path: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise CodecError(f"{path}: expected a boolean, got {_kind(value)}")
+    return bool(value)
+
+
+def _text(value: object, path: str) -> str:
+    if not isinstance(value, str):
+        raise CodecError(f"{path}: expected a string, got {_kind(value)}")
+    return value
+
+
+def _name(value: object, path: str) -> str:
+    text = _text(value, path)
+    if not text:
+        raise CodecError(f"{path}: expected a non-empty string")
+    return text
+
+
+def _between(number: float, low: float, high: float, path: str) -> float:
+    if not low <= number <= high:
+        raise CodecError(f"{path}: {number} outside [{low}, {high}]")
+    return number
+
+
+def _positive(number: float, path: str) -> float:
+    if number <= 0:
+        raise CodecError(f"{path}: expected a positive number, got {number}")
+    return number
+
+
+def _not_negative(number: float, path: str) -> float:
+    if number < 0:
+        raise CodecError(f"{path}: expected a number >= 0, got {number}")
+    return number
+
+
+def _array(value: object, path: str, length: int | None = None) -> Sequence[object]:
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (Sequence, np.ndarray)):
+        raise CodecError(f"{path}: expected an array, got {_kind(value)}")
+    if length is not None and len(value) != length:
+        raise CodecError(f"{path}: expected {length} items, got {len(value)}")
+    return value
+
+
+def _reals(value: object, path: str, length: int) -> tuple[float, ...]:
+    return tuple(_real(item, f"{path}[{i}]") for i, item in enumerate(_array(value, path, length)))
+
+
+# ------------------------------------------------------------------------- value types
+
+
+def _pose_out(pose: object, path: str) -> Json:
+    if not isinstance(pose, Pose):
+        raise CodecError(f"{path}: expected a Pose, got {type(pose).__name__}")
+    return {"x_in": _real(pose.x_in, f"{path}.x_in"), "y_in": _real(pose.y_in, f"{path}.y_in"),
+            "heading_deg": _real(pose.heading_deg, f"{path}.heading_deg")}
+
+
+def _pose_in(obj: object, path: str) -> Pose:
+    fields = _fields(obj, path, ("x_in", "y_in", "heading_deg"))
+    return Pose(_real(fields["x_in"], f"{path}.x_in"), _real(fields["y_in"], f"{path}.y_in"),
+                _real(fields["heading_deg"], f"{path}.heading_deg"))
+
+
+def _state_out(state: object) -> Json:
+    if not isinstance(state, RobotState):
+        raise CodecError(f"message: expected a RobotState, got {type(state).__name__}")
+    return {"pose": _pose_out(state.pose, "pose"),
+            "clock_s": _not_negative(_real(state.clock_s, "clock_s"), "clock_s"),
+            "battery": _between(_real(state.battery, "battery"), 0.0, 1.0, "battery")}
+
+
+def _state_in(message: Json) -> RobotState:
+    fields = _fields(message, "", ("pose", "clock_s", "battery"))
+    return RobotState(_pose_in(fields["pose"], "pose"),
+                      _not_negative(_real(fields["clock_s"], "clock_s"), "clock_s"),
+                      _between(_real(fields["battery"], "battery"), 0.0, 1.0, "battery"))
+
+
+def encode_state(state: RobotState) -> bytes:
+    """The body of a ``hero/<robot>/state`` publication (also the reply of
+    ``release`` and ``reset``)."""
+    return dumps(_state_out(state))
+
+
+def decode_state(data: bytes) -> RobotState:
+    return _state_in(loads(data))
+
+
+# ----------------------------------------------------------------------------- requests
+
+
+def _move_request_in(message: Json) -> MoveRequest:
+    fields = _fields(message, "", ("waypoints",), ("face",))
+    items = _array(fields["waypoints"], "waypoints")
+    if not items:
+        raise CodecError("waypoints: expected at least one pose (the goal)")
+    face = fields.get("face")
+    return MoveRequest(
+        tuple(_pose_in(item, f"waypoints[{i}]") for i, item in enumerate(items)),
+        None if face is None else _reals(face, "face", 2),  # type: ignore[arg-type]
+    )
+
+
+def _move_request_out(request: MoveRequest) -> Json:
+    if not request.waypoints:
+        raise CodecError("waypoints: expected at least one pose (the goal)")
+    waypoints = [_pose_out(p, f"waypoints[{i}]") for i, p in enumerate(_array(request.waypoints, "waypoints"))]
+    face = None if request.face is None else list(_reals(request.face, "face", 2))
+    return {"waypoints": waypoints, "face": face}
+
+
+def _procedure_request_in(message: Json) -> ProcedureRequest:
+    fields = _fields(message, "", ("procedure",))
+    return ProcedureRequest(_name(fields["procedure"], "procedure"))
+
+
+def _reset_request_in(message: Json) -> ResetRequest:
+    fields = _fields(message, "", (), ("world", "seed"))
+    world, seed = fields.get("world"), fields.get("seed")
+    return ResetRequest(None if world is None else _name(world, "world"),
+                        None if seed is None else _integer(seed, "seed"))
+
+
+def _empty_request_in(message: Json) -> EmptyRequest:
+    _fields(message, "", ())
+    return EmptyRequest()
+
+
+_REQUEST_DECODERS: dict[str, Callable[[Json], Request]] = {
+    "move": _move_request_in,
+    "sense": _procedure_request_in,
+    "grasp": _procedure_request_in,
+    "release": _empty_request_in,
+    "camera": _empty_request_in,
+    "reset": _reset_request_in,
+    "noop": _empty_request_in,
+}
+
+
+def decode_request(verb: str, data: bytes) -> Request:
+    """Parse the request of a known ``verb``."""
+    return _REQUEST_DECODERS[verb](loads(data))
+
+
+def encode_request(request: Request) -> bytes:
+    """The query payload for ``request`` (the verb is the key, not part of the body)."""
+    if isinstance(request, MoveRequest):
+        return dumps(_move_request_out(request))
+    if isinstance(request, ProcedureRequest):
+        return dumps({"procedure": _name(request.procedure, "procedure")})
+    if isinstance(request, ResetRequest):
+        return dumps({"world": None if request.world is None else _name(request.world, "world"),
+                      "seed": None if request.seed is None else _integer(request.seed, "seed")})
+    return dumps({})
+
+
+# ------------------------------------------------------------------------------ replies
+
+
+def _move_result_out(result: object) -> Json:
+    if not isinstance(result, MoveResult):
+        raise CodecError(f"message: expected a MoveResult, got {type(result).__name__}")
+    return {"pose": _pose_out(result.pose, "pose"),
+            "duration_s": _not_negative(_real(result.duration_s, "duration_s"), "duration_s"),
+            "collided": _boolean(result.collided, "collided"),
+            "centred": _boolean(result.centred, "centred")}
+
+
+def _move_result_in(message: Json) -> MoveResult:
+    fields = _fields(message, "", ("pose", "duration_s", "collided", "centred"))
+    return MoveResult(_pose_in(fields["pose"], "pose"),
+                      _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"),
+                      _boolean(fields["collided"], "collided"),
+                      _boolean(fields["centred"], "centred"))
+
+
+def _feature_values(values: object, path: str) -> dict[str, float | None]:
+    if not isinstance(values, Mapping):
+        raise CodecError(f"{path}: expected an object, got {_kind(values)}")
+    out: dict[str, float | None] = {}
+    for name, value in values.items():
+        _name(name, f"{path} key")
+        out[name] = None if value is None else _real(value, f"{path}.{name}")
+    return out
+
+
+def _sense_result_out(result: object) -> Json:
+    if not isinstance(result, SenseResult):
+        raise CodecError(f"message: expected a SenseResult, got {type(result).__name__}")
+    return {"procedure": _name(result.procedure, "procedure"),
+            "values": _feature_values(result.values, "values"),
+            "duration_s": _not_negative(_real(result.duration_s, "duration_s"), "duration_s"),
+            "distance_in": _not_negative(_real(result.distance_in, "distance_in"), "distance_in")}
+
+
+def _sense_result_in(message: Json) -> SenseResult:
+    fields = _fields(message, "", ("procedure", "values", "duration_s", "distance_in"))
+    return SenseResult(_name(fields["procedure"], "procedure"),
+                       _feature_values(fields["values"], "values"),
+                       _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"),
+                       _not_negative(_real(fields["distance_in"], "distance_in"), "distance_in"))
+
+
+def _grasp_result_out(result: object) -> Json:
+    if not isinstance(result, GraspResult):
+        raise CodecError(f"message: expected a GraspResult, got {type(result).__name__}")
+    return {"procedure": _name(result.procedure, "procedure"),
+            "success": _boolean(result.success, "success"),
+            "duration_s": _not_negative(_real(result.duration_s, "duration_s"), "duration_s")}
+
+
+def _grasp_result_in(message: Json) -> GraspResult:
+    fields = _fields(message, "", ("procedure", "success", "duration_s"))
+    return GraspResult(_name(fields["procedure"], "procedure"),
+                       _boolean(fields["success"], "success"),
+                       _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"))
+
+
+def _pixels_out(pixels: object) -> Json:
+    if not isinstance(pixels, np.ndarray) or pixels.dtype != np.uint8 or pixels.ndim != 2:
+        raise CodecError("image: expected an HxW uint8 array")
+    if 0 in pixels.shape:
+        raise CodecError(f"image: expected a non-empty image, got shape {pixels.shape}")
+    ok, png = cv2.imencode(".png", np.ascontiguousarray(pixels))
+    if not ok:
+        raise CodecError("image: PNG encoding failed")
+    return {"format": "png", "height": int(pixels.shape[0]), "width": int(pixels.shape[1]),
+            "data": base64.b64encode(png.tobytes()).decode("ascii")}
+
+
+def _pixels_in(obj: object) -> np.ndarray:
+    fields = _fields(obj, "image", ("format", "height", "width", "data"))
+    height = _integer(fields["height"], "image.height")
+    width = _integer(fields["width"], "image.width")
+    if height <= 0 or width <= 0:
+        raise CodecError(f"image: expected a positive height and width, got {height}x{width}")
+    try:
+        raw = base64.b64decode(_text(fields["data"], "image.data"), validate=True)
+    except binascii.Error as exc:
+        raise CodecError(f"image.data: not base64 ({exc})") from None
+    image_format = _text(fields["format"], "image.format")
+    if image_format == "raw":
+        if len(raw) != height * width:
+            raise CodecError(f"image.data: {len(raw)} bytes, expected height*width = {height * width}")
+        return np.frombuffer(raw, dtype=np.uint8).reshape(height, width).copy()
+    if image_format != "png":
+        raise CodecError(f"image.format: expected 'png' or 'raw', got {image_format!r}")
+    pixels = cv2.imdecode(np.frombuffer(raw, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    if pixels is None or pixels.dtype != np.uint8 or pixels.ndim != 2:
+        raise CodecError("image.data: not an 8-bit grayscale PNG")
+    if pixels.shape != (height, width):
+        raise CodecError(f"image.data: PNG is {pixels.shape[0]}x{pixels.shape[1]}, "
+                         f"declared {height}x{width}")
+    return pixels
+
+
+def _meta_out(meta: object) -> Json:
+    if not isinstance(meta, Mapping):
+        raise CodecError(f"meta: expected a mapping, got {type(meta).__name__}")
+    for key in meta:
+        _text(key, "meta key")
+    try:
+        # Round-trip so numpy values become plain JSON and anything else is refused.
+        return json.loads(json.dumps(dict(meta), allow_nan=False, default=_numpy_to_json))
+    except (TypeError, ValueError) as exc:
+        raise CodecError(f"meta: not serialisable as JSON ({exc})") from None
+
+
+def _finite_json(value: object, path: str) -> None:
+    """Free-form JSON (``meta``) may hold any value but a non-finite number."""
+    if isinstance(value, float):
+        _real(value, path)
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            _finite_json(item, f"{path}.{key}")
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            _finite_json(item, f"{path}[{i}]")
+
+
+def _numpy_to_json(value: object) -> object:
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    raise TypeError(f"{type(value).__name__} is not JSON")
+
+
+def _camera_out(image: object) -> Json:
+    if not isinstance(image, CameraImage):
+        raise CodecError(f"message: expected a CameraImage, got {type(image).__name__}")
+    matrix = None
+    if image.camera_matrix is not None:
+        rows = _array(image.camera_matrix, "camera_matrix", 3)
+        matrix = [list(_reals(row, f"camera_matrix[{i}]", 3)) for i, row in enumerate(rows)]
+    return {"image": _pixels_out(image.pixels),
+            "inches_per_pixel": _positive(_real(image.inches_per_pixel, "inches_per_pixel"),
+                                          "inches_per_pixel"),
+            "origin_x_in": _real(image.origin_x_in, "origin_x_in"),
+            "origin_y_in": _real(image.origin_y_in, "origin_y_in"),
+            "camera_matrix": matrix,
+            "fisheye": None if image.fisheye is None else list(_reals(image.fisheye, "fisheye", 4)),
+            "clock_s": _not_negative(_real(image.clock_s, "clock_s"), "clock_s"),
+            "meta": _meta_out(image.meta)}
+
+
+def _camera_in(message: Json) -> CameraImage:
+    fields = _fields(message, "", ("image", "inches_per_pixel", "origin_x_in", "origin_y_in"),
+                     ("camera_matrix", "fisheye", "clock_s", "meta"))
+    matrix = fields.get("camera_matrix")
+    if matrix is not None:
+        rows = _array(matrix, "camera_matrix", 3)
+        matrix = np.array([_reals(row, f"camera_matrix[{i}]", 3) for i, row in enumerate(rows)])
+    fisheye = fields.get("fisheye")
+    meta = fields.get("meta", {})
+    if not isinstance(meta, dict):
+        raise CodecError(f"meta: expected an object, got {_kind(meta)}")
+    _finite_json(meta, "meta")
+    return CameraImage(
+        pixels=_pixels_in(fields["image"]),
+        inches_per_pixel=_positive(_real(fields["inches_per_pixel"], "inches_per_pixel"),
+                                   "inches_per_pixel"),
+        origin_x_in=_real(fields["origin_x_in"], "origin_x_in"),
+        origin_y_in=_real(fields["origin_y_in"], "origin_y_in"),
+        camera_matrix=matrix,
+        fisheye=None if fisheye is None else _reals(fisheye, "fisheye", 4),  # type: ignore[arg-type]
+        clock_s=_not_negative(_real(fields.get("clock_s", 0.0), "clock_s"), "clock_s"),
+        meta=meta,
+    )
+
+
+def _noop_out(result: object) -> Json:
+    if result is not None:
+        raise CodecError(f"message: noop returns nothing, got {type(result).__name__}")
+    return {}
+
+
+def _noop_in(message: Json) -> None:
+    _fields(message, "", ())
+
+
+_RESULT_ENCODERS: dict[str, Callable[[Any], Json]] = {
+    "move": _move_result_out,
+    "sense": _sense_result_out,
+    "grasp": _grasp_result_out,
+    "release": _state_out,
+    "camera": _camera_out,
+    "reset": _state_out,
+    "noop": _noop_out,
+}
+
+_RESULT_DECODERS: dict[str, Callable[[Json], Any]] = {
+    "move": _move_result_in,
+    "sense": _sense_result_in,
+    "grasp": _grasp_result_in,
+    "release": _state_in,
+    "camera": _camera_in,
+    "reset": _state_in,
+    "noop": _noop_in,
+}
+
+
+def encode_result(verb: str, result: object) -> bytes:
+    """The reply body for what the driver returned for ``verb``."""
+    return dumps(_RESULT_ENCODERS[verb](result))
+
+
+def decode_result(verb: str, data: bytes) -> Any:
+    """The interface value carried by a reply to ``verb``."""
+    return _RESULT_DECODERS[verb](loads(data))
+
+
+# ------------------------------------------------------------------------------- errors
+
+
+def encode_error(code: str, message: str) -> bytes:
+    """The ``reply_err`` body: ``{"v": 1, "code": ..., "message": ...}``."""
+    if code not in ERROR_CODES:
+        raise CodecError(f"code: {code!r} is not a protocol error code")
+    return dumps({"code": code, "message": message})
+
+
+def decode_error(data: bytes) -> DriverError:
+    """The :class:`DriverError` an error reply stands for."""
+    fields = _fields(loads(data), "", ("code", "message"))
+    code = _text(fields["code"], "code")
+    if code not in ERROR_CODES:
+        raise CodecError(f"code: {code!r} is not a protocol error code")
+    return DriverError(code, _text(fields["message"], "message"))
