@@ -100,13 +100,16 @@ class DropFailedGrasp(CslBehaviour):
 
 
 class Discriminate(DriverAction):
-    """After a wrong prediction, measure the cheapest feature the wrongly predicted
-    grasp's descriptions have and this object lacks, here where the robot stands, so
-    the learned description tells the two apart next time (method.md §5, step 3)."""
+    """After a wrong prediction, measure until the object is told apart from the wrongly
+    predicted grasp's descriptions (method.md §5.3, "discriminating features added"):
+    the cheapest feature they have and this object lacks, here where the robot stands,
+    then the next, until a value falls outside theirs or nothing is left to measure here.
+    Each procedure is one driver verb; the behaviour stays RUNNING between them."""
 
     def __init__(self, services: Services, name: str = "Discriminate") -> None:
         super().__init__(name, services)
         self._test: ScoredTest | None = None
+        self._wrong: str | None = None
 
     def start(self) -> Future[SenseResult] | Status:
         obj = self.obj
@@ -114,19 +117,36 @@ class Discriminate(DriverAction):
         obj.attempt = None
         if attempt is None or attempt.as_feature is not None or obj.done:
             return Status.SUCCESS
-        self._test = obj.timed(self.services, lambda: obj.session.discriminating_test(attempt.grasp))
+        if obj.timed(self.services, lambda: obj.session.told_apart(attempt.grasp)):
+            self.note("discriminate", already=True, wrong=attempt.grasp)
+            return Status.SUCCESS  # what was measured already tells the two apart
+        self._wrong = attempt.grasp
+        return self._next()
+
+    def _next(self) -> Future[SenseResult] | Status:
+        obj = self.obj
+        assert self._wrong is not None
+        wrong = self._wrong
+        self._test = obj.timed(self.services, lambda: obj.session.discriminating_test(wrong))
         if self._test is None or self._test.move_cost > 0:
-            return Status.SUCCESS  # nothing to add from here; moving for it is not worth it
+            return Status.SUCCESS  # nothing left to add from here; moving for it is not worth it
         return self.services.driver.sense(self._test.test.procedure)
 
     def finish(self, result: SenseResult) -> Status:
         obj = self.obj
-        assert self._test is not None
+        assert self._test is not None and self._wrong is not None
         obj.ledger.sensing_s += result.duration_s
         obj.session.record(result.values, self._test.target)
-        self.note("discriminate", procedure=result.procedure,
-                  values={k: v for k, v in result.values.items()}, seconds=round(result.duration_s, 1))
-        return Status.SUCCESS
+        told_apart = obj.session.discriminates(self._test, self._wrong)
+        self.note("discriminate", procedure=result.procedure, values={k: v for k, v in result.values.items()},
+                  seconds=round(result.duration_s, 1), told_apart=told_apart)
+        if told_apart:
+            return Status.SUCCESS
+        nxt = self._next()
+        if isinstance(nxt, Status):
+            return nxt
+        self._future = nxt  # the next procedure, watched by update()
+        return Status.RUNNING
 
     def failed(self, exc: DriverError) -> Status:
         return Status.SUCCESS  # a discriminating value is a bonus, not a requirement

@@ -62,7 +62,8 @@ class RememberAppearance(CslBehaviour):
         start = relative_position(services.navigator, region, services.robot_pose())
         session = RecognitionSession(services.matrix(), services.criterion,
                                      PlannerMoveCost(services.navigator, region), start,
-                                     max_alternatives=services.params.max_alternatives)
+                                     max_alternatives=services.params.max_alternatives,
+                                     orientation_free=region.round)
         record = ObjectRecord(index, region, region.pixel_count, session)
         record.ledger.computing_s += services.clock() - began
         self.bb.object = record

@@ -2,7 +2,9 @@
 
 Text follows the paper's figures: a test is ``move-to-(d,θ) (Ns)`` then
 ``Feature(d,θ) (Ns)``; each branch is its range ``[lo, hi]``; a leaf is
-``Grasp(d,θ) (Ns)``, preceded by its move when it has one.
+``Grasp(d,θ) (Ns)``, preceded by its move when it has one. The move names the concrete
+position the robot goes to; the feature and the grasp name the position as the library
+records it, ``*`` for a don't-care slot (``Height(6,*)``).
 """
 
 from __future__ import annotations
@@ -26,38 +28,46 @@ def _text(node: TreeNode, depth: int, indent: str, lines: list[str]) -> None:
     if isinstance(node, TestNode):
         t = node.test
         lines.append(f"{pad}move-to-{_pos(t.target)} ({_secs(t.move_cost)})")
-        lines.append(f"{pad}{t.test.feature}{_pos(t.target)} ({_secs(t.sense_cost)})")
+        lines.append(f"{pad}{t.test.feature}{_pos(t.test.position)} ({_secs(t.sense_cost)})")
         for (lo, hi), child in node.branches:
             lines.append(f"{pad}{indent}[{_num(lo)}, {_num(hi)}]")
             _text(child, depth + 2, indent, lines)
     elif isinstance(node, GraspLeaf):
+        where = _pos(node.library_position or node.position)
         if node.grasped:
-            lines.append(f"{pad}{node.grasp}{_pos(node.position)} (grasped)")
+            lines.append(f"{pad}{node.grasp}{where} (grasped)")
             return
         if node.move_cost > 0:
             lines.append(f"{pad}move-to-{_pos(node.position)} ({_secs(node.move_cost)})")
-        lines.append(f"{pad}{node.grasp}{_pos(node.position)} ({_secs(node.grasp_cost)})")
+        lines.append(f"{pad}{node.grasp}{where} ({_secs(node.grasp_cost)})")
     else:
         lines.append(f"{pad}ambiguous: try " + ", then ".join(
-            f"{o.grasp}{_pos(o.position)} ({_secs(o.move_cost + o.grasp_cost)})" for o in node.options))
+            f"{o.grasp}{_pos(o.library_position or o.position)} ({_secs(o.move_cost + o.grasp_cost)})"
+            for o in node.options))
 
 
 def tree_json(node: TreeNode) -> dict[str, Any]:
-    """The tree as plain JSON-ready data; ``"*"`` stands for a don't-care slot."""
+    """The tree as plain JSON-ready data.
+
+    ``position`` is as the library records it (``"*"`` for a don't-care slot);
+    ``target`` is the concrete position the robot goes to. A test whose value is
+    already known costs nothing: its ``score`` is ``null`` (infinite) and ``free`` true.
+    """
     if isinstance(node, TestNode):
         t = node.test
         return {
             "kind": "test",
             "feature": t.test.feature,
             "procedure": t.test.procedure,
-            "is_grasp": t.test.is_grasp,
-            "position": t.target.to_json(),
-            "library_position": t.test.position.to_json(),
+            "position": t.test.position.to_json(),
+            "target": t.target.to_json(),
             "move_cost": _round(t.move_cost),
             "sense_cost": _round(t.sense_cost),
-            "gain": _round(t.gain),
-            "score": _round(t.score),
-            "alternatives": [f"{a.test.feature}{a.test.position}" for a in node.alternatives],
+            "score": None if math.isinf(t.score) else t.score,
+            "gain": t.gain,
+            "free": t.cost == 0,
+            "is_grasp": t.test.is_grasp,
+            "alternatives": [str(a.test) for a in node.alternatives],
             "branches": [{"range": [_num_json(lo), _num_json(hi)], "node": tree_json(child)}
                          for (lo, hi), child in node.branches],
         }
@@ -65,7 +75,8 @@ def tree_json(node: TreeNode) -> dict[str, Any]:
         return {
             "kind": "grasp",
             "grasp": node.grasp,
-            "position": node.position.to_json(),
+            "position": (node.library_position or node.position).to_json(),
+            "target": node.position.to_json(),
             "move_cost": _round(node.move_cost),
             "grasp_cost": _round(node.grasp_cost),
             "grasped": node.grasped,
@@ -74,7 +85,8 @@ def tree_json(node: TreeNode) -> dict[str, Any]:
     assert isinstance(node, AmbiguousLeaf)
     return {
         "kind": "ambiguous",
-        "grasps": [tree_json(o) for o in node.options],
+        "grasps": [o.grasp for o in node.options],
+        "options": [tree_json(o) for o in node.options],
         "objects": list(node.object_ids),
     }
 
@@ -95,7 +107,5 @@ def _num_json(v: float) -> float | int:
     return int(v) if float(v).is_integer() else v
 
 
-def _round(v: float) -> float | str:
-    if math.isinf(v):
-        return "inf"
-    return round(v, 6)
+def _round(v: float) -> float | None:
+    return None if math.isinf(v) else round(v, 6)  # JSON has no infinity: null

@@ -82,15 +82,21 @@ class RecognitionSession:
         start: Position,
         *,
         max_alternatives: int = 3,
+        orientation_free: bool = False,
     ) -> None:
         """Start recognising one object from ``start``; ``matrix`` is the library, built
-        once and shared by every object until the library changes."""
+        once and shared by every object until the library changes.
+
+        ``orientation_free``: the object has no orientation (a round footprint), so its
+        values hold from every side and are recorded at ``(d,*)``, as training does.
+        """
         if not matrix.descriptions:
             raise ValueError("the library holds no object descriptions to recognise with")
         if max_alternatives < 1:
             raise ValueError(f"max_alternatives must be at least 1, got {max_alternatives}")
         self.matrix = matrix
         self.ctx = Context(matrix, criterion, estimator)
+        self.orientation_free = orientation_free
         self.max_alternatives = max_alternatives
         self.position = start
         self.measurements: dict[tuple[str, Position], float] = {}
@@ -155,9 +161,7 @@ class RecognitionSession:
         cost); an unreliable value marks the test tried at this node.
         """
         self.position = at
-        for feature, value in values.items():
-            if value is not None:
-                self.measurements[(feature, at)] = float(value)
+        self.record(values, at)
         value = values.get(test.test.feature)
         if value is None:
             value = measured_value(test.test, self.measurements)
@@ -169,6 +173,7 @@ class RecognitionSession:
         self.position = at
         if not success:
             self.wrong_predictions.append(test.test.feature)
+            self.dropped_grasps.add(test.test.feature)  # stays ruled out if the tree is rebuilt
         return self._follow(test, 1.0 if success else 0.0)
 
     def _follow(self, test: ScoredTest, value: float | None) -> Matched | Unreliable:
@@ -225,7 +230,7 @@ class RecognitionSession:
         if parent.test is not None:
             parent.tried.add(parent.test.test)
             for key in [k for k in self.measurements
-                        if k[0] == parent.test.test.feature and parent.test.test.position.covers(k[1])]:
+                        if k[0] == parent.test.test.feature and _serves(k[1], parent.test.test.position)]:
                 del self.measurements[key]
         parent.test, parent.value = None, None
         return True
@@ -237,10 +242,11 @@ class RecognitionSession:
 
         Without side effects the object is not of that grasp's class: drop its
         descriptions, keep what was measured. With side effects (method.md §5.4) we
-        tell the two the camera distinguishes apart: *pushed* is the same object, moved,
-        so grasps that already failed stay ruled out (this one too) and every value
-        measured relative to the object still holds; *changed* (knocked over) is in
-        effect a new object: all descriptions are restored and all sensing is void.
+        tell apart the two cases the camera distinguishes: *pushed* is the same object,
+        moved; the push may be why this grasp failed, so its descriptions are restored,
+        but grasps that failed cleanly before stay ruled out and every value measured
+        relative to the object still holds. *Changed* (knocked over) is in effect a new
+        object: all descriptions are restored and all sensing is void.
         """
         if position is not None:
             self.position = position
@@ -248,6 +254,8 @@ class RecognitionSession:
         if side_effects and changed:
             self.dropped_grasps.clear()
             self.measurements.clear()
+        elif side_effects:
+            self.dropped_grasps.discard(grasp)
         else:
             self.dropped_grasps.add(grasp)
         self._frames = [_Frame(self._root_node(), self.position)]
@@ -262,7 +270,7 @@ class RecognitionSession:
     # -- learning -------------------------------------------------------------------
     def discriminating_test(self, wrong_grasp: str) -> ScoredTest | None:
         """The cheapest sensing test the wrongly predicted grasp's descriptions have and
-        this object lacks: measuring it lets the next tree tell the two apart."""
+        this object lacks: measuring it may let the next tree tell the two apart."""
         best: ScoredTest | None = None
         for test in self.matrix.tests:
             if test.is_grasp or measured_value(test, self.measurements) is not None:
@@ -277,13 +285,38 @@ class RecognitionSession:
                 best = ScoredTest(test, target, 0.0, move, sense, 0.0, (), self.ctx.knowledge.feature(test.feature).error)
         return best
 
+    def told_apart(self, wrong_grasp: str) -> bool:
+        """True when something already measured separates this object from every
+        description of the wrongly predicted grasp."""
+        for test in self.matrix.tests:
+            if not test.is_grasp and measured_value(test, self.measurements) is not None:
+                error = self.ctx.knowledge.feature(test.feature).error
+                if self.discriminates(ScoredTest(test, self.position, 0.0, 0.0, 0.0, 0.0, (), error), wrong_grasp):
+                    return True
+        return False
+
+    def discriminates(self, test: ScoredTest, wrong_grasp: str) -> bool:
+        """True when this object's measured value for ``test`` lies outside every value
+        the wrongly predicted grasp's descriptions have there (widened by the error)."""
+        value = measured_value(test.test, self.measurements)
+        if value is None:
+            return False
+        column = self.matrix.values[:, self.matrix.column[test.test]]
+        theirs = [v for v, d in zip(column, self.matrix.descriptions) if d.grasp == wrong_grasp and not np.isnan(v)]
+        return bool(theirs) and all(abs(value - v) > test.error + 1e-9 for v in theirs)
+
     def record(self, values: Mapping[str, float | None], at: Position) -> None:
-        """Keep values measured outside a test (a discriminating measurement)."""
+        """Keep the values a procedure yielded at ``at`` (every feature it yields)."""
+        where = Position(at.distance_in, None) if self.orientation_free else at
         for feature, value in values.items():
             if value is not None:
-                self.measurements[(feature, at)] = float(value)
+                self.measurements[(feature, where)] = float(value)
 
     def description(self, object_id: str, grasp: str, grasp_position: Position) -> ObjectDescription:
         """The new object description to save after a successful grasp (method.md §5.3)."""
         observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
         return ObjectDescription(object_id, grasp, grasp_position, observations)
+
+
+def _serves(measured_at: Position, test_at: Position) -> bool:
+    return test_at.covers(measured_at) or measured_at.covers(test_at)

@@ -95,7 +95,9 @@ def leaf_classes(node: Node, matrix: DescriptionMatrix) -> list[str]:
 def measured_value(test: Test, measurements: Measurements) -> float | None:
     """A value already measured on this object that serves for ``test`` (free to use)."""
     for (feature, at), value in measurements.items():
-        if feature == test.feature and test.position.covers(at):
+        # a value at (6,90) serves Height(6,*); one at (6,*) (an object with no
+        # orientation) serves Height(6,90)
+        if feature == test.feature and (test.position.covers(at) or at.covers(test.position)):
             return value
     return None
 

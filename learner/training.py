@@ -166,24 +166,43 @@ class TrainingLog:
 
 
 class _Recorder:
-    """Applies procedures through the source once per (object, procedure, position)."""
+    """Measures through the source once per (object, procedure, position), and keeps
+    in the descriptions only what phase 2 asked for.
+
+    Phase 1's size scans are paid for once and reused if phase 2 wants the same
+    procedure there, but they are not features of a description until it does: a
+    description holds only what was needed to classify the object (method.md §4).
+    """
 
     def __init__(self, source: MeasurementSource, knowledge: Knowledge, log: TrainingLog) -> None:
         self.source, self.knowledge, self.log = source, knowledge, log
         self.applied: dict[tuple[str, Position], set[str]] = defaultdict(set)
         self.values: dict[str, dict[tuple[str, Position], float]] = defaultdict(dict)
+        self._measured: dict[tuple[str, str, Position], Mapping[str, float | None]] = {}
+
+    def measure(self, obj: TrainingObject, proc: SensingProcedure, at: Position, why: str,
+                record_at: Position) -> Mapping[str, float | None]:
+        key = (obj.object_id, proc.name, at)
+        if key not in self._measured:
+            self._measured[key] = self.source.measure(obj.object_id, proc.name, at)
+            self.log.applied.append((obj.object_id, proc.name, record_at, why))
+            self.log.sensing_s += proc.time_s
+        return self._measured[key]
 
     def apply(self, obj: TrainingObject, proc: SensingProcedure, at: Position, record_at: Position, why: str) -> None:
+        """Phase 2: the procedure's values become part of the object's description."""
         if proc.name in self.applied[(obj.object_id, record_at)]:
             return
         self.applied[(obj.object_id, record_at)].add(proc.name)
-        values = self.source.measure(obj.object_id, proc.name, at)
-        self.log.applied.append((obj.object_id, proc.name, record_at, why))
-        self.log.sensing_s += proc.time_s
+        values = self.measure(obj, proc, at, why, record_at)
         for feat in proc.features:
             v = values.get(feat.name)
             if v is not None:
                 self.values[obj.object_id][(feat.name, record_at)] = float(v)
+
+    @property
+    def count(self) -> int:
+        return sum(len(p) for p in self.applied.values())
 
     def description(self, obj: TrainingObject, at: Position | None = None) -> ObjectDescription:
         obs = tuple(sorted(Observation(f, p, v) for (f, p), v in self.values[obj.object_id].items()
@@ -233,31 +252,31 @@ def train_position(
     recorder: _Recorder,
     progress: Callable[[str], None] | None = None,
 ) -> None:
-    """Phase 2 at one training position (Table 6): repeat familiarize / discriminate /
-    reorganize until every object is classified or every procedure was applied."""
+    """Phase 2 at one training position (Table 6): familiarize every object with the
+    current tree, discriminate a misclassified one with the cheapest procedure not yet
+    applied to it, reorganize; repeat until a whole pass changes nothing (every object
+    classified, or every usable procedure applied to those that are not)."""
     assert at.distance_in is not None
     procs = sorted((p for p in knowledge.sensing if p.applicable_at(at.distance_in)), key=lambda p: (p.time_s, p.name))
     if not procs:
         return
-    pending = list(objects)
-    while pending:
-        still_wrong = []
-        for obj in pending:
+    while True:
+        before = recorder.count
+        wrong = []
+        for obj in objects:
             where = _record_at(obj, at)
-            descriptions = [recorder.description(o, _record_at(o, at)) for o in objects]
-            tree = _tree(descriptions, knowledge)
+            tree = _tree([recorder.description(o, _record_at(o, at)) for o in objects], knowledge)
             if _predict(tree, obj, where, recorder) == obj.grasp:
                 continue
-            done = recorder.applied[(obj.object_id, where)]
-            remaining = [p for p in procs if p.name not in done]
-            if not remaining:
-                recorder.log.unresolved.append((obj.object_id, where))
-                continue
-            recorder.apply(obj, remaining[0], _sense_at(obj, at), where, "discriminate: cheapest not yet applied")
-            still_wrong.append(obj)  # reorganize: the next tree is built from all descriptions
+            wrong.append(obj)
+            remaining = [p for p in procs if p.name not in recorder.applied[(obj.object_id, where)]]
+            if remaining:  # reorganize: the next object's tree is built from all descriptions
+                recorder.apply(obj, remaining[0], _sense_at(obj, at), where, "discriminate: cheapest not yet applied")
         if progress:
-            progress(f"position {at}: {len(objects) - len(still_wrong)}/{len(objects)} classified")
-        pending = still_wrong
+            progress(f"position {at}: {len(objects) - len(wrong)}/{len(objects)} classified")
+        if recorder.count == before:  # a pass that measured nothing new: done
+            recorder.log.unresolved.extend((o.object_id, _record_at(o, at)) for o in wrong)
+            return
 
 
 def _tree(descriptions: Sequence[ObjectDescription], knowledge: Knowledge) -> TreeNode:
@@ -287,8 +306,12 @@ def _generalise_slot(obs: list[Observation], knowledge: Knowledge, keep: str) ->
             groups[(o.feature, fixed)].append(o)
     for (feature, fixed), members in groups.items():
         values = [m.value for m in members]
-        error = knowledge.feature(feature).error if knowledge.has_feature(feature) else 0.0
-        if len(members) >= 2 and max(values) - min(values) <= error + 1e-9:
+        spec = knowledge.feature(feature) if knowledge.has_feature(feature) else None
+        error = spec.error if spec else 0.0
+        # an angular size shrinks with distance: agreeing values at two distances are a
+        # coincidence of quantisation, not a value that holds at any distance
+        angular_over_distance = keep == "orientation" and spec is not None and spec.angular_of is not None
+        if len(members) >= 2 and max(values) - min(values) <= error + 1e-9 and not angular_over_distance:
             position = Position(fixed, None) if keep == "distance" else Position(None, fixed)
             out.append(Observation(feature, position, round(sum(values) / len(values), 3)))
         else:
@@ -314,26 +337,22 @@ def train(
     recorder = _Recorder(source, knowledge, log)
     log.orientations = training_orientations(objects)
     scan_distances = sorted({p.range_in[0] for p in knowledge.sensing if p.range_in[0] == p.range_in[1]})
-    first = log.orientations[0]
-    sizes: dict[tuple[str, str], float] = {}
     linear = {f.angular_of for p in knowledge.sensing for f in p.features if f.angular_of}
-    for obj in objects:
-        for proc in knowledge.sensing:
-            yielded = {f.name for f in proc.features} & linear
-            if yielded and proc.range_in[0] == proc.range_in[1]:
-                at = Position(proc.range_in[0], first)
-                recorder.apply(obj, proc, _sense_at(obj, at), _record_at(obj, at), "phase 1: size for distances")
-                for name in yielded:
-                    v = recorder.values[obj.object_id].get((name, _record_at(obj, at)))
-                    if v is not None:
-                        sizes[(obj.object_id, name)] = v
-    log.distance_reasons = candidate_distances(objects, sizes, knowledge)
+    for orientation in log.orientations:
+        # Phase 1: each object's sizes as seen from this orientation (round: any)
+        sizes: dict[tuple[str, str], float] = {}
+        for obj in objects:
+            for proc in knowledge.sensing:
+                yielded = {f.name for f in proc.features} & linear
+                if yielded and proc.range_in[0] == proc.range_in[1]:
+                    at = Position(proc.range_in[0], orientation)
+                    values = recorder.measure(obj, proc, _sense_at(obj, at), "phase 1: size for distances",
+                                              _record_at(obj, at))
+                    sizes.update({(obj.object_id, n): float(values[n]) for n in yielded if values.get(n) is not None})
+        log.distance_reasons += candidate_distances(objects, sizes, knowledge)
     log.distances = cluster_distances([*scan_distances, *(r.distance_in for r in log.distance_reasons)])
-    positions = [Position(d, o) for d in sorted(log.distances, reverse=True) for o in log.orientations]
-    for at in positions:
-        # round objects have no orientation: they are trained once per distance
-        members = [o for o in objects if not o.round or at.orientation_deg == first]
-        train_position(members, at, knowledge, recorder, progress)
+    for at in (Position(d, o) for d in sorted(log.distances, reverse=True) for o in log.orientations):
+        train_position(objects, at, knowledge, recorder, progress)
     log.moving_s = _moving_cost(objects, recorder, estimator)
     merged = []
     for obj in objects:

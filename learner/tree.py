@@ -24,11 +24,12 @@ class GraspLeaf:
     as a feature, so the object is already in the hand and nothing is left to pay."""
 
     grasp: str
-    position: Position
+    position: Position  # where the robot goes: concrete
     move_cost: float
     grasp_cost: float
     object_ids: tuple[str, ...]
     grasped: bool = False
+    library_position: Position | None = None  # as the descriptions record it ("*" allowed)
 
 
 @dataclass(frozen=True)
@@ -64,14 +65,20 @@ def grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf
             target = target_for(Test(grasp, position, grasp, is_grasp=True), current, ctx)
             move = ctx.estimator.move_cost(current, target)
             leaf = GraspLeaf(grasp, target, move, proc.time_s,
-                             tuple(sorted(ctx.matrix.descriptions[r].object_id for r in rows)))
+                             tuple(sorted(ctx.matrix.descriptions[r].object_id for r in rows)),
+                             library_position=position)
             if best is None or leaf.move_cost < best.move_cost:
                 best = leaf
         assert best is not None
         options.append(best)
-    # a grasp the finger sensor cannot confirm (No-Grab) proves nothing when tried: last
-    return sorted(options, key=lambda o: (not ctx.knowledge.grasp(o.grasp).verifiable,
-                                          o.move_cost + o.grasp_cost, o.grasp))
+
+    def as_feature(o: GraspLeaf) -> tuple[bool, float, str]:
+        # tried as binary features, so ranked by that cost (time + side-effect penalty);
+        # a grasp the finger sensor cannot confirm (No-Grab) proves nothing: last
+        g = ctx.knowledge.grasp(o.grasp)
+        return (not g.verifiable, o.move_cost + g.feature_cost_s, o.grasp)
+
+    return sorted(options, key=as_feature)
 
 
 def leaf_at(node: Node, current: Position, ctx: Context) -> GraspLeaf | None:
@@ -110,7 +117,8 @@ def grow(
     children: list[tuple[Range, TreeNode]] = []
     for rng, child in zip(best.ranges, split(node, best, ctx.matrix)):
         if best.test.is_grasp and rng[0] >= 1.0:
-            sub: TreeNode = GraspLeaf(best.test.feature, best.target, 0.0, 0.0, object_ids(child, ctx), grasped=True)
+            sub: TreeNode = GraspLeaf(best.test.feature, best.target, 0.0, 0.0, object_ids(child, ctx), grasped=True,
+                                      library_position=best.test.position)
         else:
             sub = grow(child, best.target, ctx, {**measurements, **_yielded(best, ctx)}, exclude | {best.test})
         children.append((rng, sub))

@@ -135,8 +135,13 @@ def run_train(args: argparse.Namespace) -> int:
     log = result.log
     print(f"training orientations (deg): {', '.join(f'{o:g}' for o in log.orientations)}")
     print(f"training distances (in):     {', '.join(f'{d:g}' for d in log.distances)}")
-    for r in log.distance_reasons:
-        print(f"  {r.feature} separates {r.object_a} from {r.object_b} up to {r.distance_in:.1f} in")
+    print(f"  from {len(log.distance_reasons)} candidate distances (a sweep still separating two "
+          "similar-sized objects of different grasps); for example:")
+    for d in log.distances:
+        near = [r for r in log.distance_reasons if abs(r.distance_in - d) < 1.0]
+        if near:
+            r = min(near, key=lambda r: r.distance_in)
+            print(f"  {d:g} in: {r.feature} separates {r.object_a} from {r.object_b} up to {r.distance_in:.1f} in")
     per_object: dict[str, list[str]] = {}
     for oid, proc, pos, _why in log.applied:
         per_object.setdefault(oid, []).append(f"{proc}{pos}")

@@ -23,6 +23,7 @@ from learner.position import Position
 from learner.service.local import LocalLearner
 
 NOISE = NoiseConfig(odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0)
+NOISY_SONAR = NoiseConfig(outlier_p=0.3, odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0)
 
 
 def world(*objects: tuple[str, float, float, float]) -> WorldSpec:
@@ -42,24 +43,30 @@ class Scenario:
 
 
 def run(spec: WorldSpec, seed: int, *, params: Params = Params(), library: Sequence[ObjectDescription] | None = None,
-        store: Path | None = None) -> Scenario:
+        store: Path | None = None, noise: NoiseConfig = NOISE) -> Scenario:
     """One episode; ``store`` keeps the library between episodes (learning)."""
     path = store or Path(tempfile.mkdtemp()) / "library.sqlite"
     learner = LocalLearner(path, seed_library=list(library) if library is not None else read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=NOISE), learner,
+    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner,
                           load_knowledge(KNOWLEDGE), profile=KNOWLEDGE, params=params)
     result = executive.run(trace=True)
     executive.shutdown()
     return Scenario(result, executive, learner)
 
 
-def upright_tumbler_description() -> ObjectDescription:
-    """The upright 20 oz tumbler as a team would have recorded it: same height as the
-    upside-down one, open at the top, picked up with Top-Pinch."""
-    values = {**probe("tumbler-20oz/upright", "D-Scan-0.3", 6.0, 0.0).values,
-              **probe("tumbler-20oz/upright", "H-Scan-0.3", 6.0, 0.0).values}
-    return ObjectDescription("tumbler-20oz/upright", "Top-Pinch", Position(6.0, None), tuple(sorted(
+def recorded(entry: str, grasp: str) -> ObjectDescription:
+    """A description as a team would record it by hand: both scans at 6 in."""
+    values = {**probe(entry, "D-Scan-0.3", 6.0, 0.0).values, **probe(entry, "H-Scan-0.3", 6.0, 0.0).values}
+    return ObjectDescription(entry, grasp, Position(6.0, None), tuple(sorted(
         Observation(f, Position(6.0, None), float(v)) for f, v in values.items() if v is not None)))
+
+
+def tumbler_story_library() -> list[ObjectDescription]:
+    """The paper's situation: the robot knows the upright 20 oz tumbler (Top-Pinch, open
+    top), a lying soda can (Top-Vert-Grip) and a closed box it must leave; it has never
+    seen a tumbler upside down, which is as tall as the upright one."""
+    return [recorded("tumbler-20oz/upright", "Top-Pinch"), recorded("soda-can-12oz/lying", "Top-Vert-Grip"),
+            recorded("closed-box-11x9x12/upright", "No-Grab")]
 
 
 def transcript(scenario: Scenario) -> str:

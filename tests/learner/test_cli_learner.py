@@ -23,7 +23,7 @@ def lib(tmp_path):  # noqa: ANN001, ANN201
 def test_tree_prints_the_papers_style(lib, capsys) -> None:  # noqa: ANN001
     assert main(["tree", "--library", str(lib), "--pose", "60,0"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[:2] == ["move-to-(24,0) (92s)", "Width-Degree-1°(24,0) (100s)"]
+    assert out[:2] == ["move-to-(24,0) (72s)", "Width-Degree-1°(24,0) (100s)"]
 
 
 def test_tree_json_and_criterion(lib, capsys) -> None:  # noqa: ANN001

@@ -26,7 +26,7 @@ def test_clean_recognition_follows_one_path_and_learns_what_it_measured() -> Non
     assert s.candidates == ("cup", "tumbler")
     height = s.decide()
     assert str(height.test) == "Height(6,*)" and height.target == P(6, 0)
-    assert height.move_cost == pytest.approx(20 + 18 * 2)
+    assert height.move_cost == pytest.approx(18 * 2)
     s.observe(height, {"Height": 3.4, "Depth": 3.0, "Top-Hole?": 1.0}, height.target)
     leaf = s.decide()
     assert isinstance(leaf, GraspLeaf) and leaf.grasp == "Front-Wrap" and leaf.position == P(6, 0)
@@ -104,6 +104,7 @@ def test_a_grasp_tried_as_a_feature_follows_its_failure_branch() -> None:
     leaf = s.decide()
     assert isinstance(leaf, GraspLeaf) and leaf.grasp == "Top-Pinch"
     assert s.wrong_predictions == ["Front-Wrap"]
+    assert "Front-Wrap" in s.dropped_grasps  # a rebuild after a later failure keeps it out
 
 
 def test_a_failed_grasp_without_side_effects_drops_its_class_and_rebuilds_from_here() -> None:
@@ -129,7 +130,7 @@ def test_a_push_keeps_what_is_known_and_a_change_restores_everything() -> None:
     s.observe(sweep, {"Width-Degree-1°": 8.5}, sweep.target)
     s.grasp_failed("Front-Wrap", side_effects=False)
     s.grasp_failed("Top-Pinch", side_effects=True, position=P(30, 10))  # pushed: same object
-    assert set(s.candidates) == {"box", "closed"}
+    assert set(s.candidates) == {"box", "tumbler", "closed"}  # the push may be why Top-Pinch failed
     assert s.measurements and s.position == P(30, 10)
     s.grasp_failed("Front-Pinch", side_effects=True, changed=True)  # knocked over: a new object
     assert set(s.candidates) == {"cup", "box", "tumbler", "closed"}

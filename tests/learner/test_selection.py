@@ -61,13 +61,17 @@ def test_scalar_reference_agrees_with_the_matrix_on_missing_values() -> None:
 def test_costs_from_the_current_position() -> None:
     ctx = context(four_objects())
     best = rank(Node.root(4), P(60, 0), ctx, {})[0]
-    # from (60,0) to (24,0): 20 s overhead + 36 in x 2 s, no turning; sweep 100 s
+    # from (60,0) to (24,0): 36 in x 2 s (the paper's worked example); sweep 100 s
     assert str(best.test) == "Width-Degree-1°(24,0)"
-    assert best.move_cost == pytest.approx(92.0) and best.sense_cost == 100
-    assert best.score == pytest.approx(1.5**2 / 192)
+    assert best.move_cost == pytest.approx(72.0) and best.sense_cost == 100
+    assert best.score == pytest.approx(1.5**2 / 172)
     from_side = rank(Node.root(4), P(24, 90), ctx, {})
     sweep = next(s for s in from_side if str(s.test) == "Width-Degree-1°(24,0)")
-    # (24,90) -> (24,0): chord 24*sqrt(2); turn from facing 270 to travel -45 (45°), then to 180 (135°)
+    assert sweep.move_cost == pytest.approx(2 * 24 * math.sqrt(2))  # the chord from (24,90)
+    turning = dataclasses.replace(hero().move, seconds_per_degree=0.2, overhead_s=20.0)
+    sweep = next(s for s in rank(Node.root(4), P(24, 90), context(four_objects(), move=turning), {})
+                 if str(s.test) == "Width-Degree-1°(24,0)")
+    # turn from facing 270 to travel -45 (45°), drive, turn to face the object at 180 (135°)
     assert sweep.move_cost == pytest.approx(20 + 2 * 24 * math.sqrt(2) + 0.2 * (45 + 135))
 
 
@@ -100,14 +104,14 @@ def _trend_library() -> list:
 
 def test_higher_move_costs_push_sensing_to_a_distance() -> None:
     k = hero()
-    # from (40,0): sweep costs 100 + 20 + 16m, scan 84 + 20 + 34m; crossover where
-    # 2.25 / (120 + 16m) = 4 / (104 + 34m), m = 19.7 s/in
+    # from (40,0): sweep costs 100 + 16m, scan 84 + 34m; crossover where
+    # 2.25 / (100 + 16m) = 4 / (84 + 34m), m = 16.9 s/in
     cheap = rank(Node.root(4), P(40, 0), context(_trend_library(), move=k.move), {})[0]
     assert cheap.target == P(6, 0)
     dear_move = dataclasses.replace(k.move, seconds_per_inch=40.0)
     dear = rank(Node.root(4), P(40, 0), context(_trend_library(), move=dear_move), {})[0]
     assert dear.target == P(24, 0)
-    assert dear.score == pytest.approx(2.25 / (120 + 16 * 40))
+    assert dear.score == pytest.approx(2.25 / (100 + 16 * 40))
 
 
 def test_higher_sensing_costs_make_grasps_come_first() -> None:
@@ -116,9 +120,9 @@ def test_higher_sensing_costs_make_grasps_come_first() -> None:
     assert not first.test.is_grasp
     slow = dataclasses.replace(k, sensing=tuple(dataclasses.replace(p, time_s=p.time_s * 20) for p in k.sensing))
     first = rank(Node.root(4), P(40, 0), context(_trend_library(), knowledge=slow), {})[0]
-    # Front-Pinch as a feature: 0.811 bits for 45 + 30 s plus the 88 s move, the cheapest grasp
+    # Front-Pinch as a feature: 0.811 bits for 45 + 30 s plus the 68 s move, the cheapest grasp
     assert first.test.is_grasp and first.test.feature == "Front-Pinch"
-    assert first.score == pytest.approx((2 - 0.75 * math.log2(3)) ** 2 / (88 + 75))
+    assert first.score == pytest.approx((2 - 0.75 * math.log2(3)) ** 2 / (68 + 75))
 
 
 def test_criteria_formulas() -> None:

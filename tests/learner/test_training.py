@@ -98,7 +98,7 @@ def test_training_classifies_every_object_and_measures_only_what_it_needs() -> N
     assert log.unresolved and all(pos.distance_in > 6 for _, pos in log.unresolved)
     exhaustive = len(objects) * len(log.orientations) * sum(
         sum(p.applicable_at(d) for p in k.sensing) for d in log.distances)
-    assert len(log.applied) < exhaustive / 3
+    assert len(log.applied) < exhaustive / 2
     times = {p.name: p.time_s for p in k.sensing}
     assert log.sensing_s == sum(times[proc] for _, proc, _, _ in log.applied)
     assert source.calls == len(log.applied)  # each procedure applied once per object and position
@@ -106,3 +106,52 @@ def test_training_classifies_every_object_and_measures_only_what_it_needs() -> N
     assert all(o.position.orientation_deg is None for o in cup.observations)  # round: no orientation
     assert {d.object_id: d.grasp for d in result.descriptions} == {
         "cup": "Front-Wrap", "box": "Front-Pinch", "tumbler": "Top-Pinch", "closed": "No-Grab"}
+
+
+class Table:
+    """A replay of fixed values per object and procedure (any position)."""
+
+    def __init__(self, values: dict[str, dict[str, dict[str, float]]]) -> None:
+        self.values = values
+
+    def measure(self, object_id: str, procedure: str, position: Position) -> dict[str, float]:
+        return self.values[object_id][procedure]
+
+
+def test_phase_two_presents_every_object_again_until_a_pass_changes_nothing() -> None:
+    """An object classified early must still be classified by the final tree (the
+    review's reproduction: o0 was right in the first pass, wrong after reorganizing)."""
+    from learner.matrix import DescriptionMatrix
+    from learner.selection import Context, Node
+    from learner.criteria import criterion
+    from learner.training import TrainingLog, _Recorder, _ZeroMove, train_position
+    from learner.tree import classify, grow
+
+    k = hero()
+    sweeps = {"o0": (20, 30, 30, 20), "o1": (30, 0, 0, 20), "o2": (30, 0, 20, 10)}
+    names = [("V-Sweep-5°", "Height-Degree-5°"), ("H-Sweep-5°", "Width-Degree-5°"),
+             ("V-Sweep-1°", "Height-Degree-1°"), ("H-Sweep-1°", "Width-Degree-1°")]
+    table = Table({o: {proc: {feat: float(v)} for (proc, feat), v in zip(names, vals)} for o, vals in sweeps.items()})
+    objects = [obj("o0", "Front-Wrap", rect(4, 4)), obj("o1", "Front-Wrap", rect(4, 4)), obj("o2", "Top-Pinch", rect(4, 4))]
+    recorder = _Recorder(table, k, TrainingLog())
+    at = P(16, 0)
+    train_position(objects, at, k, recorder)
+    descriptions = [recorder.description(o, at) for o in objects]
+    ctx = Context(DescriptionMatrix(descriptions, k, grasps_as_features=False), criterion("cs-id3"), _ZeroMove())
+    tree = grow(Node.root(3), at, ctx)
+    for o in objects:
+        values = {t: table.values[o.object_id][k.procedure_for(t.feature).name][t.feature] for t in ctx.matrix.tests}
+        assert classify(tree, values) == [o.grasp]
+    assert not recorder.log.unresolved
+
+
+def test_round_objects_take_part_at_every_orientation() -> None:
+    k = hero()
+    objects = [obj("cup", "Front-Wrap", round_=True), obj("box", "Front-Pinch", rect(9, 4))]
+    source = Geometry({"cup": (3.5, 3.5, 3.5, True), "box": (9, 4, 5, True)})
+    result = train(objects, k, source, ModelMoveCost(k.move))
+    box = next(d for d in result.descriptions if d.object_id == "box")
+    # at 90° the box shows its 9 in side: its sweep there tells it from the cup
+    assert any(o.position.orientation_deg == 90 and o.feature.startswith("Width-Degree") for o in box.observations)
+    cup_positions = {pos for oid, _, pos, _ in result.log.applied if oid == "cup"}
+    assert all(p.orientation_deg is None for p in cup_positions)  # sensed once per distance

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import random
+
+import pytest
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -95,40 +98,42 @@ def test_a_tree_from_consistent_descriptions_classifies_every_one(library) -> No
 def test_the_four_object_tree_in_the_papers_style() -> None:
     text = tree_text(grow(Node.root(4), P(60, 0), context(four_objects())))
     assert text.splitlines() == [
-        "move-to-(24,0) (92s)",
+        "move-to-(24,0) (72s)",
         "Width-Degree-1°(24,0) (100s)",
         "  [8, 9]",
-        "    move-to-(6,0) (56s)",
-        "    Height(6,0) (84s)",
+        "    move-to-(6,0) (36s)",
+        "    Height(6,*) (84s)",
         "      [3.5, 3.5]",
-        "        Front-Wrap(6,0) (60s)",
+        "        Front-Wrap(6,*) (60s)",
         "      [6, 6]",
-        "        Top-Pinch(6,0) (63s)",
+        "        Top-Pinch(6,*) (63s)",
         "  [18, 18]",
-        "    move-to-(6,0) (56s)",
-        "    Front-Pinch(6,0) (45s)",
+        "    move-to-(6,0) (36s)",
+        "    Front-Pinch(6,*) (45s)",
         "  [30, 30]",
-        "    No-Grab(24,0) (0s)",
+        "    No-Grab(*,*) (0s)",
     ]
 
 
 def test_tree_json_shape() -> None:
     tree = tree_json(grow(Node.root(4), P(60, 0), context(four_objects())))
     assert tree["kind"] == "test" and tree["feature"] == "Width-Degree-1°"
-    assert tree["procedure"] == "H-Sweep-1°" and tree["position"] == [24, 0]
-    assert tree["move_cost"] == 92 and tree["sense_cost"] == 100
+    assert tree["procedure"] == "H-Sweep-1°" and tree["position"] == [24, 0] == tree["target"]
+    assert tree["move_cost"] == 72 and tree["sense_cost"] == 100
+    assert tree["score"] == pytest.approx(1.5**2 / 172) and not tree["free"]
     assert [b["range"] for b in tree["branches"]] == [[8, 9], [18, 18], [30, 30]]
     leaf = tree["branches"][1]["node"]
-    assert leaf == {"kind": "grasp", "grasp": "Front-Pinch", "position": [6, 0], "move_cost": 56.0,
-                    "grasp_cost": 45.0, "grasped": False, "objects": ["box"]}
-    assert tree["branches"][2]["node"]["position"] == [24, 0]
+    assert leaf == {"kind": "grasp", "grasp": "Front-Pinch", "position": [6, "*"], "target": [6, 0],
+                    "move_cost": 36.0, "grasp_cost": 45.0, "grasped": False, "objects": ["box"]}
+    assert tree["branches"][2]["node"]["position"] == ["*", "*"]
+    assert json.loads(json.dumps(tree, allow_nan=False)) == tree  # strict JSON: no Infinity
 
 
 def test_an_inseparable_pair_is_an_ambiguous_leaf() -> None:
     lib = [desc("a", "Front-Wrap", ("Width", P(6, 0), 3)), desc("b", "Front-Pinch", ("Width", P(6, 0), 3.2))]
     tree = tree_json(grow(Node.root(2), P(6, 0), context(lib, grasps=False)))
     assert tree["kind"] == "ambiguous"
-    assert [g["grasp"] for g in tree["grasps"]] == ["Front-Pinch", "Front-Wrap"]  # 45 s before 60 s
+    assert tree["grasps"] == ["Front-Pinch", "Front-Wrap"]  # as features: 75 s before 90 s
     with_grasps = tree_json(grow(Node.root(2), P(6, 0), context(lib)))
     assert with_grasps["kind"] == "test" and with_grasps["is_grasp"]
     assert with_grasps["feature"] == "Front-Pinch"
