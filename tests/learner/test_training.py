@@ -12,7 +12,7 @@ from learner.position import Position
 from learner.training import (cluster_distances, face_normals, generalise, separation_distance, train,
                               training_orientations)
 from learner.training_data import TrainingObject
-from tests.learner.fixtures import P, hero
+from tests.learner.fixtures import HERO, P, hero
 
 
 def rect(w: float, h: float) -> tuple[tuple[float, float], ...]:
@@ -155,3 +155,19 @@ def test_round_objects_take_part_at_every_orientation() -> None:
     assert any(o.position.orientation_deg == 90 and o.feature.startswith("Width-Degree") for o in box.observations)
     cup_positions = {pos for oid, _, pos, _ in result.log.applied if oid == "cup"}
     assert all(p.orientation_deg is None for p in cup_positions)  # sensed once per distance
+
+
+def test_the_shipped_replay_reproduces_the_shipped_library(tmp_path) -> None:  # noqa: ANN001
+    """The example library is what training on the recorded measurements gives: replaying
+    them must give it back exactly (and the simulator must still agree with the record)."""
+    from executive.cli import main
+    from learner.library import read_library_json
+
+    profiles = HERO.parent
+    out = tmp_path / "lib.json"
+    assert main(["train", "--objects", str(profiles / "hero2000-measurements-objects.json"),
+                 "--measurements", str(profiles / "hero2000-measurements.json"), "--out", str(out)]) == 0
+    assert read_library_json(out) == read_library_json(profiles / "hero2000-library.json")
+    sim_out = tmp_path / "sim.json"
+    assert main(["train", "--sim", "--out", str(sim_out)]) == 0
+    assert read_library_json(sim_out) == read_library_json(out)
