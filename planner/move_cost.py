@@ -1,0 +1,148 @@
+"""The move-cost heuristic: seconds of robot time to reach a pose (method.md §3, C(F)).
+
+A move costs overhead-camera processing, driving, turning in place and sonar centring:
+
+    seconds = vision_s + length / speed_in_per_s + turning / turn_deg_per_s + centring_s
+
+Two modes price the same formula. *Exact* plans the path with OMPL and prices its
+length and turning. *Estimate* answers from a grid distance field rooted at the
+robot's cell (computed once per map and start cell, then a lookup per candidate), so
+that the learner can price dozens of candidate positions for the cost of one
+Dijkstra. Turning is the straight line's (to the goal's bearing, then to the goal
+heading) when the way is clear; for a detour it is read off the grid's shortest path,
+traced back through the field and simplified to a few legs. A pose the base cannot
+reach costs ``inf``, which the learner reads as "never go there".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from planner.cache import LruCache
+from planner.geometry import Pose, angle_between
+from planner.grid_search import GRID_TO_EUCLIDEAN, descend, distance_field
+from planner.paths import (
+    ESCAPE_LIMIT_IN, GOAL_BLOCKED, GOAL_OUTSIDE, OK, START_BLOCKED, START_OUTSIDE, UNREACHABLE, PlanResult,
+)
+from planner.robot import MoveModel
+from planner.vision_map import VisionMap
+
+# A goal this close to the start (inches, degrees) needs no move at all.
+ARRIVED_IN = 0.5
+ARRIVED_DEG = 2.0
+# A grid distance beyond this multiple of the straight line (plus a cell) is a detour:
+# its turns are read off the grid's shortest path, simplified to legs at this
+# tolerance (cells), instead of the straight line's two turns.
+DETOUR_RATIO = 1.02
+DETOUR_SIMPLIFY_CELLS = 3.0
+
+
+@dataclass(frozen=True)
+class MoveCost:
+    """The price of one move and what it is made of (``inf`` seconds: impossible)."""
+
+    seconds: float
+    length_in: float
+    turning_deg: float
+    exact: bool
+    reason: str
+
+    @property
+    def possible(self) -> bool:
+        """True when the goal can be reached."""
+        return math.isfinite(self.seconds)
+
+
+def move_seconds(model: MoveModel, length_in: float, turning_deg: float) -> float:
+    """The heuristic's formula for a move of this length and total turning."""
+    if not (math.isfinite(length_in) and math.isfinite(turning_deg)):
+        return math.inf
+    return model.vision_s + length_in / model.speed_in_per_s + turning_deg / model.turn_deg_per_s + model.centring_s
+
+
+def arrived(start: Pose, goal: Pose) -> bool:
+    """True when the robot already stands at the goal pose."""
+    return (math.hypot(goal.x_in - start.x_in, goal.y_in - start.y_in) <= ARRIVED_IN
+            and angle_between(start.heading_deg, goal.heading_deg) <= ARRIVED_DEG)
+
+
+def price_plan(model: MoveModel, plan: PlanResult) -> MoveCost:
+    """Exact mode: the cost of driving a planned path."""
+    if not plan.found:
+        return MoveCost(math.inf, math.inf, math.inf, True, plan.reason)
+    return MoveCost(move_seconds(model, plan.length_in, plan.turning_deg), plan.length_in,
+                    plan.turning_deg, True, OK)
+
+
+class CostEstimator:
+    """Estimate mode on one vision map: distance fields cached per start cell."""
+
+    def __init__(self, vision_map: VisionMap, model: MoveModel, cache_size: int = 8) -> None:
+        self.map = vision_map
+        self.model = model
+        self._fields: LruCache[np.ndarray] = LruCache(cache_size)
+
+    @property
+    def fields_computed(self) -> int:
+        """How many distance fields were computed (each costs one Dijkstra)."""
+        return self._fields.misses
+
+    def field_from(self, cell: tuple[int, int]) -> np.ndarray:
+        """Grid distances (inches, any-angle corrected) from a free cell."""
+        scale = self.map.image.inches_per_pixel * GRID_TO_EUCLIDEAN
+        return self._fields.get_or_make(cell, lambda: distance_field(self.map.free, cell) * scale)
+
+    def estimate(self, start: Pose, goal: Pose) -> MoveCost:
+        """The estimated cost of moving from ``start`` to ``goal``.
+
+        A start in the inflated margin is left by the shortest way out first, as the
+        planner does (``paths.ESCAPE_LIMIT_IN``).
+        """
+        start.require_finite("start")
+        goal.require_finite("goal")
+        if arrived(start, goal):
+            return MoveCost(0.0, 0.0, 0.0, False, OK)
+        goal_cell = self.map.cell_of(goal.x_in, goal.y_in)
+        exit_point = self.map.nearest_free(start.x_in, start.y_in, ESCAPE_LIMIT_IN)
+        reason = (START_OUTSIDE if not self.map.contains(start.x_in, start.y_in)
+                  else GOAL_OUTSIDE if goal_cell is None
+                  else GOAL_BLOCKED if not self.map.free[goal_cell]
+                  else START_BLOCKED if exit_point is None else None)
+        if reason is not None:
+            return MoveCost(math.inf, math.inf, math.inf, False, reason)
+        escape = math.hypot(exit_point[0] - start.x_in, exit_point[1] - start.y_in)
+        field = self.field_from(self.map.cell_of(*exit_point))
+        length = float(field[goal_cell]) + escape
+        if not math.isfinite(length):
+            return MoveCost(math.inf, math.inf, math.inf, False, UNREACHABLE)
+        # The field measures cell to cell; the straight line is a floor on the length.
+        straight = math.hypot(goal.x_in - start.x_in, goal.y_in - start.y_in)
+        if length <= straight * DETOUR_RATIO + self.map.image.inches_per_pixel:
+            length = max(length, straight)
+            turning = _turning(start, goal, [(start.x_in, start.y_in), (goal.x_in, goal.y_in)])
+        else:
+            turning = _turning(start, goal, self._detour(field, start, goal, goal_cell))
+        return MoveCost(move_seconds(self.model, length, turning), length, turning, False, OK)
+
+    def _detour(self, field: np.ndarray, start: Pose, goal: Pose, goal_cell: tuple[int, int]
+                ) -> list[tuple[float, float]]:
+        """The grid's shortest path as a few straight legs (for its turns)."""
+        cells = np.array([(col, row) for row, col in descend(field, goal_cell)], np.float32)
+        corners = cv2.approxPolyDP(cells.reshape(-1, 1, 2), DETOUR_SIMPLIFY_CELLS, False).reshape(-1, 2)
+        points = [tuple(p) for p in self.map.image.to_world(corners[:, 1], corners[:, 0])]
+        return [(start.x_in, start.y_in)] + points[1:-1] + [(goal.x_in, goal.y_in)]
+
+
+def _turning(start: Pose, goal: Pose, polyline: list[tuple[float, float]]) -> float:
+    """Turn onto each leg in place, then to the goal heading (legs under half an inch,
+    like a move that is all turning, add no turn of their own)."""
+    headings = [start.heading_deg]
+    for (ax, ay), (bx, by) in zip(polyline, polyline[1:]):
+        if math.hypot(bx - ax, by - ay) > ARRIVED_IN:
+            headings.append(math.degrees(math.atan2(by - ay, bx - ax)))
+    headings.append(goal.heading_deg)
+    return sum(angle_between(a, b) for a, b in zip(headings, headings[1:]))

@@ -1,0 +1,120 @@
+"""The planner as the executive uses it: one object that sees, plans and prices moves.
+
+It keeps what stays valid while the world is unchanged. Scenes are cached on the
+image's content (an identical image costs a hash). Everything built on the obstacles
+(the vision map, the planner's roadmap and recent plans, the estimate mode's distance
+fields) is cached on the obstacles alone: the robot is not an obstacle, so a new image
+after a move reuses all of it, and only a changed world (an object pushed, knocked
+over or picked up) builds a new map. Recent worlds are kept, so going back to one
+reuses its map.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from planner.cache import LruCache
+from planner.geometry import Pose
+from planner.image import OverheadImage
+from planner.move_cost import CostEstimator, MoveCost, arrived, price_plan
+from planner.paths import OK, PathPlanner, PlanResult
+from planner.positions import pose_for_position, position_of
+from planner.robot import RobotProfile
+from planner.vision import Region, Scene, look
+from planner.vision_map import VisionMap, build_vision_map, map_key
+
+NOTHING_OBSERVED = "no overhead image observed yet: call observe(image) first"
+
+
+@dataclass(frozen=True, eq=False)
+class _World:
+    """Everything built on one set of obstacles."""
+
+    map: VisionMap
+    paths: PathPlanner
+    costs: CostEstimator
+
+
+class Navigator:
+    """Vision, paths and move costs on the latest overhead image."""
+
+    def __init__(self, profile: RobotProfile, *, time_limit_s: float = 0.25, optimise_time_s: float = 0.5,
+                 spacing_in: float = 6.0, worlds_kept: int = 4) -> None:
+        self.profile = profile
+        self._time_limit_s = time_limit_s
+        self._optimise_time_s = optimise_time_s
+        self._spacing_in = spacing_in
+        self._scenes: LruCache[Scene] = LruCache(worlds_kept)
+        self._worlds: LruCache[_World] = LruCache(worlds_kept)
+        self._scene: Scene | None = None
+        self._current: _World | None = None
+
+    def observe(self, image: OverheadImage) -> Scene:
+        """Look at a new overhead image; later calls plan on it."""
+        scene = self._scenes.get_or_make(image.content_key(), lambda: look(image))
+        key = map_key(scene, self.profile.geometry)
+        self._current = self._worlds.get_or_make(key, lambda: self._build(scene))
+        self._scene = scene
+        return scene
+
+    @property
+    def scene(self) -> Scene:
+        """The latest image's regions, robot pose and obstacle masks."""
+        if self._scene is None:
+            raise ValueError(NOTHING_OBSERVED)
+        return self._scene
+
+    @property
+    def vision_map(self) -> VisionMap:
+        """The latest image's inflated occupancy grid."""
+        return self._world().map
+
+    def pose_for(self, region: Region, distance_in: float, orientation_deg: float) -> Pose:
+        """The base pose for a learner position of ``region`` (docs/conventions.md)."""
+        self._require_on_map(region)
+        return pose_for_position(region, distance_in, orientation_deg, self.profile.geometry)
+
+    def position_of(self, region: Region, pose: Pose) -> tuple[float, float]:
+        """The learner position ``(distance_in, orientation_deg)`` of a robot pose."""
+        return position_of(region, pose, self.profile.geometry)
+
+    def plan(self, start: Pose, goal: Pose, *, optimise: bool = False,
+             spacing_in: float | None = None) -> PlanResult:
+        """A path for the driver from ``start`` to ``goal`` (see PathPlanner.plan)."""
+        return self._world().paths.plan(start, goal, optimise=optimise, spacing_in=spacing_in)
+
+    def plan_to(self, start: Pose, region: Region, distance_in: float, orientation_deg: float,
+                *, optimise: bool = False) -> PlanResult:
+        """A path to a learner position of ``region``."""
+        return self.plan(start, self.pose_for(region, distance_in, orientation_deg), optimise=optimise)
+
+    def move_cost(self, start: Pose, goal: Pose, *, exact: bool = False) -> MoveCost:
+        """Seconds to move from ``start`` to ``goal``: estimated, or priced on a plan."""
+        world = self._world()
+        if not exact:
+            return world.costs.estimate(start, goal)
+        start.require_finite("start")
+        goal.require_finite("goal")
+        if arrived(start, goal):
+            return MoveCost(0.0, 0.0, 0.0, True, OK)
+        return price_plan(self.profile.move, world.paths.plan(start, goal))
+
+    def position_cost(self, start: Pose, region: Region, distance_in: float, orientation_deg: float,
+                      *, exact: bool = False) -> MoveCost:
+        """Seconds to move from ``start`` to a learner position of ``region``."""
+        return self.move_cost(start, self.pose_for(region, distance_in, orientation_deg), exact=exact)
+
+    def _build(self, scene: Scene) -> _World:
+        vision_map = build_vision_map(scene, self.profile.geometry)
+        paths = PathPlanner(vision_map, time_limit_s=self._time_limit_s,
+                            optimise_time_s=self._optimise_time_s, spacing_in=self._spacing_in)
+        return _World(vision_map, paths, CostEstimator(vision_map, self.profile.move))
+
+    def _world(self) -> _World:
+        if self._current is None:
+            raise ValueError(NOTHING_OBSERVED)
+        return self._current
+
+    def _require_on_map(self, region: Region) -> None:
+        if not self._world().map.contains(*region.centroid):
+            raise ValueError(f"target region at {region.centroid} lies outside the map")

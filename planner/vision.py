@@ -1,0 +1,268 @@
+"""Overhead vision: object regions, furniture and the robot's own pose from one image.
+
+The camera cannot identify objects; it tells things apart by the intensity bands of
+docs/conventions.md (floor 30, walls/furniture 110, robot 170, heading marker 250,
+objects 220, noise within ±12). Band limits sit halfway between neighbouring levels,
+so noise never moves a pixel into the wrong band. Where two levels meet, blurring (and
+fish-eye undistortion) leaves thin rims of in-between intensities: a rim of "furniture"
+around every object and a rim of "object" around the heading marker. Furniture and the
+robot body are therefore opened (they are thick, rims are not), and object pixels near
+the robot are ignored; objects themselves are never eroded because the smallest test
+object (2 in) is only 2-3 pixels across.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from planner.geometry import Pose, wrap_360
+from planner.image import OverheadImage
+
+# Inclusive intensity bands (lo, hi), halfway between the rendered levels.
+WALL_BAND = (70, 139)
+ROBOT_BAND = (140, 194)
+OBJECT_BAND = (195, 234)
+MARKER_BAND = (235, 255)
+
+MIN_OBJECT_PIXELS = 2  # one stray pixel is not an object
+MIN_ROBOT_PIXELS = 40  # the HERO's base covers ~400 pixels at 0.8 in/pixel
+OUTLINE_UPSAMPLE = 4  # sub-pixel outline tracing
+ROBOT_RIM_PX = 2  # blurred rim around the robot that must not count as anything else
+
+# A footprint is round when its second moments are nearly isotropic and, for regions
+# big enough to tell, it fills its circumscribed circle (a square fills 64 %). Below
+# ROUND_CHECK_MIN_PIXELS pixelisation makes discs and squares look alike (an upright
+# soda can is ~17 pixels), and such a small near-isotropic blob shows no usable axis
+# anyway; the 5 x 4 in upright box sits on the edge and is sometimes called round.
+ROUND_AXIS_RATIO = 0.78
+ROUND_FILL_RATIO = 0.75
+ROUND_CHECK_MIN_PIXELS = 100
+
+_CROSS = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
+
+
+@dataclass(frozen=True)
+class Region:
+    """One object as the overhead camera sees it, in world inches.
+
+    ``orientation_deg`` is the major axis pointing into the half with more pixels (None
+    for a round footprint, whose reference axis is world +x by convention);
+    ``length_in`` and ``width_in`` are the footprint's extents along and across the
+    reference axis. ``pixel_count`` is what the side-effect check after a failed grasp
+    compares (pushed: about the same; changed: clearly different).
+    """
+
+    polygon: tuple[tuple[float, float], ...]
+    centroid: tuple[float, float]
+    pixel_count: int
+    orientation_deg: float | None
+    round: bool
+    length_in: float
+    width_in: float
+
+    @property
+    def reference_axis_deg(self) -> float:
+        """The axis positions are measured from: the orientation, or 0 when round."""
+        return 0.0 if self.orientation_deg is None else self.orientation_deg
+
+    def polygon_array(self) -> np.ndarray:
+        """The polygon as an Nx2 float array (counter-clockwise in the world frame)."""
+        return np.asarray(self.polygon, dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Everything one overhead image tells: regions, the robot's pose, obstacle masks.
+
+    The masks are on the undistorted image's pixel grid: ``furniture`` holds walls and
+    furniture, ``objects`` the object regions' pixels; neither contains the robot.
+    """
+
+    image: OverheadImage
+    regions: tuple[Region, ...]
+    robot: Pose | None
+    furniture: np.ndarray
+    objects: np.ndarray
+
+
+def look(image: OverheadImage) -> Scene:
+    """Segment an overhead image (undistorting it first when it is fish-eye)."""
+    flat = image.undistorted()
+    pixels = np.ascontiguousarray(flat.pixels, dtype=np.uint8)
+    robot_body = _robot_body(pixels)
+    robot_zone = cv2.dilate(robot_body, _CROSS, iterations=ROBOT_RIM_PX)
+    not_robot = robot_zone == 0
+
+    furniture = cv2.morphologyEx(_band(pixels, WALL_BAND), cv2.MORPH_OPEN, _CROSS)
+    furniture = (furniture > 0) & not_robot
+    objects = (_band(pixels, OBJECT_BAND) > 0) & not_robot
+
+    regions, region_pixels = _regions(flat, objects)
+    return Scene(
+        image=flat,
+        regions=regions,
+        robot=_robot_pose(flat, pixels, robot_body),
+        furniture=furniture,
+        objects=region_pixels,
+    )
+
+
+def _band(pixels: np.ndarray, band: tuple[int, int]) -> np.ndarray:
+    return cv2.inRange(pixels, np.array([band[0]], np.uint8), np.array([band[1]], np.uint8))
+
+
+def _robot_body(pixels: np.ndarray) -> np.ndarray:
+    """The robot's filled disc (marker included) as a 0/255 mask; empty when absent."""
+    # Closing bridges the blurred rim between marker and body; opening then drops the
+    # thin robot-band rims that blurring leaves around objects.
+    body = cv2.bitwise_or(_band(pixels, ROBOT_BAND), _band(pixels, MARKER_BAND))
+    body = cv2.morphologyEx(body, cv2.MORPH_CLOSE, _CROSS)
+    body = cv2.morphologyEx(body, cv2.MORPH_OPEN, _CROSS)
+    contours, _ = cv2.findContours(body, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    filled = np.zeros_like(body)
+    if contours:
+        largest = max(contours, key=cv2.contourArea)
+        if cv2.contourArea(largest) >= MIN_ROBOT_PIXELS:
+            cv2.drawContours(filled, [largest], -1, 255, thickness=cv2.FILLED)
+    return filled
+
+
+def _robot_pose(image: OverheadImage, pixels: np.ndarray, body: np.ndarray) -> Pose | None:
+    """Base centre from the body's centroid, heading towards the marker's centroid."""
+    body_m = cv2.moments(body, binaryImage=True)
+    if body_m["m00"] == 0:
+        return None
+    marker = cv2.bitwise_and(_band(pixels, MARKER_BAND), body)
+    marker_m = cv2.moments(marker, binaryImage=True)
+    if marker_m["m00"] == 0:
+        return None
+    (cx, cy), (mx, my) = (
+        image.to_world(body_m["m01"] / body_m["m00"], body_m["m10"] / body_m["m00"])[0],
+        image.to_world(marker_m["m01"] / marker_m["m00"], marker_m["m10"] / marker_m["m00"])[0],
+    )
+    heading = wrap_360(math.degrees(math.atan2(my - cy, mx - cx)))
+    return Pose(float(cx), float(cy), heading)
+
+
+def _regions(image: OverheadImage, objects: np.ndarray) -> tuple[tuple[Region, ...], np.ndarray]:
+    """Object regions and the mask of the pixels that belong to a kept region."""
+    mask = objects.astype(np.uint8) * 255
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    kept = np.zeros(mask.shape, dtype=bool)
+    regions = []
+    for contour in contours:
+        col, row, width, height = cv2.boundingRect(contour)
+        roi = np.zeros((height, width), np.uint8)
+        cv2.drawContours(roi, [contour], -1, 1, thickness=cv2.FILLED, offset=(-col, -row))
+        roi &= (mask[row:row + height, col:col + width] > 0).astype(np.uint8)
+        count = int(roi.sum())
+        if count < MIN_OBJECT_PIXELS:
+            continue
+        kept[row:row + height, col:col + width] |= roi.astype(bool)
+        regions.append(_describe(image, roi, row, col))
+    regions.sort(key=lambda r: (r.centroid[0], r.centroid[1]))
+    return tuple(regions), kept
+
+
+def _describe(image: OverheadImage, roi: np.ndarray, row0: int, col0: int) -> Region:
+    """Centroid, axis, polygon and sizes of one region (``roi`` is its 0/1 pixel mask)."""
+    ipp = image.inches_per_pixel
+    moments = cv2.moments(roi, binaryImage=True)
+    count = int(moments["m00"])
+    c_mean, r_mean = moments["m10"] / count, moments["m01"] / count
+    # Second moments of the pixel squares (a unit square adds 1/12 to each variance).
+    mu_cc = moments["mu20"] / count + 1 / 12
+    mu_rr = moments["mu02"] / count + 1 / 12
+    mu_rc = moments["mu11"] / count
+    spread = math.hypot(mu_cc - mu_rr, 2 * mu_rc)
+    major, minor = (mu_cc + mu_rr + spread) / 2, (mu_cc + mu_rr - spread) / 2
+    axis_ratio = math.sqrt(max(minor, 0.0) / major)
+
+    polygon_px = _outline(roi)  # (col, row) within the roi
+    world_polygon = image.to_world(polygon_px[:, 1] + row0, polygon_px[:, 0] + col0)
+    centroid = image.to_world(r_mean + row0, c_mean + col0)[0]
+
+    is_round = axis_ratio >= ROUND_AXIS_RATIO and (
+        count < ROUND_CHECK_MIN_PIXELS or _fill_ratio(world_polygon, centroid) >= ROUND_FILL_RATIO
+    )
+    if is_round:
+        orientation = None
+        axis_deg = 0.0
+    else:
+        if axis_ratio >= ROUND_AXIS_RATIO:
+            # Nearly isotropic but cornered (a square box): moments give no stable
+            # axis, the minimum-area rectangle's sides do.
+            axis_deg = _rectangle_axis_deg(world_polygon)
+        else:
+            # Image rows grow downwards, so the world angle flips the row term.
+            axis_deg = math.degrees(math.atan2(-2 * mu_rc, mu_cc - mu_rr)) / 2
+        rows, cols = np.nonzero(roi)
+        dr, dc = rows - r_mean, cols - c_mean
+        along = dc * math.cos(math.radians(axis_deg)) - dr * math.sin(math.radians(axis_deg))
+        if np.count_nonzero(along < -1e-9) > np.count_nonzero(along > 1e-9):
+            axis_deg += 180.0
+        orientation = wrap_360(axis_deg)
+        axis_deg = orientation
+
+    u = np.array([math.cos(math.radians(axis_deg)), math.sin(math.radians(axis_deg))])
+    v = np.array([-u[1], u[0]])
+    rel = world_polygon - centroid
+    length = float(np.ptp(rel @ u))
+    width = float(np.ptp(rel @ v))
+    return Region(
+        polygon=tuple((float(x), float(y)) for x, y in _counter_clockwise(world_polygon)),
+        centroid=(float(centroid[0]), float(centroid[1])),
+        pixel_count=count,
+        orientation_deg=orientation,
+        round=is_round,
+        length_in=max(length, ipp),
+        width_in=max(width, ipp),
+    )
+
+
+def _outline(roi: np.ndarray) -> np.ndarray:
+    """The footprint's outline in (col, row) pixel units of the region's mask.
+
+    A camera pixel shows an object when the object covers at least half of it, so the
+    true outline runs, on average, halfway between object pixel centres and their
+    non-object neighbours: the mask's 50 % iso-line. It is traced on a bilinearly
+    upsampled copy of the mask (marching-squares fashion) and simplified; this also
+    gives thin regions (a line or a dot of pixels) a proper area.
+    """
+    scale = OUTLINE_UPSAMPLE
+    padded = np.pad(roi.astype(np.uint8) * 255, 1)
+    fine = cv2.resize(padded, None, fx=scale, fy=scale, interpolation=cv2.INTER_LINEAR)
+    contours, _ = cv2.findContours((fine >= 128).astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    points = np.concatenate(contours) if len(contours) > 1 else contours[0]
+    if len(contours) > 1:
+        points = cv2.convexHull(points)
+    simplified = cv2.approxPolyDP(points, 0.75 * scale, closed=True).reshape(-1, 2).astype(float)
+    # Fine pixel i's centre is at coarse (i + 0.5) / scale - 0.5; the pad adds one.
+    return (simplified + 0.5) / scale - 1.5
+
+
+def _signed_area(polygon: np.ndarray) -> float:
+    x, y = polygon[:, 0], polygon[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _fill_ratio(polygon: np.ndarray, centroid: np.ndarray) -> float:
+    """How much of its circumscribed circle (about the centroid) a polygon fills."""
+    radius = float(np.max(np.linalg.norm(polygon - centroid, axis=1)))
+    return abs(float(cv2.contourArea(polygon.astype(np.float32)))) / (math.pi * radius * radius)
+
+
+def _rectangle_axis_deg(polygon: np.ndarray) -> float:
+    """Direction of the minimum-area rectangle's longer side (world degrees)."""
+    box = cv2.boxPoints(cv2.minAreaRect(polygon.astype(np.float32)))
+    sides = [box[1] - box[0], box[2] - box[1]]
+    side = max(sides, key=lambda s: float(np.hypot(*s)))
+    return math.degrees(math.atan2(float(side[1]), float(side[0])))
+
+
+def _counter_clockwise(polygon: np.ndarray) -> np.ndarray:
+    return polygon if _signed_area(polygon) >= 0 else polygon[::-1]
