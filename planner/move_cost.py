@@ -24,7 +24,7 @@ import numpy as np
 
 from planner.cache import LruCache
 from planner.geometry import Pose, angle_between
-from planner.grid_search import GRID_TO_EUCLIDEAN, descend, distance_field
+from planner.grid_search import GRID_TO_EUCLIDEAN, GridGraph, descend
 from planner.paths import (
     ESCAPE_LIMIT_IN, GOAL_BLOCKED, GOAL_OUTSIDE, OK, START_BLOCKED, START_OUTSIDE, UNREACHABLE, PlanResult,
 )
@@ -78,13 +78,18 @@ def price_plan(model: MoveModel, plan: PlanResult) -> MoveCost:
                     plan.turning_deg, True, OK)
 
 
+# The estimate mode searches a grid this many times coarser than the camera's.
+FIELD_COARSENING = 2
+
+
 class CostEstimator:
     """Estimate mode on one vision map: distance fields cached per start cell."""
 
     def __init__(self, vision_map: VisionMap, model: MoveModel, cache_size: int = 8) -> None:
         self.map = vision_map
         self.model = model
-        self._fields: LruCache[np.ndarray] = LruCache(cache_size)
+        self._fields: LruCache[tuple[np.ndarray, np.ndarray]] = LruCache(cache_size)
+        self._graph: GridGraph | None = None  # built on the first field: a map may never be priced
 
     @property
     def fields_computed(self) -> int:
@@ -92,9 +97,33 @@ class CostEstimator:
         return self._fields.misses
 
     def field_from(self, cell: tuple[int, int]) -> np.ndarray:
-        """Grid distances (inches, any-angle corrected) from a free cell."""
-        scale = self.map.image.inches_per_pixel * GRID_TO_EUCLIDEAN
-        return self._fields.get_or_make(cell, lambda: distance_field(self.map.free, cell) * scale)
+        """Grid distances (inches, any-angle corrected) from a free cell, on the map's grid."""
+        return self._field(cell)[0]
+
+    def _field(self, cell: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """The field on the map's grid (inches) and on the coarse grid it was searched on.
+
+        Pricing needs inches, not the camera's 0.8 in cells: the map is coarsened
+        :data:`FIELD_COARSENING` times (a block is free when any of its cells is;
+        inflated obstacles are far thicker than a block, so no wall opens) and the search
+        over a quarter of the cells takes ~2 ms instead of ~10.
+        """
+        k = FIELD_COARSENING
+        rows, cols = self.map.free.shape
+        if self._graph is None:
+            padded = np.zeros((-(-rows // k) * k, -(-cols // k) * k), dtype=bool)
+            padded[:rows, :cols] = self.map.free
+            self._graph = GridGraph(padded.reshape(padded.shape[0] // k, k, padded.shape[1] // k, k).any(axis=(1, 3)))
+        graph = self._graph
+
+        def make() -> tuple[np.ndarray, np.ndarray]:
+            coarse = graph.distances_from((cell[0] // k, cell[1] // k)) * (k * self.map.image.inches_per_pixel
+                                                                           * GRID_TO_EUCLIDEAN)
+            fine = np.repeat(np.repeat(coarse, k, axis=0), k, axis=1)[:rows, :cols]
+            fine[~self.map.free] = np.inf
+            return fine, coarse
+
+        return self._fields.get_or_make(cell, make)
 
     def estimate(self, start: Pose, goal: Pose) -> MoveCost:
         """The estimated cost of moving from ``start`` to ``goal``.
@@ -115,7 +144,7 @@ class CostEstimator:
         if reason is not None:
             return MoveCost(math.inf, math.inf, math.inf, False, reason)
         escape = math.hypot(exit_point[0] - start.x_in, exit_point[1] - start.y_in)
-        field = self.field_from(self.map.cell_of(*exit_point))
+        field, coarse = self._field(self.map.cell_of(*exit_point))
         length = float(field[goal_cell]) + escape
         if not math.isfinite(length):
             return MoveCost(math.inf, math.inf, math.inf, False, UNREACHABLE)
@@ -125,15 +154,19 @@ class CostEstimator:
             length = max(length, straight)
             turning = _turning(start, goal, [(start.x_in, start.y_in), (goal.x_in, goal.y_in)])
         else:
-            turning = _turning(start, goal, self._detour(field, start, goal, goal_cell))
+            turning = _turning(start, goal, self._detour(coarse, start, goal, goal_cell))
         return MoveCost(move_seconds(self.model, length, turning), length, turning, False, OK)
 
-    def _detour(self, field: np.ndarray, start: Pose, goal: Pose, goal_cell: tuple[int, int]
+    def _detour(self, coarse: np.ndarray, start: Pose, goal: Pose, goal_cell: tuple[int, int]
                 ) -> list[tuple[float, float]]:
-        """The grid's shortest path as a few straight legs (for its turns)."""
-        cells = np.array([(col, row) for row, col in descend(field, goal_cell)], np.float32)
-        corners = cv2.approxPolyDP(cells.reshape(-1, 1, 2), DETOUR_SIMPLIFY_CELLS, False).reshape(-1, 2)
-        points = [tuple(p) for p in self.map.image.to_world(corners[:, 1], corners[:, 0])]
+        """The grid's shortest path as a few straight legs (for its turns), descended on
+        the coarse field it was searched on."""
+        k = FIELD_COARSENING
+        cells = np.array([(col, row) for row, col in descend(coarse, (goal_cell[0] // k, goal_cell[1] // k))],
+                         np.float32)
+        corners = cv2.approxPolyDP(cells.reshape(-1, 1, 2), DETOUR_SIMPLIFY_CELLS / k, False).reshape(-1, 2)
+        centres = corners * k + (k - 1) / 2.0
+        points = [tuple(p) for p in self.map.image.to_world(centres[:, 1], centres[:, 0])]
         return [(start.x_in, start.y_in)] + points[1:-1] + [(goal.x_in, goal.y_in)]
 
 

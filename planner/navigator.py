@@ -21,9 +21,15 @@ from planner.paths import OK, PathPlanner, PlanResult
 from planner.positions import pose_for_position, position_of
 from planner.robot import RobotProfile
 from planner.vision import Region, Scene, look
+from planner.roadmap import Roadmap
 from planner.vision_map import VisionMap, build_vision_map, map_key
 
 NOTHING_OBSERVED = "no overhead image observed yet: call observe(image) first"
+# A roadmap carried to a new map is re-checked every half cell along each edge, as the
+# planner checks motions (the strict free space keeps a cell of margin, so no obstacle
+# slips between samples), and kept when at least this share of its milestones survives.
+ROADMAP_CHECK_STEP_CELLS = 0.5
+ROADMAP_KEEP_FRACTION = 0.9
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,8 +113,27 @@ class Navigator:
     def _build(self, scene: Scene) -> _World:
         vision_map = build_vision_map(scene, self.profile.geometry)
         paths = PathPlanner(vision_map, time_limit_s=self._time_limit_s,
-                            optimise_time_s=self._optimise_time_s, spacing_in=self._spacing_in)
+                            optimise_time_s=self._optimise_time_s, spacing_in=self._spacing_in,
+                            roadmap=self._reusable_roadmap(vision_map))
         return _World(vision_map, paths, CostEstimator(vision_map, self.profile.move))
+
+    def _reusable_roadmap(self, vision_map: VisionMap) -> Roadmap | None:
+        """The current world's roadmap, pruned to what is still clear on the new map.
+
+        Between two images the map barely changes (an object picked up leaves more free
+        space; camera noise flickers a few edge cells), so nearly all of the old roadmap
+        stays valid and pruning it costs milliseconds where growing one costs ~0.2 s.
+        When much of it was lost (something big moved), a fresh one is grown instead.
+        """
+        old = self._current
+        if old is None or old.paths.roadmap is None:
+            return None
+        if (old.map.free_strict.shape != vision_map.free_strict.shape
+                or old.map.image.inches_per_pixel != vision_map.image.inches_per_pixel):
+            return None
+        roadmap = old.paths.roadmap
+        kept = roadmap.pruned(vision_map.points_strictly_free, ROADMAP_CHECK_STEP_CELLS * vision_map.image.inches_per_pixel)
+        return kept if len(kept) >= ROADMAP_KEEP_FRACTION * len(roadmap) else None
 
     def _world(self) -> _World:
         if self._current is None:

@@ -135,7 +135,8 @@ class PathPlanner:
 
     def __init__(self, vision_map: VisionMap, *, time_limit_s: float = 0.25,
                  optimise_time_s: float = 0.5, spacing_in: float = 6.0, restarts: int = 3,
-                 roadmap_milestones: int = ROADMAP_MILESTONES, cache_size: int = 256) -> None:
+                 roadmap_milestones: int = ROADMAP_MILESTONES, cache_size: int = 256,
+                 roadmap: Roadmap | None = None) -> None:
         if restarts < 1 or roadmap_milestones < 1:
             raise ValueError(f"restarts and roadmap_milestones must be at least 1, got {restarts} and "
                              f"{roadmap_milestones}")
@@ -157,8 +158,13 @@ class PathPlanner:
         bounds.setHigh(1, y_max)
         self._space.setBounds(bounds)
         self._valid_holder: list[np.ndarray] = [vision_map.free_strict]
-        self._roadmap: Roadmap | None = None
+        self._roadmap: Roadmap | None = roadmap  # one still valid on this map, or grown on demand
         self._tree_setup = self._new_setup()
+
+    @property
+    def roadmap(self) -> Roadmap | None:
+        """The roadmap grown (or inherited) so far, for a map that only loses obstacles."""
+        return self._roadmap
 
     def _new_setup(self) -> og.SimpleSetup:
         setup = og.SimpleSetup(self._space)

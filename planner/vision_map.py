@@ -93,6 +93,17 @@ class VisionMap:
             return None
         return float(centres[best, 0]), float(centres[best, 1])
 
+    def points_strictly_free(self, points: np.ndarray) -> np.ndarray:
+        """For an Nx2 array of world points, which lie in ``free_strict`` (vectorised)."""
+        ipp = self.image.inches_per_pixel
+        cols = np.floor((points[:, 0] - self.image.origin_x_in) / ipp).astype(int)
+        rows = np.floor((self.image.origin_y_in - points[:, 1]) / ipp).astype(int)
+        n_rows, n_cols = self.free_strict.shape
+        inside = (rows >= 0) & (rows < n_rows) & (cols >= 0) & (cols < n_cols)
+        out = np.zeros(len(points), dtype=bool)
+        out[inside] = self.free_strict[rows[inside], cols[inside]]
+        return out
+
     def segment_is_free(self, start: tuple[float, float], end: tuple[float, float]) -> bool:
         """True when every cell the straight segment passes through is free.
 
