@@ -14,7 +14,7 @@
    prices are compared with the simulator's move durations.
 
 Prints a Markdown table of medians (and 90th percentiles) with the machine and date;
-bench/planner.md keeps the figures of record.
+BENCHMARKS.md keeps the figures of record.
 """
 
 from __future__ import annotations

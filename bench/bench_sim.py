@@ -3,7 +3,7 @@ episode (camera, move to 24 in, H-Sweep-1°, move to 6 in, H-Scan-0.3 and D-Scan
 grasp, camera, release) on each object of the default lab, with default noise.
 
 Run: ``/work/venv/bin/python bench/bench_sim.py [--rounds N]``; prints the median
-speed-up over real time (the target is at least 500x). Figures go to bench/sim.md.
+speed-up over real time (the target is at least 500x). Figures of record are in BENCHMARKS.md.
 """
 
 from __future__ import annotations

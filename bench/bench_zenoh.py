@@ -7,7 +7,7 @@ process, ``ZenohDriver.noop().result()`` one call after another (JSON request,
 queryable, JSON reply, future completion). For reference it also times a bare
 ``session.get`` on the same key with zenoh's blocking channel handler: the transport's
 floor under the client's futures and codec. Prints a Markdown table of medians and
-90th percentiles with the machine and date; bench/zenoh.md keeps the figures of record.
+90th percentiles with the machine and date; BENCHMARKS.md keeps the figures of record.
 """
 
 from __future__ import annotations
