@@ -15,7 +15,7 @@ import py_trees
 from py_trees.common import Access, Status
 
 from behaviours.context import ObjectRecord, Services
-from hero_driver.interface import DriverError
+from hero_driver.interface import UNAVAILABLE, DriverError
 
 
 class CslBehaviour(py_trees.behaviour.Behaviour):
@@ -64,6 +64,8 @@ class DriverAction(CslBehaviour):
         except DriverError as exc:
             self.feedback_message = str(exc)
             self.note("driver_error", code=exc.code, message=exc.message)
+            if exc.code == UNAVAILABLE:
+                raise  # the robot is gone: no recovery branch can help, the episode stops
             return self.failed(exc)
         return self.finish(result)
 

@@ -5,7 +5,7 @@ Each command module exposes ``register(subparsers)``, adding its parser(s) with 
 status. Bad input anywhere (files, arguments) is raised as ``ValueError`` or
 ``OSError`` with a one-line message naming what is wrong; ``main`` prints it as
 ``csl: error: ...`` and exits 2, never with a traceback (set ``CSL_DEBUG=1`` to see
-one).
+one). A robot that vanishes mid-run stops it with ``csl: robot error: ...``, exit 1.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import sys
 from collections.abc import Sequence
 
 from executive import commands
+from hero_driver.interface import DriverError
 
 USAGE_ERROR = 2
 
@@ -49,6 +50,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         print(f"csl: error: {message}", file=sys.stderr)
         return USAGE_ERROR
+    except DriverError as exc:  # the robot refused or vanished while the executive ran
+        if os.environ.get("CSL_DEBUG"):
+            raise
+        print(f"csl: robot error: {exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("csl: interrupted", file=sys.stderr)
         return 130

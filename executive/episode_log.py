@@ -30,6 +30,7 @@ class EpisodeLog:
         self.events.append(record)
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False, default=str) + "\n")
+            self._file.flush()  # followable while the episode runs (tail -f), complete if it dies
 
     def close(self) -> None:
         if self._file is not None:

@@ -114,7 +114,11 @@ def run_run(args: argparse.Namespace) -> int:
     params = _params(args)
     args.out.mkdir(parents=True, exist_ok=True)
     learner = _learner(args)
-    driver = _driver(args)
+    try:
+        driver = _driver(args)
+    except BaseException:
+        learner.close()
+        raise
     return _episode(args, driver, learner, knowledge, params, console)
 
 
@@ -133,7 +137,7 @@ def _driver(args: argparse.Namespace) -> Driver:
     from hero_driver.zenoh_link.client import ZenohDriver
 
     driver = ZenohDriver(args.robot, connect=[args.connect], discover_s=3.0)
-    if not driver.alive:
+    if not driver.wait_ready(5.0):  # alive, and its first state published
         driver.close()
         raise ValueError(f"no driver is serving robot {args.robot!r} at {args.connect} (start one with "
                          f"'csl driver sim --robot {args.robot}')")
@@ -142,6 +146,17 @@ def _driver(args: argparse.Namespace) -> Driver:
 
 def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, knowledge: Knowledge,
              params: Params, console: Console) -> int:
+    """Run one episode and report it; the driver and learner are closed however it ends
+    (an open zenoh session would keep the process alive)."""
+    try:
+        return _report_episode(args, driver, learner, knowledge, params, console)
+    finally:
+        driver.close()
+        learner.close()
+
+
+def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, knowledge: Knowledge,
+                    params: Params, console: Console) -> int:
     log = EpisodeLog(args.out / "episode.jsonl")
     executive = Executive(driver, learner, knowledge, profile=defaults.KNOWLEDGE, params=params,
                           criterion_name=args.criterion, log=log)
@@ -165,8 +180,6 @@ def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, 
     if not args.no_plots:
         _plots(args.out, executive, result, first_image, [r.object for r in table], log.events)
         print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
-    driver.close()
-    learner.close()
     return 0 if result.status == "SUCCESS" else 1
 
 

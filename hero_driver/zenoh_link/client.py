@@ -149,6 +149,8 @@ class ZenohDriver:
         """Ask which tokens exist now (the subscriber only reports changes)."""
         with self._lock:
             generation = self._liveliness_events
+            if self._closed:
+                return  # a token change racing close(): the session is going away
 
         def on_reply(reply: zenoh.Reply) -> None:
             if reply.ok is None:
@@ -158,7 +160,11 @@ class ZenohDriver:
                     self._alive = True
                     self._lock.notify_all()
 
-        self._session.liveliness().get(keys.alive_key(self.robot), on_reply)
+        try:
+            self._session.liveliness().get(keys.alive_key(self.robot), on_reply)
+        except zenoh.ZError:
+            if not self._closed:  # closed between the check above and the query: nothing to ask
+                raise
 
     # --------------------------------------------------------------------- state
 

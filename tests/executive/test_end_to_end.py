@@ -19,7 +19,7 @@ from executive.executive import Executive
 from learner.knowledge import load_knowledge
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
-from tests.hero_driver.test_zenoh_support import DriverProcess, free_endpoint
+from tests.hero_driver.test_zenoh_support import DriverProcess, free_endpoint, wait_until
 from tests.learner.test_service_zenoh import ServiceProcess
 
 REPO = Path(__file__).resolve().parents[2]
@@ -71,3 +71,25 @@ def test_csl_run_with_driver_and_learner_as_zenoh_nodes(tmp_path: Path) -> None:
         other_robot.close()
     finally:
         service.close()
+
+
+def test_a_driver_vanishing_mid_episode_stops_the_run_with_one_line(tmp_path: Path) -> None:
+    endpoint = free_endpoint()
+    env = {**os.environ, "PYTHONPATH": str(REPO), "CSL_HOME": str(tmp_path)}
+    log = tmp_path / "out" / "episode.jsonl"
+    with DriverProcess.sim(endpoint, robot="gone") as node:
+        node.ready()
+        run = subprocess.Popen(
+            [sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--robot", "gone",
+             "--connect", endpoint, "--out", str(tmp_path / "out"), "--no-plots"],
+            cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        assert wait_until(lambda: log.exists() and '"event": "choose"' in log.read_text(), 60.0)
+        node.kill()  # mid-episode: the executive has started on the first object
+        out, err = run.communicate(timeout=60)
+    events = [json.loads(line) for line in log.read_text().splitlines()]
+    if events[-1]["event"] == "episode_end":  # on a slow box the episode may end before the kill
+        return
+    assert run.returncode == 1, err
+    messages = [x for x in err.strip().splitlines() if x.startswith("csl:")]
+    assert messages == [messages[-1]] and messages[-1].startswith("csl: robot error: unavailable")
+    assert "Traceback" not in err
