@@ -43,3 +43,15 @@ def test_bad_arguments_are_one_line(tmp_path: Path, capsys, argv, message) -> No
     assert main([*argv, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("csl: error: ") and message in err[0]
+
+
+def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    assert main(["demo", "--out", str(tmp_path), "--no-plots"]) == 0
+    capsys.readouterr()
+    assert main(["log", str(tmp_path / "episode.jsonl"), "--object", "0", "--events", "choose,grasp"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[1] == "object 0" and all(" choose " in x or " grasp " in x for x in out[2:])
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text("{not json\n")
+    assert main(["log", str(bad)]) == 2
+    assert "bad.jsonl:1: not a JSON event" in capsys.readouterr().err
