@@ -24,9 +24,10 @@ class _Choose(CslBehaviour):
         return obj.timed(self.services, obj.session.decide)
 
     def nearest_now(self) -> bool:
-        """The parameter saying how soon to switch to nearest neighbour has been reached."""
+        """The parameter saying how soon to switch to nearest neighbour has been reached
+        (and nearest neighbour can act: a dropout leaves no value to be near to)."""
         after = self.services.params.nearest_after
-        return after is not None and self.obj.unreliable_count >= after
+        return after is not None and self.obj.unreliable_count >= after and self.obj.session.can_follow_nearest
 
     def chose(self, test: ScoredTest, how: str) -> Status:
         obj = self.obj

@@ -106,12 +106,13 @@ class GraspAttempt:
 
 @dataclass
 class ObjectRecord:
-    """One object being approached and recognised: its region, tree, and costs."""
+    """One object being approached and recognized: its region, tree, and costs."""
 
     index: int
     region: Region
     pixels_before: int
     session: RecognitionSession
+    estimator: PlannerMoveCost
     ledger: Ledger = field(default_factory=Ledger)
     outcome: str | None = None  # grasped | left | failed
     grasp: str | None = None
@@ -124,7 +125,6 @@ class ObjectRecord:
     unreliable_count: int = 0
     no_alternative: bool = False  # choosing a test failed at this node this step
     attempt: GraspAttempt | None = None
-    options_tried: set[str] = field(default_factory=set)  # ambiguous-leaf grasps tried here
     side_effect: str | None = None  # what the camera saw after a failed grasp
 
     @property
@@ -159,6 +159,11 @@ class PlannerMoveCost:
     def __init__(self, navigator: Navigator, region: Region) -> None:
         self.navigator, self.region = navigator, region
         self._cache: dict[tuple[Position, Position], float] = {}
+
+    def retarget(self, region: Region) -> None:
+        """The object moved (pushed, knocked over): price positions around where it is now."""
+        self.region = region
+        self._cache.clear()
 
     def move_cost(self, start: Position, goal: Position) -> float:
         key = (start, goal)

@@ -10,6 +10,7 @@ from behaviours.base import CslBehaviour, DriverAction
 from behaviours.context import Services, relative_position
 from hero_driver.interface import DriverError, RobotState, SenseResult
 from learner.runtime import Matched
+from learner.matrix import Test
 from learner.selection import ScoredTest
 
 
@@ -63,6 +64,8 @@ class StartOver(CslBehaviour):
         here = relative_position(self.services.navigator, obj.region, self.services.robot_pose())
         changed = obj.side_effect == "changed"
         obj.session.grasp_failed(obj.attempt.grasp, side_effects=True, changed=changed, position=here)
+        if changed:
+            obj.unreliable_count = 0  # a new object as far as sensing goes
         obj.ledger.recoveries["start over (changed)" if changed else "start over (pushed)"] += 1
         self.note("start_over", changed=changed, at=here.to_json())
         obj.attempt, obj.side_effect, obj.pending_unreliable = None, None, False
@@ -95,6 +98,7 @@ class DropFailedGrasp(CslBehaviour):
             self.note("gave_up", reason="every grasp in the library failed")
             return Status.SUCCESS
         obj.ledger.recoveries["drop failed grasp"] += 1
+        obj.pending_unreliable = False  # a new tree: no value awaits reselection there
         self.note("drop_grasp", grasp=attempt.grasp, candidates=list(obj.session.candidates))
         return Status.SUCCESS
 
@@ -110,11 +114,13 @@ class Discriminate(DriverAction):
         super().__init__(name, services)
         self._test: ScoredTest | None = None
         self._wrong: str | None = None
+        self._tried: set[Test] = set()
 
     def start(self) -> Future[SenseResult] | Status:
         obj = self.obj
         attempt = obj.attempt
         obj.attempt = None
+        self._tried = set()
         if attempt is None or attempt.as_feature is not None or obj.done:
             return Status.SUCCESS
         if obj.timed(self.services, lambda: obj.session.told_apart(attempt.grasp)):
@@ -126,10 +132,11 @@ class Discriminate(DriverAction):
     def _next(self) -> Future[SenseResult] | Status:
         obj = self.obj
         assert self._wrong is not None
-        wrong = self._wrong
-        self._test = obj.timed(self.services, lambda: obj.session.discriminating_test(wrong))
+        wrong, tried = self._wrong, frozenset(self._tried)
+        self._test = obj.timed(self.services, lambda: obj.session.discriminating_test(wrong, tried))
         if self._test is None or self._test.move_cost > 0:
             return Status.SUCCESS  # nothing left to add from here; moving for it is not worth it
+        self._tried.add(self._test.test)  # each test once: a dropout is not retried forever
         return self.services.driver.sense(self._test.test.procedure)
 
     def finish(self, result: SenseResult) -> Status:
@@ -140,8 +147,8 @@ class Discriminate(DriverAction):
         told_apart = obj.session.discriminates(self._test, self._wrong)
         self.note("discriminate", procedure=result.procedure, values={k: v for k, v in result.values.items()},
                   seconds=round(result.duration_s, 1), told_apart=told_apart)
-        if told_apart:
-            return Status.SUCCESS
+        if told_apart or result.values.get(self._test.test.feature) is None:
+            return Status.SUCCESS  # told apart, or the sonar gave nothing: leave it there
         nxt = self._next()
         if isinstance(nxt, Status):
             return nxt
@@ -166,9 +173,12 @@ class Learn(DriverAction):
         if obj.outcome != "grasped" or obj.grasp is None or obj.grasp_position is None:
             return Status.FAILURE
         description = obj.session.description(f"learned/{obj.grasp}", obj.grasp, obj.grasp_position)
-        obj.learned_id = obj.timed(self.services, lambda: self.services.learner.learn(description))
-        self.note("learn", id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
-                  wrong=list(obj.session.wrong_predictions))
+        if description.observations:  # a description with no features would match anything
+            obj.learned_id = obj.timed(self.services, lambda: self.services.learner.learn(description))
+            self.note("learn", id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
+                      wrong=list(obj.session.wrong_predictions))
+        else:
+            self.note("learn", id=None, grasp=obj.grasp, features=0, reason="nothing was measured")
         return self.services.driver.release()
 
     def finish(self, result: RobotState) -> Status:

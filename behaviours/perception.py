@@ -60,11 +60,11 @@ class RememberAppearance(CslBehaviour):
         services = self.services
         began = services.clock()
         start = relative_position(services.navigator, region, services.robot_pose())
-        session = RecognitionSession(services.matrix(), services.criterion,
-                                     PlannerMoveCost(services.navigator, region), start,
+        estimator = PlannerMoveCost(services.navigator, region)
+        session = RecognitionSession(services.matrix(), services.criterion, estimator, start,
                                      max_alternatives=services.params.max_alternatives,
                                      orientation_free=region.round)
-        record = ObjectRecord(index, region, region.pixel_count, session)
+        record = ObjectRecord(index, region, region.pixel_count, session, estimator)
         record.ledger.computing_s += services.clock() - began
         self.bb.object = record
         self.bb.results.append(record)
@@ -114,4 +114,6 @@ class CheckSideEffects(DriverAction):
         if effect is None:
             return Status.FAILURE
         obj.region, obj.pixels_before = new, new.pixel_count
+        obj.estimator.retarget(new)
+        obj.session.orientation_free = new.round
         return Status.SUCCESS

@@ -11,9 +11,11 @@ one). A robot that vanishes mid-run stops it with ``csl: robot error: ...``, exi
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import os
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from executive import commands
 from hero_driver.interface import DriverError
@@ -21,9 +23,16 @@ from hero_driver.interface import DriverError
 USAGE_ERROR = 2
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a bad argument is one line (and where to read more), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(USAGE_ERROR, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full ``csl`` parser with every subcommand registered."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="csl",
         description=(
             "csl-executive: cost-sensitive approach-and-recognize (CSL, Tan & Schlimmer "
@@ -32,16 +41,27 @@ def build_parser() -> argparse.ArgumentParser:
         ),
         epilog="Run 'csl COMMAND --help' for a command's options.",
     )
+    parser.add_argument("--version", action="version", version=f"csl-executive {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in commands.MODULES:
         module.register(sub)
     return parser
 
 
+def _version() -> str:
+    try:
+        return importlib.metadata.version("csl-executive")
+    except importlib.metadata.PackageNotFoundError:
+        return "(not installed)"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``csl``; returns the process exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a bad argument (already reported)
+        return int(exc.code or 0)
     try:
         return int(args.handler(args) or 0)
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
@@ -50,8 +70,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ValueError, OSError, KeyError) as exc:
         if os.environ.get("CSL_DEBUG"):
             raise
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        print(f"csl: error: {message}", file=sys.stderr)
+        print(f"csl: error: {_one_line(exc)}", file=sys.stderr)
         return USAGE_ERROR
     except DriverError as exc:  # the robot refused or vanished while the executive ran
         if os.environ.get("CSL_DEBUG"):
@@ -61,6 +80,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("csl: interrupted", file=sys.stderr)
         return 130
+
+
+def _one_line(exc: BaseException) -> str:
+    """The first line of an error, naming the file for an OS error."""
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror.lower()}"
+    if isinstance(exc, KeyError) and exc.args:
+        text = str(exc.args[0])
+    else:
+        text = str(exc)
+    text = text.strip()
+    return text.splitlines()[0] if text else type(exc).__name__
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -9,8 +9,17 @@ give the same log.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import IO
+
+
+# Every kind of event the behaviours report (docs/executive.md, "The episode log").
+EVENT_KINDS = (
+    "located", "object", "choose", "move", "sense", "branch", "unreliable", "backtrack", "nearest",
+    "choose_grasp", "grasp", "side_effect", "start_over", "drop_grasp", "grasp_feature_failed",
+    "discriminate", "leave", "learn", "gave_up", "driver_error", "no_path", "episode_end",
+)
 
 
 class EpisodeLog:
@@ -26,10 +35,10 @@ class EpisodeLog:
             self._file = path.open("w", encoding="utf-8")
 
     def event(self, kind: str, **data: object) -> None:
-        record = {"tick": self.tick, "event": kind, **data}
+        record = _json_safe({"tick": self.tick, "event": kind, **data})
         self.events.append(record)
         if self._file is not None:
-            self._file.write(json.dumps(record, ensure_ascii=False, default=str) + "\n")
+            self._file.write(json.dumps(record, ensure_ascii=False, default=str, allow_nan=False) + "\n")
             self._file.flush()  # followable while the episode runs (tail -f), complete if it dies
 
     def close(self) -> None:
@@ -38,10 +47,30 @@ class EpisodeLog:
             self._file = None
 
 
+def _json_safe(value: object) -> object:
+    """Strict JSON: an infinite or undefined number (a move with no path) becomes null."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    return value
+
+
 def read_log(path: str | Path) -> list[dict[str, object]]:
     """Read an episode log back (for replay and analysis)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ValueError(f"{path}: episode log not found") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path}: is a folder, not an episode log") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not an episode log (not text)") from None
     events = []
-    for n, line in enumerate(Path(path).read_text(encoding="utf-8").splitlines(), 1):
+    for n, line in enumerate(text.splitlines(), 1):
         try:
             events.append(json.loads(line))
         except json.JSONDecodeError as exc:

@@ -58,32 +58,53 @@ class Executive:
         for key in ("objects", "results", "object"):
             board.set(f"{ns}/{key}", [] if key != "object" else None)
 
-    def run(self, max_ticks: int = 100_000, trace: bool = False,
+    def run(self, max_ticks: int | None = None, trace: bool = False,
             on_object: Callable[[ObjectRecord], None] | None = None) -> EpisodeResult:
-        """Tick until the tree finishes. ``trace`` keeps one line per tick listing every
-        behaviour ticked and its status (the snapshot tests' compact trace)."""
+        """Tick until the tree finishes (every object ends within ``Params.max_steps``
+        steps, so no tick limit is needed; ``max_ticks`` is for tests). ``trace`` keeps
+        one line per tick listing every behaviour ticked and its status (the snapshot
+        tests' compact trace). A tree that did not finish is stopped, which cancels any
+        verb still in flight."""
         self._reset_blackboard()
         lines: list[str] = []
         began = time.perf_counter()
-        seen_done = 0
+        reported = 0
         tick = 0
-        for tick in range(1, max_ticks + 1):
-            self.log.tick = tick
-            self.tree.tick()
-            if trace:
-                lines.append(self._trace_line(tick))
+
+        def report_finished() -> list[ObjectRecord]:
+            nonlocal reported
             results = py_trees.blackboard.Blackboard.get(f"{self.services.namespace}/results")
-            while on_object is not None and seen_done < len(results) and results[seen_done].done:
-                on_object(results[seen_done])
-                seen_done += 1
-            if self.root.status != Status.RUNNING:
-                break
-            tip = self.root.tip()
-            if isinstance(tip, DriverAction) and tip.status == Status.RUNNING:
-                time.sleep(0.001)  # a real robot is busy: do not spin the CPU
-        results = py_trees.blackboard.Blackboard.get(f"{self.services.namespace}/results")
+            while on_object is not None and reported < len(results) and results[reported].done:
+                on_object(results[reported])
+                reported += 1
+            return results
+
+        try:
+            while max_ticks is None or tick < max_ticks:
+                tick += 1
+                finished = self._tick(tick, trace, lines)
+                report_finished()
+                if finished:
+                    break
+        finally:
+            if self.root.status == Status.RUNNING:
+                self.root.stop(Status.INVALID)
+        results = report_finished()
         self.log.event("episode_end", status=self.root.status.value, ticks=tick)
         return EpisodeResult(list(results), tick, self.root.status.value, lines, time.perf_counter() - began)
+
+    def _tick(self, tick: int, trace: bool, lines: list[str]) -> bool:
+        """One tick; True when the tree has finished."""
+        self.log.tick = tick
+        self.tree.tick()
+        if trace:
+            lines.append(self._trace_line(tick))
+        if self.root.status != Status.RUNNING:
+            return True
+        tip = self.root.tip()
+        if isinstance(tip, DriverAction) and tip.status == Status.RUNNING:
+            time.sleep(0.001)  # a real robot is busy: do not spin the CPU
+        return False
 
     def _trace_line(self, tick: int) -> str:
         visited = self._snapshot.visited

@@ -19,7 +19,7 @@ from behaviours.perception import CheckSideEffects, LocateObjects, RememberAppea
 
 
 def build_tree(services: Services) -> py_trees.behaviour.Behaviour:
-    """The executive's tree for one episode: locate, then approach and recognise each."""
+    """The executive's tree for one episode: locate, then approach and recognize each."""
     choose = Selector("choose a test", memory=True, children=[
         BestTest(services), Reselect(services), Backtrack(services)])
     follow = Sequence("follow the tree", memory=True, children=[
@@ -33,7 +33,7 @@ def build_tree(services: Services) -> py_trees.behaviour.Behaviour:
     step = Selector("step", memory=True, children=[follow, NearestNeighbour(services), grasp, recover])
     per_object = Sequence("approach and recognize", memory=True, children=[
         RememberAppearance(services),
-        UntilHandled(step, services, name="recognise and grasp"),
+        UntilHandled(step, services, name="recognize and grasp"),
         Learn(services),
     ])
     return Sequence("retrieve objects", memory=True, children=[

@@ -27,3 +27,30 @@ def shape_tree(params: Params = Params()) -> py_trees.behaviour.Behaviour:
                               profile=defaults.KNOWLEDGE, params=params)
         learner.close()
     return executive.root
+
+
+def outline(root: py_trees.behaviour.Behaviour) -> str:
+    """The tree drawn with box-drawing connectors, each node with py_trees' symbol for
+    its kind ({-} sequence, {o} selector, -^- decorator, --> behaviour)."""
+    symbols = py_trees.display.unicode_symbols
+    lines = [f"{_symbol(root, symbols)} {root.name}"]
+
+    def walk(node: py_trees.behaviour.Behaviour, prefix: str) -> None:
+        for i, child in enumerate(node.children):
+            last = i == len(node.children) - 1
+            lines.append(f"{prefix}{'└── ' if last else '├── '}{_symbol(child, symbols)} {child.name}")
+            walk(child, prefix + ("    " if last else "│   "))
+
+    walk(root, "")
+    return "\n".join(lines) + "\n"
+
+
+def _symbol(node: py_trees.behaviour.Behaviour, symbols: dict) -> str:
+    memory = getattr(node, "memory", False)
+    if isinstance(node, py_trees.composites.Sequence):
+        return symbols["sequence_with_memory" if memory else "sequence_without_memory"]
+    if isinstance(node, py_trees.composites.Selector):
+        return symbols["selector_with_memory" if memory else "selector_without_memory"]
+    if isinstance(node, py_trees.decorators.Decorator):
+        return symbols["decorator"]
+    return symbols["behaviour"]

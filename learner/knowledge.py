@@ -120,6 +120,10 @@ def load_knowledge(path: str | Path) -> Knowledge:
             data = tomllib.load(fh)
     except FileNotFoundError:
         raise ValueError(f"{path}: knowledge file not found") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path}: is a folder, not a knowledge file") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text (TOML) knowledge file") from None
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     return knowledge_from_dict(data, str(path))
@@ -185,6 +189,9 @@ def _robot(table: object, where: str) -> None:
     _only_keys(table, _ROBOT_KEYS, where)
     for key in table:
         _cost(table, key, where)
+    for key in ("speed_in_per_s", "turn_deg_per_s"):  # moves are priced by dividing by them
+        if key in table and table[key] == 0:
+            raise ValueError(f"{where}: '{key}' must be greater than 0")
 
 
 def _sensing(entry: object, where: str) -> SensingProcedure:

@@ -15,6 +15,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from learner.description import ObjectDescription, Observation
+from learner.knowledge import Knowledge
 from learner.position import Position, position_from_json
 
 FORMAT = "csl-library"
@@ -100,23 +101,51 @@ def _description(entry: object, where: str) -> ObjectDescription:
     return ObjectDescription(entry["id"], entry["grasp"], grasp_position, tuple(sorted(observations)))
 
 
+def check_library(descriptions: Iterable[ObjectDescription], knowledge: Knowledge, source: str) -> None:
+    """Reject descriptions this robot cannot use: an unknown grasp or feature, or a value
+    outside the feature's domain. Checked on import and before a run, so a bad entry
+    is refused at the door rather than failing a tree later."""
+    for d in descriptions:
+        where = f"{source}: description {d.object_id!r}"
+        if not knowledge.has_grasp(d.grasp):
+            raise ValueError(f"{where}: grasp {d.grasp!r} is not in the knowledge file {knowledge.source}")
+        for o in d.observations:
+            if not knowledge.has_feature(o.feature):
+                raise ValueError(f"{where}: feature {o.feature!r} is not yielded by any sensing procedure "
+                                 f"in {knowledge.source}")
+            spec = knowledge.feature(o.feature)
+            if spec.binary and o.value not in (0.0, 1.0):
+                raise ValueError(f"{where}: {o.feature} is 0 or 1, got {o.value:g}")
+            lo, hi = spec.span
+            if not spec.binary and not lo - spec.error <= o.value <= hi + spec.error:
+                raise ValueError(f"{where}: {o.feature}{o.position} = {o.value:g} is outside [{lo:g}, {hi:g}]")
+
+
 def read_library_json(path: str | Path) -> list[ObjectDescription]:
     path = Path(path)
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ValueError(f"{path}: library file not found") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path}: is a folder, not a library file") from None
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path}: not valid JSON: {exc}") from None
     return descriptions_from_json(data, str(path))
 
 
 def write_library_json(path: str | Path, descriptions: Iterable[ObjectDescription]) -> None:
-    """Write atomically: a reader never sees half a file."""
+    """Write atomically: a reader never sees half a file, and a failure leaves none."""
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder, not a file to write the library to")
     tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(descriptions_to_json(descriptions), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    tmp.replace(path)
+    try:
+        tmp.write_text(json.dumps(descriptions_to_json(descriptions), indent=2, ensure_ascii=False) + "\n",
+                       encoding="utf-8")
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _json_num(v: float) -> float | int:

@@ -61,7 +61,16 @@ def position_from_json(value: object, where: str) -> Position:
     """Parse ``[d, theta]`` (numbers or ``"*"``); ``where`` names the field in errors."""
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise ValueError(f"{where}: a position is [distance, orientation], got {value!r}")
-    return Position(_slot_parse(value[0], f"{where}[0]"), _slot_parse(value[1], f"{where}[1]"))
+    return _checked(Position(_slot_parse(value[0], f"{where}[0]"), _slot_parse(value[1], f"{where}[1]")), where)
+
+
+def _checked(p: Position, where: str) -> Position:
+    """A distance is never negative; an orientation is a bearing in [0, 360)."""
+    if p.distance_in is not None and p.distance_in < 0:
+        raise ValueError(f"{where}: distance must not be negative, got {p.distance_in:g}")
+    if p.orientation_deg is not None and not 0 <= p.orientation_deg < 360:
+        raise ValueError(f"{where}: orientation must be in [0, 360) degrees, got {p.orientation_deg:g}")
+    return p
 
 
 def parse_position(text: str, where: str = "position") -> Position:
@@ -69,8 +78,8 @@ def parse_position(text: str, where: str = "position") -> Position:
     parts = [p.strip() for p in text.split(",")]
     if len(parts) != 2:
         raise ValueError(f"{where}: expected DISTANCE,ORIENTATION (e.g. 60,0), got {text!r}")
-    return Position(_slot_parse(_number_or_any(parts[0]), f"{where} distance"),
-                    _slot_parse(_number_or_any(parts[1]), f"{where} orientation"))
+    return _checked(Position(_slot_parse(_number_or_any(parts[0]), f"{where} distance"),
+                             _slot_parse(_number_or_any(parts[1]), f"{where} orientation")), where)
 
 
 def _number_or_any(text: str) -> object:

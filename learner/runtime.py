@@ -16,6 +16,7 @@ method, so the behaviour tree can show each recovery as its own branch:
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -84,14 +85,14 @@ class RecognitionSession:
         max_alternatives: int = 3,
         orientation_free: bool = False,
     ) -> None:
-        """Start recognising one object from ``start``; ``matrix`` is the library, built
+        """Start recognizing one object from ``start``; ``matrix`` is the library, built
         once and shared by every object until the library changes.
 
         ``orientation_free``: the object has no orientation (a round footprint), so its
         values hold from every side and are recorded at ``(d,*)``, as training does.
         """
         if not matrix.descriptions:
-            raise ValueError("the library holds no object descriptions to recognise with")
+            raise ValueError("the library holds no object descriptions to recognize with")
         if max_alternatives < 1:
             raise ValueError(f"max_alternatives must be at least 1, got {max_alternatives}")
         self.matrix = matrix
@@ -101,6 +102,7 @@ class RecognitionSession:
         self.position = start
         self.measurements: dict[tuple[str, Position], float] = {}
         self.dropped_grasps: set[str] = set()
+        self.pushes: Counter[str] = Counter()  # pushes per grasp on this object
         self.wrong_predictions: list[str] = []
         self._frames = [_Frame(self._root_node(), start)]
 
@@ -185,6 +187,10 @@ class RecognitionSession:
             frame.tried.add(test.test)
             if value is not None:
                 frame.unreliable.append((test, value))
+                # the distrusted value must not come back for free as another test of the
+                # same feature (a round object's (6,*) width answers (6,0) and (6,90) alike)
+                frame.tried.update(t for t in self.matrix.tests if t.feature == test.test.feature
+                                   and measured_value(t, self.measurements) == value)
             return Unreliable(value)
         return self._push(frame, test, idx, value)
 
@@ -245,17 +251,25 @@ class RecognitionSession:
         tell apart the two cases the camera distinguishes: *pushed* is the same object,
         moved; the push may be why this grasp failed, so its descriptions are restored,
         but grasps that failed cleanly before stay ruled out and every value measured
-        relative to the object still holds. *Changed* (knocked over) is in effect a new
-        object: all descriptions are restored and all sensing is void.
+        relative to the object still holds; a grasp that pushes the object a second time
+        is dropped (pushing it across the floor again teaches nothing). *Changed*
+        (knocked over) is in effect a new object: all descriptions are restored and all
+        sensing is void.
         """
         if position is not None:
             self.position = position
-        self.wrong_predictions.append(grasp)
+        if not side_effects:  # a clean failure says the prediction was wrong; a push or a fall does not
+            self.wrong_predictions.append(grasp)
         if side_effects and changed:
             self.dropped_grasps.clear()
             self.measurements.clear()
+            self.pushes.clear()
         elif side_effects:
-            self.dropped_grasps.discard(grasp)
+            self.pushes[grasp] += 1
+            if self.pushes[grasp] >= 2:
+                self.dropped_grasps.add(grasp)
+            else:
+                self.dropped_grasps.discard(grasp)
         else:
             self.dropped_grasps.add(grasp)
         self._frames = [_Frame(self._root_node(), self.position)]
@@ -268,12 +282,13 @@ class RecognitionSession:
         return node
 
     # -- learning -------------------------------------------------------------------
-    def discriminating_test(self, wrong_grasp: str) -> ScoredTest | None:
+    def discriminating_test(self, wrong_grasp: str, exclude: frozenset[Test] = frozenset()) -> ScoredTest | None:
         """The cheapest sensing test the wrongly predicted grasp's descriptions have and
-        this object lacks: measuring it may let the next tree tell the two apart."""
+        this object lacks (and not in ``exclude``): measuring it may let the next tree
+        tell the two apart."""
         best: ScoredTest | None = None
         for test in self.matrix.tests:
-            if test.is_grasp or measured_value(test, self.measurements) is not None:
+            if test.is_grasp or test in exclude or measured_value(test, self.measurements) is not None:
                 continue
             known = ~np.isnan(self.matrix.values[:, self.matrix.column[test]])
             if not any(k and d.grasp == wrong_grasp for k, d in zip(known, self.matrix.descriptions)):

@@ -78,8 +78,10 @@ ENDPOINT_MARGIN_CELLS = 2
 # Roadmap size, grown on the first query that needs it: ~0.15 s on the default lab,
 # after which roadmap routes are within a few per cent of the grid's shortest paths.
 ROADMAP_MILESTONES = 400
-# ...but never longer than this: a map with little free space may not hold that many.
-ROADMAP_MAX_S = 1.0
+# Growth stops at the milestone count, so the roadmap (and every path on it) is the same
+# however busy the machine is; this many seconds is only a safety net for a map with
+# too little free space to hold that many milestones.
+ROADMAP_MAX_S = 10.0
 # A start this close to free space (but in the inflated margin) is left by the shortest
 # way out first: vision, odometry and the margin's own half-pixel rounding each put a
 # robot that stopped at the edge of free space an inch or so inside it. Deeper than

@@ -5,17 +5,16 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 
 from executive import defaults
+from executive.args import non_negative_int, writable_file
 from executive.tables import print_table
 from executive.training_sources import RecordingSource, SimulatorSource, catalogue_objects
 from learner.costs import ModelMoveCost
 from learner.criteria import CRITERIA, criterion
-from learner.description import ObjectDescription
-from learner.knowledge import Knowledge, load_knowledge
-from learner.library import LibraryStore, load_library, write_library_json
+from learner.knowledge import load_knowledge
+from learner.library import LibraryStore, check_library, load_library, write_library_json
 from learner.matrix import DescriptionMatrix
 from learner.position import parse_position
 from learner.render import tree_json, tree_text
@@ -52,12 +51,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     t = sub.add_parser(
         "train",
-        help="run the training stage on recorded measurements",
+        help="run the training stage, in the simulator (--sim) or on recorded measurements",
         description=(
-            "Training stage (method.md §4): choose training positions from the objects' "
-            "footprints and sizes, then measure at each only what classifies every object. "
-            "Prints the positions, what was measured for each object and the robot time, "
-            "and writes the learned descriptions."
+            "The training stage of CSL (Tan & Schlimmer 1991; docs/training-format.md): choose "
+            "training positions from the objects' footprints and sizes, then measure at each only "
+            "what classifies every object. Prints the positions, what was measured for each object "
+            "and the robot time, and writes the learned descriptions. Measurements come from a "
+            "replay file (--objects and --measurements) or from the simulator (--sim)."
         ),
     )
     t.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE, help="robot knowledge TOML")
@@ -67,11 +67,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--sim", action="store_true",
                    help="measure in the simulator instead: the catalogue's Table 3 training objects, each "
                         "alone with the robot staged at every training position")
-    t.add_argument("--seed", type=int, default=0, help="simulator seed (with --sim)")
+    t.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (with --sim)")
     t.add_argument("--noise", action="store_true", help="simulated sonar noise on (with --sim; default: exact)")
     t.add_argument("--record", type=Path, metavar="FILE",
                    help="with --sim: also write what was measured as a replay file, and the objects next to it")
-    t.add_argument("--out", type=Path, required=True, help="where to write the library: .json, or .sqlite to add to a store")
+    t.add_argument("--out", type=Path, required=True,
+                   help="where to write the library: .json, or .sqlite to add to a store (same ids replaced)")
     t.set_defaults(handler=run_train)
 
 
@@ -80,7 +81,7 @@ def run_tree(args: argparse.Namespace) -> int:
     library = load_library(args.library)
     if not library:
         raise ValueError(f"{args.library}: the library is empty")
-    _check_library(library, knowledge, args.library)
+    check_library(library, knowledge, str(args.library))
     start = parse_position(args.pose, "--pose")
     if start.distance_in is None or start.orientation_deg is None:
         raise ValueError("--pose: the robot's pose must be concrete (no '*')")
@@ -101,21 +102,13 @@ def _write_json(path: Path, document: dict) -> None:
     tmp.replace(path)
 
 
-def _check_library(library: Sequence[ObjectDescription], knowledge: Knowledge, source: Path) -> None:
-    """Reject a library that names grasps or features this robot does not have."""
-    for d in library:
-        if not knowledge.has_grasp(d.grasp):
-            raise ValueError(f"{source}: description {d.object_id!r}: grasp {d.grasp!r} is not in the knowledge file")
-        for o in d.observations:
-            if not knowledge.has_feature(o.feature):
-                raise ValueError(f"{source}: description {d.object_id!r}: feature {o.feature!r} "
-                                 "is not yielded by any sensing procedure in the knowledge file")
-
-
 def run_train(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(args.knowledge)
     if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
         raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
+    writable_file(args.out, "--out")  # before hours of (simulated) training, not after
+    if args.record:
+        writable_file(args.record, "--record")
     if args.sim:
         if args.objects or args.measurements:
             raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
@@ -150,8 +143,9 @@ def run_train(args: argparse.Namespace) -> int:
                  for o in objects], title="measured per object")
     if log.unresolved:
         where = sorted({str(pos) for _, pos in log.unresolved})
-        print(f"note: at {len(where)} position(s) ({', '.join(where)}) {len(log.unresolved)} object(s) "
-              "could not be told apart with the procedures usable there; nearer positions resolve them")
+        objects_left = len({oid for oid, _ in log.unresolved})
+        print(f"note: at {len(where)} far position(s) ({', '.join(where)}) {objects_left} object(s) could not all "
+              "be told apart with the procedures usable there; nearer positions resolve them")
     print(f"training cost: {log.total_s:.0f} s of robot time "
           f"({log.sensing_s:.0f} s sensing, {log.moving_s:.0f} s moving; {log.total_s / 3600:.1f} h)")
     if args.out.suffix.lower() == ".json":

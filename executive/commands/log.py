@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from executive.episode_log import read_log
+from executive.episode_log import EVENT_KINDS, read_log
 
 _SKIP = {"tick", "event", "object", "behaviour"}
 
@@ -18,15 +18,23 @@ def register(sub: argparse._SubParsersAction) -> None:
                      "branches followed, every recovery, the grasp and what was learned."))
     p.add_argument("file", type=Path, help="an episode.jsonl")
     p.add_argument("--object", type=int, metavar="N", help="only object N")
-    p.add_argument("--events", help="only these event kinds, comma-separated (e.g. choose,unreliable)")
+    p.add_argument("--events", metavar="KINDS",
+                   help=f"only these event kinds, comma-separated; one of: {', '.join(EVENT_KINDS)}")
     p.set_defaults(handler=run_log)
 
 
 def run_log(args: argparse.Namespace) -> int:
-    if not args.file.exists():
-        raise ValueError(f"{args.file}: episode log not found")
     events = read_log(args.file)
+    if not events:
+        raise ValueError(f"{args.file}: the episode log is empty")
     kinds = set(args.events.split(",")) if args.events else None
+    unknown = sorted((kinds or set()) - set(EVENT_KINDS))
+    if unknown:
+        raise ValueError(f"--events: unknown kind {unknown[0]!r} (one of: {', '.join(EVENT_KINDS)})")
+    objects = {e.get("object") for e in events if isinstance(e, dict)}
+    if args.object is not None and args.object not in objects:
+        known = sorted(o for o in objects if isinstance(o, int))
+        raise ValueError(f"--object: no object {args.object} in {args.file} (objects: {known})")
     current = None
     for e in events:
         if not isinstance(e, dict) or "event" not in e:

@@ -11,6 +11,7 @@ from rich.console import Console
 
 from behaviours.context import ObjectRecord, Params
 from executive import defaults
+from executive.args import endpoint, non_negative_int, output_folder, positive_int
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
@@ -18,24 +19,27 @@ from executive.report import HEADERS, Truth, match_truth, rows, summary, table_c
 from executive.tables import print_table
 from executive.training_sources import SimulatorSource, catalogue_objects
 from hero_driver.interface import CameraImage, Driver
-from hero_driver.sim_driver import SimulatedHero
 from learner.costs import ModelMoveCost
 from learner.criteria import CRITERIA
 from learner.knowledge import Knowledge, load_knowledge
-from learner.library import read_library_json
+from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
 from learner.training import train
 
 
 def _executive_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE,
+                   help="the robot's knowledge TOML (default: the shipped HERO 2000 profile)")
     p.add_argument("--criterion", choices=CRITERIA, default="cs-id3", help="test evaluation function (default cs-id3)")
-    p.add_argument("--alternatives", type=int, default=3, metavar="N",
+    p.add_argument("--alternatives", type=positive_int, default=3, metavar="N",
                    help="alternatives tried at a node before backtracking (the paper's N, default 3)")
-    p.add_argument("--nearest-after", type=int, default=None, metavar="K",
+    p.add_argument("--nearest-after", type=positive_int, default=None, metavar="K",
                    help="switch to nearest neighbour after K unreliable values (default: only as the last resort)")
-    p.add_argument("--max-steps", type=int, default=40, help="recognition steps per object before giving up")
-    p.add_argument("--out", type=Path, default=Path("csl-out"), help="where to write the log and plots (default ./csl-out)")
+    p.add_argument("--max-steps", type=positive_int, default=40, metavar="N",
+                   help="recognition steps per object before it is reported failed (default 40)")
+    p.add_argument("--out", type=Path, default=Path("csl-out"),
+                   help="folder for the episode log, the plots and (demo) the library (default ./csl-out)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
 
 
@@ -43,58 +47,61 @@ def register(sub: argparse._SubParsersAction) -> None:
     demo = sub.add_parser(
         "demo", help="the main job: train in the simulated lab, then retrieve the test objects",
         description=("Train on the paper's Table 3 objects in the simulator, then let the executive locate, "
-                     "recognise and grasp the unseen test objects in the built-in lab. Prints a table per "
+                     "recognize and grasp the unseen test objects in the built-in lab. Prints a table per "
                      "object and writes the episode log and plots (map, each object's run-time tree, the "
                      "behaviour tree) to --out."))
-    demo.add_argument("--seed", type=int, default=0, help="simulator seed (default 0)")
+    demo.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (default 0)")
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
     _executive_options(demo)
     demo.set_defaults(handler=run_demo)
 
     run = sub.add_parser(
         "run", help="run the executive against any driver (simulated in-process, or over zenoh)",
-        description=("Locate, recognise and grasp every object the robot's camera sees, learning into the "
+        description=("Locate, recognize and grasp every object the robot's camera sees, learning into the "
                      "library. --driver sim runs the simulated HERO in this process; --driver zenoh talks to "
                      "the driver process serving hero/ROBOT/... (csl driver sim, or a hardware driver)."))
     run.add_argument("--driver", choices=("sim", "zenoh"), default="sim", help="which driver (default sim)")
     run.add_argument("--robot", default="r1", help="robot name (zenoh keys hero/ROBOT/...)")
-    run.add_argument("--connect", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
-                     help="zenoh endpoint of the driver node (with --driver zenoh)")
-    run.add_argument("--world", default="lab", help="world name or file (with --driver sim)")
-    run.add_argument("--seed", type=int, default=0, help="simulator seed (with --driver sim)")
+    run.add_argument("--connect", type=endpoint, default=None, metavar="ENDPOINT",
+                     help="zenoh endpoint of the driver node (with --driver zenoh; default tcp/127.0.0.1:7447)")
+    run.add_argument("--world", default=None, help="world name or file (with --driver sim; default: the lab)")
+    run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",
                      help="learner service: in this process, or shared over zenoh (csl learner serve)")
-    run.add_argument("--learner-name", default="default", help="name of the zenoh learner service")
-    run.add_argument("--learner-connect", default="tcp/127.0.0.1:7448", metavar="ENDPOINT",
-                     help="zenoh endpoint of the learner service (with --learner zenoh)")
+    run.add_argument("--learner-name", default=None, help="name of the zenoh learner service (default 'default')")
+    run.add_argument("--learner-connect", type=endpoint, default=None, metavar="ENDPOINT",
+                     help="zenoh endpoint of the learner service (with --learner zenoh; default tcp/127.0.0.1:7448)")
     _executive_options(run)
     run.set_defaults(handler=run_run)
 
     bt = sub.add_parser("bt", help="show the behaviour tree",
                         description="Print the executive's behaviour tree, or render it to a PNG.")
     bt.add_argument("--render", type=Path, metavar="PNG", help="write the tree as a PNG picture")
-    bt.add_argument("--unicode", action="store_true", help="print with unicode symbols (default: ascii)")
+    bt.add_argument("--unicode", action="store_true", help="draw with box-drawing connectors (default: ascii indents)")
     bt.set_defaults(handler=run_bt)
 
 
 def _params(args: argparse.Namespace) -> Params:
-    if args.alternatives < 1:
-        raise ValueError(f"--alternatives must be at least 1, got {args.alternatives}")
-    if args.nearest_after is not None and args.nearest_after < 1:
-        raise ValueError(f"--nearest-after must be at least 1, got {args.nearest_after}")
-    if args.max_steps < 1:
-        raise ValueError(f"--max-steps must be at least 1, got {args.max_steps}")
     return Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after, max_steps=args.max_steps)
 
 
+def _only_with(args: argparse.Namespace, mode: str, value: str, options: tuple[str, ...]) -> None:
+    """An option for the other mode is a mistake worth a line, not something to ignore."""
+    for option in options:
+        if getattr(args, option.lstrip("-").replace("-", "_")) is not None:
+            raise ValueError(f"{option} goes with {mode} {value}")
+
+
 def run_demo(args: argparse.Namespace) -> int:
-    console = Console(stderr=True)
-    knowledge = load_knowledge(defaults.KNOWLEDGE)
+    console = Console(stderr=True, soft_wrap=True)
+    knowledge = load_knowledge(args.knowledge)
     params = _params(args)
+    output_folder(args.out, "--out")
+    from hero_driver.sim_driver import SimulatedHero
+
     driver = SimulatedHero("r1", world=args.world, seed=args.seed)  # a bad world fails before training
-    args.out.mkdir(parents=True, exist_ok=True)
     with console.status("training on the Table 3 objects in the simulator..."):
         result = train(catalogue_objects("training"), knowledge, SimulatorSource(args.seed),
                        ModelMoveCost(knowledge.move))
@@ -109,10 +116,18 @@ def run_demo(args: argparse.Namespace) -> int:
 
 
 def run_run(args: argparse.Namespace) -> int:
-    console = Console(stderr=True)
-    knowledge = load_knowledge(defaults.KNOWLEDGE)
+    console = Console(stderr=True, soft_wrap=True)
+    knowledge = load_knowledge(args.knowledge)
     params = _params(args)
-    args.out.mkdir(parents=True, exist_ok=True)
+    if args.driver == "sim":
+        _only_with(args, "--driver", "zenoh", ("--connect",))
+    else:
+        _only_with(args, "--driver", "sim", ("--world", "--seed"))
+    if args.learner == "local":
+        _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect"))
+    else:
+        _only_with(args, "--learner", "local", ("--library",))
+    output_folder(args.out, "--out")
     learner = _learner(args)
     try:
         driver = _driver(args)
@@ -126,20 +141,25 @@ def _learner(args: argparse.Namespace) -> LearnerService:
     if args.learner == "zenoh":
         from learner.service.zenoh_client import ZenohLearner
 
-        return ZenohLearner(args.learner_name, connect=[args.learner_connect])
+        return ZenohLearner(args.learner_name or "default", connect=[args.learner_connect or "tcp/127.0.0.1:7448"])
     path = args.library or defaults.library_db()
+    if path.is_dir():
+        raise ValueError(f"--library: {path} is a folder, not a library database")
     return LocalLearner(path, seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
 
 
 def _driver(args: argparse.Namespace) -> Driver:
     if args.driver == "sim":
-        return SimulatedHero(args.robot, world=args.world, seed=args.seed)
+        from hero_driver.sim_driver import SimulatedHero
+
+        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0)
     from hero_driver.zenoh_link.client import ZenohDriver
 
-    driver = ZenohDriver(args.robot, connect=[args.connect], discover_s=3.0)
+    connect = args.connect or "tcp/127.0.0.1:7447"
+    driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0)
     if not driver.wait_ready(5.0):  # alive, and its first state published
         driver.close()
-        raise ValueError(f"no driver is serving robot {args.robot!r} at {args.connect} (start one with "
+        raise ValueError(f"no driver is serving robot {args.robot!r} at {connect} (start one with "
                          f"'csl driver sim --robot {args.robot}')")
     return driver
 
@@ -157,6 +177,7 @@ def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, 
 
 def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, knowledge: Knowledge,
                     params: Params, console: Console) -> int:
+    check_library(learner.library().descriptions, knowledge, "the library")  # before the robot moves
     log = EpisodeLog(args.out / "episode.jsonl")
     executive = Executive(driver, learner, knowledge, profile=defaults.KNOWLEDGE, params=params,
                           criterion_name=args.criterion, log=log)
@@ -169,7 +190,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
                       f"{record.grasp or '-'} ({record.outcome}), {record.ledger.robot_s / 60:.1f} robot min")
 
     try:
-        with console.status("approaching and recognising objects..."):
+        with console.status("approaching and recognizing objects..."):
             result = executive.run(on_object=progress)
     finally:
         executive.shutdown()
@@ -180,18 +201,22 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     if not args.no_plots:
         _plots(args.out, executive, result, first_image, [r.object for r in table], log.events)
         print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
+    if isinstance(learner, LocalLearner):
+        print(f"library: {learner.path}")
     return 0 if result.status == "SUCCESS" else 1
 
 
 def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:
-    """The simulator's ground truth, when the driver is the in-process simulator.
+    """The simulator's ground truth, when the driver is the in-process simulator (the
+    only driver with a ``truth()``; a real robot does not know what it holds).
 
     Objects are located where they were at the start (``at_start``), but judged by what
     they are now: a cup knocked over and then grasped as a lying cup was handled right.
     """
-    if not isinstance(driver, SimulatedHero):
+    truth = getattr(driver, "truth", None)
+    if truth is None:
         return []
-    now = driver.truth()
+    now = truth()
     out = []
     for i, t in enumerate(now):
         name = t.entry_id
@@ -216,14 +241,14 @@ def _plots(out: Path, executive: Executive, result: EpisodeResult, image: Camera
 
 
 def run_bt(args: argparse.Namespace) -> int:
-    from executive.tree_shape import shape_tree
+    from executive.tree_shape import outline, shape_tree
 
     root = shape_tree()
     if args.render:
         plot_behaviour_tree(args.render, root)
         print(f"wrote {args.render}")
         return 0
-    text = py_trees.display.unicode_tree(root) if args.unicode else py_trees.display.ascii_tree(root)
+    text = outline(root) if args.unicode else py_trees.display.ascii_tree(root)
     sys.stdout.write(text + ("\n" if not text.endswith("\n") else ""))
     return 0
 

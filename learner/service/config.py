@@ -25,6 +25,9 @@ def check_endpoint(endpoint: str) -> str:
     protocol, _, address = endpoint.partition("/")
     if not protocol or not address or not protocol.isalnum():
         raise ValueError(f"endpoint {endpoint!r} must look like tcp/HOST:PORT")
+    _, colon, port = address.rpartition(":")
+    if protocol in ("tcp", "udp", "tls", "quic") and (not colon or not port.isdigit() or not 0 < int(port) < 65536):
+        raise ValueError(f"endpoint {endpoint!r}: the port must be a number from 1 to 65535")
     return endpoint
 
 

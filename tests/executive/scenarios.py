@@ -24,6 +24,7 @@ from learner.service.local import LocalLearner
 
 NOISE = NoiseConfig(odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0)
 NOISY_SONAR = NoiseConfig(outlier_p=0.3, odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0)
+DEAF_SONAR = NoiseConfig(dropout_p=1.0, odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0)
 
 
 def world(*objects: tuple[str, float, float, float]) -> WorldSpec:
@@ -43,13 +44,13 @@ class Scenario:
 
 
 def run(spec: WorldSpec, seed: int, *, params: Params = Params(), library: Sequence[ObjectDescription] | None = None,
-        store: Path | None = None, noise: NoiseConfig = NOISE) -> Scenario:
+        store: Path | None = None, noise: NoiseConfig = NOISE, max_ticks: int | None = None) -> Scenario:
     """One episode; ``store`` keeps the library between episodes (learning)."""
     path = store or Path(tempfile.mkdtemp()) / "library.sqlite"
     learner = LocalLearner(path, seed_library=list(library) if library is not None else read_library_json(EXAMPLE_LIBRARY))
     executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner,
                           load_knowledge(KNOWLEDGE), profile=KNOWLEDGE, params=params)
-    result = executive.run(trace=True)
+    result = executive.run(trace=True, max_ticks=max_ticks)
     executive.shutdown()
     return Scenario(result, executive, learner)
 

@@ -26,7 +26,7 @@ def test_demo_handles_every_test_object_and_draws_it(tmp_path: Path, capsys) -> 
 def test_bt_prints_and_renders(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["bt"]) == 0
     text = capsys.readouterr().out
-    assert "recognise and grasp" in text and "NearestNeighbour" in text
+    assert "recognize and grasp" in text and "NearestNeighbour" in text
     assert main(["bt", "--render", str(tmp_path / "bt.png")]) == 0
     assert (tmp_path / "bt.png").stat().st_size > 1000
 
@@ -34,15 +34,19 @@ def test_bt_prints_and_renders(tmp_path: Path, capsys) -> None:  # noqa: ANN001
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["demo", "--alternatives", "0"], "--alternatives must be at least 1"),
+        (["demo", "--alternatives", "0"], "--alternatives: must be at least 1"),
         (["demo", "--world", "/nonexistent/world.json"], "world"),
         (["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:9"], "no driver is serving robot 'r1'"),
+        (["demo", "--seed", "-1"], "argument --seed: must not be negative"),
+        (["run", "--connect", "tcp/127.0.0.1:7447"], "--connect goes with --driver zenoh"),
+        (["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:99999"], "the port must be a number from 1"),
+        (["run", "--knowledge", "/nonexistent.toml"], "knowledge file not found"),
     ],
 )
 def test_bad_arguments_are_one_line(tmp_path: Path, capsys, argv, message) -> None:  # noqa: ANN001
     assert main([*argv, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("csl: error: ") and message in err[0]
+    assert len(err) == 1 and err[0].startswith("csl") and "error: " in err[0] and message in err[0]
 
 
 def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001

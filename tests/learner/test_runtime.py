@@ -132,6 +132,8 @@ def test_a_push_keeps_what_is_known_and_a_change_restores_everything() -> None:
     s.grasp_failed("Top-Pinch", side_effects=True, position=P(30, 10))  # pushed: same object
     assert set(s.candidates) == {"box", "tumbler", "closed"}  # the push may be why Top-Pinch failed
     assert s.measurements and s.position == P(30, 10)
+    s.grasp_failed("Top-Pinch", side_effects=True)  # pushed again by the same grasp: now it is dropped
+    assert set(s.candidates) == {"box", "closed"}
     s.grasp_failed("Front-Pinch", side_effects=True, changed=True)  # knocked over: a new object
     assert set(s.candidates) == {"cup", "box", "tumbler", "closed"}
     assert not s.measurements
