@@ -13,6 +13,7 @@ from py_trees.common import Status
 from behaviours.base import DriverAction
 from behaviours.context import GraspAttempt, Services, to_driver_pose
 from hero_driver.interface import DriverError, GraspResult, MoveResult, SenseResult
+from planner import PlanResult
 from learner.position import Position
 
 
@@ -38,19 +39,33 @@ class MoveTo(DriverAction):
         return obj.attempt.position if obj.attempt is not None else None
 
     def start(self) -> Future[MoveResult] | Status:
-        obj, nav = self.obj, self.services.navigator
+        obj = self.obj
         goal = self._position()
         if goal is None:
             return Status.FAILURE
         self._goal = goal
         if goal == obj.session.position:
             return Status.SUCCESS  # already there: the paper's "move-to (0s)"
-        plan = obj.timed(self.services, lambda: nav.plan(
-            self.services.robot_pose(), nav.pose_for(obj.region, goal.distance_in or 0.0, goal.orientation_deg or 0.0)))
+        plan = self._plan(goal)
+        if not plan.found and self.target == "grasp":
+            # A grasp approaches along an axis, and vision knows an object's reference
+            # direction only up to a half turn: the other end is as good, and may be free.
+            other = Position(goal.distance_in, ((goal.orientation_deg or 0.0) + 180.0) % 360.0)
+            flipped = self._plan(other)
+            if flipped.found:
+                self.note("other_end", to=other.to_json(), instead_of=goal.to_json(), reason=plan.reason)
+                assert obj.attempt is not None
+                obj.attempt.position = self._goal = goal = other
+                plan = flipped
         if not plan.found:
             self.note("no_path", to=goal.to_json(), reason=plan.reason)
             return self._unusable()
         return self.services.driver.move([to_driver_pose(p) for p in plan.path or ()], face=obj.region.centroid)
+
+    def _plan(self, goal: Position) -> PlanResult:
+        obj, nav = self.obj, self.services.navigator
+        return obj.timed(self.services, lambda: nav.plan(
+            self.services.robot_pose(), nav.pose_for(obj.region, goal.distance_in or 0.0, goal.orientation_deg or 0.0)))
 
     def finish(self, result: MoveResult) -> Status:
         obj = self.obj
@@ -74,7 +89,7 @@ class MoveTo(DriverAction):
             obj.session.observe(obj.test, {obj.test.test.feature: None}, obj.session.position)
             obj.pending_unreliable = True
         elif obj.attempt is not None:
-            obj.attempt.success = False  # the grasp cannot be reached: treat it as failed
+            obj.attempt.success = False  # reachable from neither end: treat it as failed
         return Status.FAILURE
 
 

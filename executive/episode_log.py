@@ -18,7 +18,7 @@ from typing import IO
 EVENT_KINDS = (
     "located", "object", "choose", "move", "sense", "branch", "unreliable", "backtrack", "nearest",
     "choose_grasp", "grasp", "side_effect", "start_over", "drop_grasp", "grasp_feature_failed",
-    "discriminate", "leave", "learn", "gave_up", "driver_error", "no_path", "episode_end",
+    "discriminate", "leave", "learn", "gave_up", "driver_error", "no_path", "other_end", "episode_end",
 )
 
 

@@ -55,22 +55,23 @@ def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[
             correct = (r.grasp in truth.grasps) if r.outcome == "grasped" else ("No-Grab" in truth.grasps)
         elif truth is not None:
             correct = False
-        recov = ", ".join(f"{k} x{v}" for k, v in sorted(r.ledger.recoveries.items())) or "-"
+        recov = ", ".join(f"{k} ×{v}" for k, v in sorted(r.ledger.recoveries.items())) or "-"
         out.append(Row(name, r.grasp or "-", r.outcome or "unfinished", correct, r.ledger.moving_s,
                        r.ledger.sensing_s, r.ledger.grasping_s, r.ledger.computing_s * 1000.0,
                        len(r.ledger.tests), recov))
     return out
 
 
-HEADERS = ["object", "grasp", "outcome", "ok", "move s", "sense s", "grasp s", "robot min", "cpu ms",
-           "tests", "recoveries"]
+HEADERS = ["object", "grasp", "outcome", "ok", "cost s", "min", "cpu ms", "tests", "recoveries"]
+CAPTION = ("cost s: robot seconds moving/sensing/grasping; min: robot minutes in all; "
+           "cpu ms: learner + planner computation")
 
 
 def table_cells(row: Row) -> list[str]:
     ok = {True: "yes", False: "NO", None: "?"}[row.correct]
-    return [row.object, row.grasp, row.outcome, ok, f"{row.moving_s:.0f}", f"{row.sensing_s:.0f}",
-            f"{row.grasping_s:.0f}", f"{row.robot_s / 60:.1f}", f"{row.computing_ms:.0f}", str(row.tests),
-            row.recoveries]
+    cost = f"{row.moving_s:.0f}/{row.sensing_s:.0f}/{row.grasping_s:.0f}"
+    return [row.object, row.grasp, row.outcome, ok, cost, f"{row.robot_s / 60:.1f}", f"{row.computing_ms:.0f}",
+            str(row.tests), row.recoveries]
 
 
 def summary(table: Sequence[Row]) -> str:

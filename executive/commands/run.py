@@ -15,7 +15,7 @@ from executive.args import endpoint, non_negative_int, output_folder, positive_i
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
-from executive.report import HEADERS, Truth, match_truth, rows, summary, table_cells
+from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
 from executive.tables import print_table
 from executive.training_sources import SimulatorSource, catalogue_objects
 from hero_driver.interface import CameraImage, Driver
@@ -195,7 +195,8 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     finally:
         executive.shutdown()
     table = rows(result.objects, _truths(driver, truths))
-    print_table(HEADERS, [table_cells(r) for r in table], title="approach and recognize: one row per object")
+    print_table(HEADERS, [table_cells(r) for r in table], title="approach and recognize: one row per object",
+                wrap=("object", "recoveries"), caption=CAPTION)
     print(summary(table))
     print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")
     if not args.no_plots:
