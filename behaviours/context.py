@@ -113,6 +113,7 @@ class ObjectRecord:
     pixels_before: int
     session: RecognitionSession
     estimator: PlannerMoveCost
+    first_region: Region | None = None  # where it was first seen (region follows it when pushed)
     ledger: Ledger = field(default_factory=Ledger)
     outcome: str | None = None  # grasped | left | failed
     grasp: str | None = None

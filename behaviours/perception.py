@@ -64,7 +64,7 @@ class RememberAppearance(CslBehaviour):
         session = RecognitionSession(services.matrix(), services.criterion, estimator, start,
                                      max_alternatives=services.params.max_alternatives,
                                      orientation_free=region.round)
-        record = ObjectRecord(index, region, region.pixel_count, session, estimator)
+        record = ObjectRecord(index, region, region.pixel_count, session, estimator, first_region=region)
         record.ledger.computing_s += services.clock() - began
         self.bb.object = record
         self.bb.results.append(record)

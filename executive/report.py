@@ -41,7 +41,7 @@ def match_truth(record: ObjectRecord, truths: Sequence[Truth]) -> Truth | None:
     """The true object nearest the region where the object was first seen."""
     if not truths:
         return None
-    x, y = record.region.centroid
+    x, y = (record.first_region or record.region).centroid
     return min(truths, key=lambda t: math.hypot(t.x_in - x, t.y_in - y))
 
 
@@ -49,7 +49,8 @@ def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[
     out = []
     for r in records:
         truth = match_truth(r, truths)
-        name = truth.name if truth else f"object {r.index} at ({r.region.centroid[0]:.0f}, {r.region.centroid[1]:.0f})"
+        seen = (r.first_region or r.region).centroid
+        name = truth.name if truth else f"object {r.index} at ({seen[0]:.0f}, {seen[1]:.0f})"
         correct = None
         if truth is not None and r.outcome in ("grasped", "left"):
             correct = (r.grasp in truth.grasps) if r.outcome == "grasped" else ("No-Grab" in truth.grasps)

@@ -182,6 +182,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     executive = Executive(driver, learner, knowledge, profile=defaults.KNOWLEDGE, params=params,
                           criterion_name=args.criterion, log=log)
     first_image = driver.camera().result(timeout=60)
+    start = driver.state().pose
     truths = _truths(driver, [])
 
     def progress(record: ObjectRecord) -> None:
@@ -200,7 +201,8 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     print(summary(table))
     print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")
     if not args.no_plots:
-        _plots(args.out, executive, result, first_image, [r.object for r in table], log.events)
+        _plots(args.out, executive, result, first_image, [r.object for r in table], log.events,
+               (start.x_in, start.y_in))
         print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
     if isinstance(learner, LocalLearner):
         print(f"library: {learner.path}")
@@ -232,10 +234,10 @@ def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:
 
 
 def _plots(out: Path, executive: Executive, result: EpisodeResult, image: CameraImage, labels: list[str],
-           events: list[dict[str, object]]) -> None:
+           events: list[dict[str, object]], start: tuple[float, float]) -> None:
     for old in out.glob("tree-*.png"):
         old.unlink()
-    plot_map(out / "map.png", image, result.objects, events, labels)
+    plot_map(out / "map.png", image, result.objects, events, labels, start)
     for record, label in zip(result.objects, labels):
         plot_object_tree(out / f"tree-{record.index}.png", record, label, events)
     plot_behaviour_tree(out / "behaviour-tree.png", executive.root)
