@@ -25,14 +25,6 @@ def partition(values: Iterable[float], error: float) -> list[Range]:
     return ranges
 
 
-def range_of(value: float, ranges: Sequence[Range]) -> int:
-    """Index of the range holding ``value`` (a value that built the partition)."""
-    for i, (lo, hi) in enumerate(ranges):
-        if lo - _EPS <= value <= hi + _EPS:
-            return i
-    raise ValueError(f"value {value} lies in none of the ranges {list(ranges)}")
-
-
 def match(value: float, ranges: Sequence[Range], error: float) -> int | None:
     """The branch a measured value belongs to, or None when it is unreliable.
 
