@@ -29,7 +29,7 @@ from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.partition import partition  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
-from learner.selection import Context, Node, rank, target_for  # noqa: E402
+from learner.selection import Context, Node, rank  # noqa: E402
 from learner.tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from tests.learner.reference import information_gain  # noqa: E402
 
@@ -145,8 +145,8 @@ def main() -> None:
     med = statistics.median
     print(f"machine: {platform.machine()} {platform.processor() or ''} python {platform.python_version()}, "
           f"{args.descriptions} descriptions, {n_tests} feature-positions")
-    print(f"| measure | median |")
-    print(f"|---|---|")
+    print("| measure | median |")
+    print("|---|---|")
     print(f"| build description matrix (once per library change) | {med(build) * 1e3:.1f} ms |")
     print(f"| choose one test (vectorised) | {med(choice) * 1e3:.2f} ms |")
     print(f"| choose one test (baseline, per description) | {med(base) * 1e3:.1f} ms |")

@@ -135,14 +135,19 @@ def read_library_json(path: str | Path) -> list[ObjectDescription]:
 
 
 def write_library_json(path: str | Path, descriptions: Iterable[ObjectDescription]) -> None:
-    """Write atomically: a reader never sees half a file, and a failure leaves none."""
+    """Write a library JSON file atomically (see :func:`write_json_atomically`)."""
+    write_json_atomically(path, descriptions_to_json(descriptions))
+
+
+def write_json_atomically(path: str | Path, document: object) -> None:
+    """Write a JSON document so that a reader never sees half a file and a failure
+    leaves none behind."""
     path = Path(path)
     if path.is_dir():
-        raise ValueError(f"{path}: is a folder, not a file to write the library to")
+        raise ValueError(f"{path}: is a folder, not a file to write to")
     tmp = path.with_name(path.name + ".tmp")
     try:
-        tmp.write_text(json.dumps(descriptions_to_json(descriptions), indent=2, ensure_ascii=False) + "\n",
-                       encoding="utf-8")
+        tmp.write_text(json.dumps(document, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
         tmp.replace(path)
     finally:
         tmp.unlink(missing_ok=True)

@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from learner.position import Position
 from learner.tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode
 
 
@@ -27,22 +26,22 @@ def _text(node: TreeNode, depth: int, indent: str, lines: list[str]) -> None:
     pad = indent * depth
     if isinstance(node, TestNode):
         t = node.test
-        lines.append(f"{pad}move-to-{_pos(t.target)} ({_secs(t.move_cost)})")
-        lines.append(f"{pad}{t.test.feature}{_pos(t.test.position)} ({_secs(t.sense_cost)})")
+        lines.append(f"{pad}move-to-{str(t.target)} ({_secs(t.move_cost)})")
+        lines.append(f"{pad}{t.test.feature}{str(t.test.position)} ({_secs(t.sense_cost)})")
         for (lo, hi), child in node.branches:
             lines.append(f"{pad}{indent}[{_num(lo)}, {_num(hi)}]")
             _text(child, depth + 2, indent, lines)
     elif isinstance(node, GraspLeaf):
-        where = _pos(node.library_position or node.position)
+        where = str(node.library_position or node.position)
         if node.grasped:
             lines.append(f"{pad}{node.grasp}{where} (grasped)")
             return
         if node.move_cost > 0:
-            lines.append(f"{pad}move-to-{_pos(node.position)} ({_secs(node.move_cost)})")
+            lines.append(f"{pad}move-to-{str(node.position)} ({_secs(node.move_cost)})")
         lines.append(f"{pad}{node.grasp}{where} ({_secs(node.grasp_cost)})")
     else:
         lines.append(f"{pad}ambiguous: try " + ", then ".join(
-            f"{o.grasp}{_pos(o.library_position or o.position)} ({_secs(o.move_cost + o.grasp_cost)})"
+            f"{o.grasp}{str(o.library_position or o.position)} ({_secs(o.move_cost + o.grasp_cost)})"
             for o in node.options))
 
 
@@ -89,10 +88,6 @@ def tree_json(node: TreeNode) -> dict[str, Any]:
         "options": [tree_json(o) for o in node.options],
         "objects": list(node.object_ids),
     }
-
-
-def _pos(p: Position) -> str:
-    return str(p)
 
 
 def _secs(s: float) -> str:

@@ -99,7 +99,9 @@ class RecognitionSession:
         self.ctx = Context(matrix, criterion, estimator)
         self.orientation_free = orientation_free
         self.max_alternatives = max_alternatives
-        self.position = start
+        self._changes = 0  # bumped by every change that can alter decide()'s answer
+        self._decided: tuple[int, Decision] | None = None
+        self._position = start
         self.measurements: dict[tuple[str, Position], float] = {}
         self.dropped_grasps: set[str] = set()
         self.pushes: Counter[str] = Counter()  # pushes per grasp on this object
@@ -115,6 +117,20 @@ class RecognitionSession:
                    max_alternatives=max_alternatives)
 
     # -- where we are -------------------------------------------------------------
+    @property
+    def position(self) -> Position:
+        """Where the robot stands relative to the object (moves and measurements update it)."""
+        return self._position
+
+    @position.setter
+    def position(self, where: Position) -> None:
+        if where != self._position:
+            self._position = where
+            self._changed()
+
+    def _changed(self) -> None:
+        self._changes += 1
+
     @property
     def depth(self) -> int:
         """Tests followed so far on the current path."""
@@ -132,7 +148,15 @@ class RecognitionSession:
 
     # -- choosing -------------------------------------------------------------------
     def decide(self) -> Decision:
-        """What to do next at the current node: a test, a grasp, grasps to try, or backtrack."""
+        """What to do next at the current node: a test, a grasp, grasps to try, or backtrack.
+
+        Several behaviours ask within one step; the answer is kept until something changes.
+        """
+        if self._decided is None or self._decided[0] != self._changes:
+            self._decided = (self._changes, self._decide())
+        return self._decided[1]
+
+    def _decide(self) -> Decision:
         frame = self._frames[-1]
         leaf = leaf_at(frame.node, self.position, self.ctx)
         if leaf is not None:
@@ -148,12 +172,6 @@ class RecognitionSession:
             return Exhausted(len(frame.tried))
         return AmbiguousLeaf(tuple(grasp_options(frame.node, self.position, self.ctx)),
                              object_ids(frame.node, self.ctx))
-
-    def alternatives(self) -> list[ScoredTest]:
-        """The ranked tests at the current node, excluding those tried (for reports)."""
-        frame = self._frames[-1]
-        on_path = frozenset(f.test.test for f in self._frames[:-1] if f.test is not None)
-        return rank(frame.node, self.position, self.ctx, self.measurements, on_path | frame.tried)
 
     # -- measuring ------------------------------------------------------------------
     def observe(self, test: ScoredTest, values: Mapping[str, float | None], at: Position) -> Matched | Unreliable:
@@ -179,6 +197,7 @@ class RecognitionSession:
         return self._follow(test, 1.0 if success else 0.0)
 
     def _follow(self, test: ScoredTest, value: float | None) -> Matched | Unreliable:
+        self._changed()
         frame = self._frames[-1]
         frame.test = test
         frame.value = value
@@ -219,6 +238,7 @@ class RecognitionSession:
         return self._push(frame, test, nearest(value, test.ranges), value)
 
     def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
+        self._changed()
         frame.test, frame.value = test, value
         child = split(frame.node, test, self.matrix)[idx]
         self._frames.append(_Frame(child, self.position))
@@ -231,6 +251,7 @@ class RecognitionSession:
         """
         if len(self._frames) == 1:
             return False
+        self._changed()
         self._frames.pop()
         parent = self._frames[-1]
         if parent.test is not None:
@@ -256,6 +277,7 @@ class RecognitionSession:
         (knocked over) is in effect a new object: all descriptions are restored and all
         sensing is void.
         """
+        self._changed()
         if position is not None:
             self.position = position
         if not side_effects:  # a clean failure says the prediction was wrong; a push or a fall does not
@@ -322,6 +344,7 @@ class RecognitionSession:
 
     def record(self, values: Mapping[str, float | None], at: Position) -> None:
         """Keep the values a procedure yielded at ``at`` (every feature it yields)."""
+        self._changed()
         where = Position(at.distance_in, None) if self.orientation_free else at
         for feature, value in values.items():
             if value is not None:

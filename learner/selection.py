@@ -23,6 +23,7 @@ import numpy as np
 
 from learner.costs import MoveCostEstimator
 from learner.criteria import Criterion
+from learner.knowledge import Knowledge
 from learner.matrix import DescriptionMatrix, Test
 from learner.partition import Range
 from learner.position import Position
@@ -77,7 +78,7 @@ class Context:
     estimator: MoveCostEstimator
 
     @property
-    def knowledge(self):  # noqa: ANN201 - Knowledge; kept short for call sites
+    def knowledge(self) -> Knowledge:
         return self.matrix.knowledge
 
 

@@ -14,7 +14,7 @@ from executive.training_sources import RecordingSource, SimulatorSource, catalog
 from learner.costs import ModelMoveCost
 from learner.criteria import CRITERIA, criterion
 from learner.knowledge import load_knowledge
-from learner.library import LibraryStore, check_library, load_library, write_library_json
+from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
 from learner.matrix import DescriptionMatrix
 from learner.position import parse_position
 from learner.render import tree_json, tree_text
@@ -96,12 +96,6 @@ def run_tree(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write_json(path: Path, document: dict) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(document, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
-    tmp.replace(path)
-
-
 def run_train(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(args.knowledge)
     if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
@@ -155,9 +149,9 @@ def run_train(args: argparse.Namespace) -> int:
             store.add(result.descriptions, replace=True)
     print(f"wrote {len(result.descriptions)} descriptions to {args.out}")
     if args.record and isinstance(source, RecordingSource):
-        _write_json(args.record, replay_document(source.records))
+        write_json_atomically(args.record, replay_document(source.records))
         objects_path = args.record.with_name(args.record.stem + "-objects.json")
-        _write_json(objects_path, objects_document(objects))
+        write_json_atomically(objects_path, objects_document(objects))
         print(f"recorded {len(source.records)} measurements to {args.record}, objects to {objects_path}")
 
     return 0
