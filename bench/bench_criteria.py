@@ -19,20 +19,20 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
+from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from executive.report import Truth, rows  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.knowledge import load_knowledge  # noqa: E402
+from learner.criteria import CRITERIA, criterion  # noqa: E402
 from learner.library import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
 
-def episode(criterion: str, seed: int) -> list:  # noqa: ANN001
+def episode(name: str, seed: int) -> list:  # noqa: ANN001
     hero = SimulatedHero("bench", world="lab", seed=seed)
     start = hero.truth()
     learner = LocalLearner(Path(tempfile.mkdtemp()) / "lib.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
-    ex = Executive(hero, learner, load_knowledge(KNOWLEDGE), profile=KNOWLEDGE, criterion_name=criterion)
+    ex = Executive(hero, learner, criterion=criterion(name))
     result = ex.run()
     ex.shutdown()
     now = hero.truth()
@@ -44,7 +44,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=5)
     args = ap.parse_args()
-    results = {c: [r for s in range(args.seeds) for r in episode(c, s)] for c in ("cs-id3", "id3", "idx", "eg2")}
+    results = {c: [r for s in range(args.seeds) for r in episode(c, s)] for c in CRITERIA}
     base = statistics.mean(r.robot_s for r in results["id3"])
     print(f"lab, 7 test objects x {args.seeds} seeds per criterion")
     print("| criterion | robot min / object (mean) | median | sensing s | moving s | correct | vs id3 |")

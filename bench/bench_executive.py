@@ -27,10 +27,9 @@ sys.path.insert(0, str(ROOT))
 
 import py_trees  # noqa: E402
 
-from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
+from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.knowledge import load_knowledge  # noqa: E402
 from learner.library import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
@@ -47,15 +46,14 @@ def learner() -> LocalLearner:
 
 
 def episode(seed: int):  # noqa: ANN201
-    ex = Executive(SimulatedHero("bench", world="lab", seed=seed), learner(), load_knowledge(KNOWLEDGE),
-                   profile=KNOWLEDGE)
+    ex = Executive(SimulatedHero("bench", world="lab", seed=seed), learner())
     result = ex.run()
     ex.shutdown()
     return result
 
 
 def tick_overhead(n: int) -> tuple[float, float]:
-    ex = Executive(BusyHero("busy", world="lab", seed=0), learner(), load_knowledge(KNOWLEDGE), profile=KNOWLEDGE)
+    ex = Executive(BusyHero("busy", world="lab", seed=0), learner())
     ex._reset_blackboard()  # noqa: SLF001 - driving the tree by hand for the measurement
     for _ in range(50):  # locate, choose the first test, start the move
         ex.tree.tick()

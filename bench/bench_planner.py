@@ -36,12 +36,12 @@ sys.path.insert(0, str(ROOT))
 
 from hero_driver.interface import Pose as DriverPose  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from planner import Navigator, OverheadImage, PathPlanner, Pose, load_robot_profile  # noqa: E402
+from planner import Navigator, OverheadImage, PathPlanner, Pose  # noqa: E402
 from planner.grid_search import distance_field  # noqa: E402
 from planner.move_cost import arrived  # noqa: E402
 from planner.paths import STRAIGHT  # noqa: E402
+from robot_profile import load_profile  # noqa: E402
 
-PROFILE = ROOT / "hero_driver" / "profiles" / "hero2000.toml"
 
 
 def overhead(hero: SimulatedHero) -> OverheadImage:
@@ -56,7 +56,7 @@ def percentile(values: list[float], q: float) -> float:
 
 def bench_plans(queries: int, seed: int) -> dict[str, list[float]]:
     """Plan times (ms) and length ratios against the grid's shortest path."""
-    navigator = Navigator(load_robot_profile(PROFILE))
+    navigator = Navigator(load_profile().robot)
     navigator.observe(overhead(SimulatedHero(seed=seed)))
     vision_map = navigator.vision_map
     planner = PathPlanner(vision_map, cache_size=1)
@@ -93,7 +93,7 @@ def bench_plans(queries: int, seed: int) -> dict[str, list[float]]:
 def bench_move_costs(moves: int, seed: int) -> dict[str, list[float]]:
     """Relative errors of the estimate and exact prices against simulated durations."""
     hero = SimulatedHero(seed=seed)
-    navigator = Navigator(load_robot_profile(PROFILE))
+    navigator = Navigator(load_profile().robot)
     regions = navigator.observe(overhead(hero)).regions
     rng = np.random.default_rng(seed)
     estimate_errors, exact_errors, first_ms, further_ms = [], [], [], []

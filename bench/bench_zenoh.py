@@ -28,9 +28,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from hero_driver.zenoh_link import keys  # noqa: E402
 from hero_driver.zenoh_link.client import ZenohDriver  # noqa: E402
-from hero_driver.zenoh_link.config import open_session  # noqa: E402
+from hero_driver.zenoh_link.keys import robot_keys  # noqa: E402
+from zenoh_rpc.config import open_session  # noqa: E402
 
 ROBOT = "bench"
 START_S = 30.0
@@ -79,7 +79,7 @@ def main() -> int:
                 "ZenohDriver.noop().result()": timed(lambda: client.noop().result(5.0),
                                                      args.calls, args.warmup),
                 "bare session.get (channel)": timed(
-                    lambda: list(bare.get(keys.rpc_key(ROBOT, "noop"), payload=b'{"v":1}')),
+                    lambda: list(bare.get(robot_keys(ROBOT).rpc("noop"), payload=b'{"v":1}')),
                     args.calls, args.warmup),
             }
     finally:

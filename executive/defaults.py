@@ -6,9 +6,10 @@ import os
 from pathlib import Path
 
 import hero_driver
+from robot_profile import DEFAULT_PROFILE
 
 PROFILES = Path(hero_driver.__file__).resolve().parent / "profiles"
-KNOWLEDGE = PROFILES / "hero2000.toml"
+KNOWLEDGE = DEFAULT_PROFILE
 EXAMPLE_LIBRARY = PROFILES / "hero2000-library.json"
 
 

@@ -13,13 +13,7 @@ import math
 from pathlib import Path
 from typing import IO
 
-
-# Every kind of event the behaviours report (docs/executive.md, "The episode log").
-EVENT_KINDS = (
-    "located", "object", "choose", "move", "sense", "branch", "unreliable", "backtrack", "nearest",
-    "choose_grasp", "grasp", "side_effect", "start_over", "drop_grasp", "grasp_feature_failed",
-    "discriminate", "leave", "learn", "gave_up", "driver_error", "no_path", "other_end", "episode_end",
-)
+from behaviours.events import Event
 
 
 class EpisodeLog:
@@ -34,8 +28,14 @@ class EpisodeLog:
             path.parent.mkdir(parents=True, exist_ok=True)
             self._file = path.open("w", encoding="utf-8")
 
-    def event(self, kind: str, **data: object) -> None:
-        record = _json_safe({"tick": self.tick, "event": kind, **data})
+    def event(self, kind: Event | str, **data: object) -> None:
+        """Log one event; a kind outside :class:`~behaviours.events.Event` is a bug in
+        the caller, refused before anything is written."""
+        try:
+            kind = Event(kind)
+        except ValueError:
+            raise ValueError(f"unknown episode event kind {kind!r}") from None
+        record = _json_safe({"tick": self.tick, "event": kind.value, **data})
         self.events.append(record)
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False, default=str, allow_nan=False) + "\n")

@@ -10,20 +10,21 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import py_trees
 from py_trees.common import Status
 
 from behaviours.base import DriverAction
-from behaviours.context import ObjectRecord, Params, Services
+from behaviours.records import ObjectRecord, Step
+from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.episode_log import EpisodeLog
-from executive.tree import build_tree
+from executive.profile import knowledge_of
+from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
-from learner.criteria import criterion
-from learner.knowledge import Knowledge
+from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
 from learner.service.interface import LearnerService
-from planner import Navigator, load_robot_profile
+from planner import Navigator
+from robot_profile import RobotProfile, load_profile
 
 
 @dataclass
@@ -40,23 +41,29 @@ class EpisodeResult:
 class Executive:
     """One robot's behaviour tree over a driver and a learner service."""
 
-    def __init__(self, driver: Driver, learner: LearnerService, knowledge: Knowledge, *,
-                 profile: str | Path, params: Params = Params(), criterion_name: str = "cs-id3",
-                 log: EpisodeLog | None = None) -> None:
+    def __init__(self, driver: Driver, learner: LearnerService, *, profile: RobotProfile | None = None,
+                 params: Params = Params(), criterion: Criterion | None = None, log: EpisodeLog | None = None) -> None:
+        """``profile``: the robot (default: the shipped HERO 2000); the planner plans for
+        its ``[robot]`` table and the learner knows its procedures, both from this one
+        reading."""
         self.log = log or EpisodeLog()
+        profile = profile or load_profile()
+        knowledge = knowledge_of(profile)
         self.services = Services(
-            driver=driver, navigator=Navigator(load_robot_profile(profile)), learner=learner,
-            knowledge=knowledge, criterion=criterion(criterion_name), params=params, log=self.log)
-        self.root = build_tree(self.services)
+            driver=driver, navigator=Navigator(profile.robot), learner=learner, knowledge=knowledge,
+            criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
+            library=LibraryMatrix(learner, knowledge))
+        self.namespace = namespace(driver.robot)
+        self.root = build_tree(driver.robot)
         self.tree = py_trees.trees.BehaviourTree(self.root)
+        self.tree.setup(services=self.services)
         self._snapshot = py_trees.visitors.SnapshotVisitor()
         self.tree.add_visitor(self._snapshot)
 
     def _reset_blackboard(self) -> None:
         board = py_trees.blackboard.Blackboard
-        ns = self.services.namespace
-        for key in ("objects", "results", "object"):
-            board.set(f"{ns}/{key}", [] if key != "object" else None)
+        for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None)):
+            board.set(f"{self.namespace}/{key}", value)
 
     def run(self, max_ticks: int | None = None, trace: bool = False,
             on_object: Callable[[ObjectRecord], None] | None = None) -> EpisodeResult:
@@ -73,7 +80,7 @@ class Executive:
 
         def report_finished() -> list[ObjectRecord]:
             nonlocal reported
-            results = py_trees.blackboard.Blackboard.get(f"{self.services.namespace}/results")
+            results = py_trees.blackboard.Blackboard.get(f"{self.namespace}/results")
             while on_object is not None and reported < len(results) and results[reported].done:
                 on_object(results[reported])
                 reported += 1

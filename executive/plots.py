@@ -14,7 +14,8 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 import py_trees  # noqa: E402
 
-from behaviours.context import ObjectRecord  # noqa: E402
+from behaviours.events import RECOVERIES  # noqa: E402
+from behaviours.records import ObjectRecord  # noqa: E402
 from hero_driver.interface import CameraImage  # noqa: E402
 
 _COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
@@ -120,7 +121,7 @@ def _tree_steps(index: int, events: Sequence[dict]) -> list[tuple[str, str, str]
             edge(f"{'' if e['success'] else '!'}{e['grasp']}: {'holds' if e['success'] else 'failed'}")
         elif kind == "leave":
             edge("left on the floor")
-        elif kind in ("backtrack", "nearest", "start_over", "drop_grasp", "discriminate", "other_end", "no_path"):
+        elif kind in RECOVERIES:
             steps.append((_recovery(e), "fail", ""))
         elif kind == "learn" and e.get("id"):
             steps.append((f"learned {e['id']} ({e['features']} features)", "note", ""))

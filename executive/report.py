@@ -6,7 +6,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from behaviours.context import ObjectRecord
+from behaviours.records import ObjectRecord
 
 
 @dataclass(frozen=True)

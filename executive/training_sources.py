@@ -12,26 +12,28 @@ from collections.abc import Mapping
 
 from hero_driver.interface import DriverError
 from hero_driver.sim.probe import probe
-from hero_driver.sim.world import knowledge as sim_knowledge
+from hero_driver.sim.world import profile_and_catalogue
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
+from robot_profile import RobotProfile
 
 GRASP_DISTANCE_IN = 6.0
 _APPROACH_ORIENTATION = {"any": None, "end": 0.0, "side": 90.0}
 
 
 class SimulatorSource:
-    """Senses catalogue objects in the simulator (exact values unless ``noise``)."""
+    """Senses catalogue objects in the simulator (exact values unless ``noise``), as the
+    robot of ``profile`` would (default: the shipped HERO 2000)."""
 
-    def __init__(self, seed: int = 0, noise: bool = False) -> None:
-        self.seed, self.noise = seed, noise
+    def __init__(self, seed: int = 0, noise: bool = False, profile: RobotProfile | None = None) -> None:
+        self.seed, self.noise, self.profile = seed, noise, profile
 
     def measure(self, object_id: str, procedure: str, position: Position) -> Mapping[str, float | None]:
         if position.distance_in is None or position.orientation_deg is None:
             raise ValueError(f"training position {position} must be concrete to stage the robot")
         try:
             result = probe(object_id, procedure, position.distance_in, position.orientation_deg,
-                           seed=self.seed, noise=self.noise)
+                           seed=self.seed, noise=self.noise, profile=self.profile)
         except DriverError as exc:
             raise ValueError(f"simulator: {procedure} of {object_id!r} at {position}: {exc.message}") from None
         return dict(result.values)
@@ -57,7 +59,7 @@ def catalogue_objects(object_set: str = "training") -> list[TrainingObject]:
     Top-Hor-Grip from the side) is labelled with the first, at the orientation its
     approach needs (end: 0°, along the major axis; side: 90°; any: ``*``).
     """
-    _, catalogue = sim_knowledge()
+    _, catalogue = profile_and_catalogue()
     objects = []
     for entry in catalogue.values():
         if entry.set != object_set:

@@ -8,13 +8,10 @@ the executive, so the driver side stays usable on a robot's own computer.
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
-import threading
-from types import FrameType
 
-from hero_driver.zenoh_link import keys
-from hero_driver.zenoh_link.config import DEFAULT_ENDPOINT, check_endpoint
+from hero_driver.zenoh_link.keys import robot_keys
+from zenoh_rpc.endpoints import DRIVER_ENDPOINT, check_endpoint
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
 
@@ -48,8 +45,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "'training' (default: the lab)")
     sim.add_argument("--seed", type=int, default=0, metavar="N",
                      help="seed of the simulator's random stream (default 0)")
-    sim.add_argument("--listen", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
-                     help=f"zenoh endpoint to listen on (default {DEFAULT_ENDPOINT})")
+    sim.add_argument("--listen", default=DRIVER_ENDPOINT, metavar="ENDPOINT",
+                     help=f"zenoh endpoint to listen on (default {DRIVER_ENDPOINT})")
     sim.set_defaults(handler=_run_sim)
 
     check = actions.add_parser(
@@ -65,8 +62,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
-    check.add_argument("--connect", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
-                       help=f"zenoh endpoint of the driver process (default {DEFAULT_ENDPOINT})")
+    check.add_argument("--connect", default=DRIVER_ENDPOINT, metavar="ENDPOINT",
+                       help=f"zenoh endpoint of the driver process (default {DRIVER_ENDPOINT})")
     check.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
@@ -77,37 +74,30 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run_sim(args: argparse.Namespace) -> int:
-    keys.check_robot(args.robot)
+    keys = robot_keys(args.robot)
     check_endpoint(args.listen)
     # Imported here: the simulator pulls in pymunk and the world files, which
     # `csl --help` and `csl driver check` have no use for.
     from hero_driver.sim_driver import SimulatedHero
     from hero_driver.zenoh_link.node import serve
+    from zenoh_rpc.serving import stop_on_signals
 
     driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed)
-    stop = threading.Event()
-
-    def on_signal(_signum: int, _frame: FrameType | None) -> None:
-        stop.set()
-
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
 
     def on_ready() -> None:
-        print(f"serving {keys.rpc_key(args.robot, '*')} on {args.listen} (Ctrl-C to stop)",
-              flush=True)
+        print(f"serving {keys.rpc('*')} on {args.listen} (Ctrl-C to stop)", flush=True)
 
     try:
-        serve(driver, listen=[args.listen], stop=stop, on_ready=on_ready)
+        with stop_on_signals() as stop:
+            serve(driver, listen=[args.listen], stop=stop, on_ready=on_ready)
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
         driver.close()
     print(f"driver {args.robot} stopped", file=sys.stderr)
     return 0
 
 
 def _run_check(args: argparse.Namespace) -> int:
-    keys.check_robot(args.robot)
+    robot_keys(args.robot)
     check_endpoint(args.connect)
     if not args.timeout > 0:
         raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")

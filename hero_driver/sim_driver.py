@@ -19,15 +19,21 @@ from hero_driver.interface import (
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld
 from hero_driver.sim.worldfile import load_world
+from robot_profile import RobotProfile
 
 T = TypeVar("T")
 
 
 class SimulatedHero:
-    """A simulated HERO 2000 in a pymunk world (see docs/simulator.md)."""
+    """A simulated HERO 2000 in a pymunk world (see docs/simulator.md).
+
+    ``profile`` is the robot it simulates (None: the shipped HERO 2000 profile): the
+    executive passes the one it plans with, so procedure times, ranges and the base's
+    size and speeds agree on both sides.
+    """
 
     def __init__(self, robot: str = "r1", world: str | Path | None = None, seed: int = 0,
-                 profile: str | Path | None = None, noise: NoiseConfig | None = None) -> None:
+                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None) -> None:
         self.robot = robot
         self._sim: SimWorld | None = SimWorld(world, seed, profile, noise)
 

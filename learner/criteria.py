@@ -3,13 +3,19 @@
 ``cs-id3`` is CSL's ``I^2 / C``. The others are the usual baselines, so runs can be
 compared side by side: ``id3`` ignores cost, ``idx`` is ``I / C`` (Norton 1989), and
 ``eg2`` is Nunez's ``(2^I - 1) / (C + 1)^w``.
+
+:data:`CRITERIA` is the one registry of them: command-line help, the benches and the
+tests iterate it, so a criterion added here reaches all of them, with its formula,
+its help line and its parameters, without anyone re-typing them.
 """
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 
 
 @dataclass(frozen=True)
@@ -21,6 +27,58 @@ class Criterion:
     cost_sensitive: bool
 
 
+@dataclass(frozen=True)
+class Parameter:
+    """A numeric knob of a criterion (eg2's ``w``). Values must be finite and at least
+    ``minimum``: a NaN or infinite weight would make every score NaN or 0 and the tree
+    would silently test at random."""
+
+    name: str
+    default: float
+    help: str
+    minimum: float = 0.0
+
+    def check(self, value: float) -> float:
+        """``value`` as a float, or ValueError naming the parameter and the bound."""
+        value = float(value)
+        if not (math.isfinite(value) and value >= self.minimum):
+            raise ValueError(f"{self.name} must be a finite number >= {self.minimum:g}, got {value:g}")
+        return value
+
+
+@dataclass(frozen=True)
+class CriterionSpec:
+    """One registry entry: what a user reads (formula, help), what it takes
+    (parameters), and how to build the :class:`Criterion` from given parameter values.
+
+    ``score(gain, cost, **parameters)`` is the formula itself; :meth:`build` binds the
+    parameters so the learner only ever sees ``score(gain, cost)``."""
+
+    name: str
+    formula: str
+    help: str
+    cost_sensitive: bool
+    score: Callable[..., float]
+    parameters: tuple[Parameter, ...] = ()
+
+    def build(self, *values: float, **given: float) -> Criterion:
+        """The criterion with parameters given by position (in declared order) or by
+        name, the rest at their defaults; unknown or invalid ones raise ValueError."""
+        names = [p.name for p in self.parameters]
+        if len(values) > len(names):
+            raise ValueError(f"{self.name} takes {len(names)} parameter(s), got {len(values)}")
+        for name, value in zip(names, values):
+            if name in given:
+                raise ValueError(f"{self.name}: parameter {name} given twice")
+            given[name] = value
+        unknown = sorted(set(given) - set(names))
+        if unknown:
+            raise ValueError(f"{self.name} has no parameter {', '.join(unknown)} "
+                             f"(its parameters: {', '.join(names) or 'none'})")
+        bound = {p.name: p.check(given.get(p.name, p.default)) for p in self.parameters}
+        return Criterion(self.name, functools.partial(self.score, **bound), self.cost_sensitive)
+
+
 def _ratio(numerator: float, cost: float) -> float:
     """A free test (its value already known) beats every paid one."""
     if cost <= 0:
@@ -28,19 +86,41 @@ def _ratio(numerator: float, cost: float) -> float:
     return numerator / cost
 
 
-def criterion(name: str, eg2_w: float = 1.0) -> Criterion:
-    """The criterion called ``name``; unknown names are rejected with the valid ones."""
-    if name == "cs-id3":
-        return Criterion(name, lambda i, c: _ratio(i * i, c), True)
-    if name == "id3":
-        return Criterion(name, lambda i, c: i, False)
-    if name == "idx":
-        return Criterion(name, lambda i, c: _ratio(i, c), True)
-    if name == "eg2":
-        if not (eg2_w >= 0 and math.isfinite(eg2_w)):
-            raise ValueError(f"eg2 weight w must be a finite number >= 0, got {eg2_w}")
-        return Criterion(name, lambda i, c: (2.0**i - 1.0) / (c + 1.0) ** eg2_w, True)
-    raise ValueError(f"unknown criterion {name!r} (choose from: {', '.join(CRITERIA)})")
+def _cs_id3(gain: float, cost: float) -> float:
+    return _ratio(gain * gain, cost)
 
 
-CRITERIA = ("cs-id3", "id3", "idx", "eg2")
+def _id3(gain: float, cost: float) -> float:
+    return gain
+
+
+def _idx(gain: float, cost: float) -> float:
+    return _ratio(gain, cost)
+
+
+def _eg2(gain: float, cost: float, *, w: float) -> float:
+    return (2.0**gain - 1.0) / (cost + 1.0) ** w
+
+
+DEFAULT_CRITERION = "cs-id3"
+
+CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
+    spec.name: spec for spec in (
+        CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3),
+        CriterionSpec("id3", "I", "cost-blind ID3, Quinlan 1986", False, _id3),
+        CriterionSpec("idx", "I / C", "Norton 1989", True, _idx),
+        CriterionSpec("eg2", "(2^I - 1) / (C + 1)^w", "Nunez 1991, w weighs the cost", True, _eg2,
+                      (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
+    )
+})
+"""Every criterion by name, in the order help and benches list them. Iterating it gives
+the names, so it also serves as argparse ``choices``."""
+
+
+def criterion(name: str, *values: float, **given: float) -> Criterion:
+    """The criterion called ``name`` with its parameters (see :meth:`CriterionSpec.build`);
+    unknown names are rejected with the valid ones."""
+    spec = CRITERIA.get(name)
+    if spec is None:
+        raise ValueError(f"unknown criterion {name!r} (choose from: {', '.join(CRITERIA)})")
+    return spec.build(*values, **given)

@@ -1,4 +1,4 @@
-"""Object descriptions: what CSL learns (method.md §2).
+"""Object descriptions: what CSL learns (docs/method.md §2).
 
 ``{object-id, grasp(position), [(feature(position), value), ...]}`` — incomplete on
 purpose: a feature is recorded only where it was needed to tell this object from

@@ -2,7 +2,7 @@
 
 Sonar values wobble within a procedure's expected error, so two observations that close
 cannot be told apart: they share a branch. Merging chains (a, a+e, a+2e are one branch)
-because each neighbour is indistinguishable from the next (method.md §3).
+because each neighbour is indistinguishable from the next (docs/method.md §3).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def match(value: float, ranges: Sequence[Range], error: float) -> int | None:
 
 
 def nearest(value: float, ranges: Sequence[Range]) -> int:
-    """The branch whose range is nearest the value (the last resort of method.md §5)."""
+    """The branch whose range is nearest the value (the last resort of docs/method.md §5)."""
     def gap(r: Range) -> float:
         lo, hi = r
         return max(lo - value, 0.0, value - hi)

@@ -1,7 +1,7 @@
 """Positions of the sensor relative to an object: ``(distance in inches, orientation in degrees)``.
 
 Either slot may be ``*`` ("don't care"): a feature whose value does not depend on that
-slot was generalised there during training (method.md §4), e.g. ``Height(6,*)``. We
+slot was generalised there during training (docs/method.md §4), e.g. ``Height(6,*)``. We
 store ``*`` as ``None``.
 """
 

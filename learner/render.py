@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from learner.tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode
+from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode
 
 
 def tree_text(node: TreeNode, indent: str = "  ") -> str:

@@ -1,4 +1,4 @@
-"""The execution stage as a state machine the executive steps through (method.md §5).
+"""The execution stage as a state machine the executive steps through (docs/method.md §5).
 
 A :class:`RecognitionSession` grows only the path the object at hand needs, one test
 at a time, from where the robot stands. The executive asks :meth:`decide` what to do,
@@ -30,7 +30,7 @@ from learner.matrix import DescriptionMatrix, Test
 from learner.partition import match, nearest
 from learner.position import Position
 from learner.selection import Context, Node, ScoredTest, measured_value, rank, split, target_for
-from learner.tree import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
+from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
 
 
 @dataclass(frozen=True)
@@ -70,6 +70,7 @@ class _Frame:
     tried: set[Test] = field(default_factory=set)
     unreliable: list[tuple[ScoredTest, float]] = field(default_factory=list)  # for nearest neighbour
     nearest_used: bool = False  # nearest neighbour is followed once per node, never in a loop
+    awaiting_reselection: bool = False  # the latest value here was not trusted (or none could be had)
 
 
 class RecognitionSession:
@@ -106,6 +107,7 @@ class RecognitionSession:
         self.dropped_grasps: set[str] = set()
         self.pushes: Counter[str] = Counter()  # pushes per grasp on this object
         self.wrong_predictions: list[str] = []
+        self.unreliable_count = 0  # values not trusted on this object (since it last changed)
         self._frames = [_Frame(self._root_node(), start)]
 
     @classmethod
@@ -204,6 +206,8 @@ class RecognitionSession:
         idx = None if value is None else match(value, test.ranges, test.error)
         if idx is None:
             frame.tried.add(test.test)
+            frame.awaiting_reselection = True
+            self.unreliable_count += 1
             if value is not None:
                 frame.unreliable.append((test, value))
                 # the distrusted value must not come back for free as another test of the
@@ -212,6 +216,22 @@ class RecognitionSession:
                                    and measured_value(t, self.measurements) == value)
             return Unreliable(value)
         return self._push(frame, test, idx, value)
+
+    def unusable(self, test: ScoredTest) -> None:
+        """``test`` cannot be applied from here (no path to its position, the driver
+        refused it): it counts as tried at this node and another is reselected, but no
+        value is recorded and nearest neighbour has nothing to be near to."""
+        self._changed()
+        frame = self._frames[-1]
+        frame.test, frame.value = test, None
+        frame.tried.add(test.test)
+        frame.awaiting_reselection = True
+
+    @property
+    def awaiting_reselection(self) -> bool:
+        """True when the current node's latest value was not trusted (or none could be
+        had): the next test here is a reselection, not a fresh best choice."""
+        return self._frames[-1].awaiting_reselection
 
     @property
     def can_follow_nearest(self) -> bool:
@@ -222,13 +242,13 @@ class RecognitionSession:
 
     def classification_failure(self) -> AmbiguousLeaf:
         """Nothing reliable is left to test here: offer the node's grasps, to be tried
-        as binary features (method.md §5, ambiguous leaf)."""
+        as binary features (docs/method.md §5, ambiguous leaf)."""
         frame = self._frames[-1]
         return AmbiguousLeaf(tuple(grasp_options(frame.node, self.position, self.ctx)),
                              object_ids(frame.node, self.ctx))
 
     def follow_nearest(self) -> Matched:
-        """Follow the branch nearest the node's latest unreliable value (method.md §5,
+        """Follow the branch nearest the node's latest unreliable value (docs/method.md §5,
         the last resort)."""
         frame = self._frames[-1]
         if not frame.unreliable:
@@ -240,6 +260,7 @@ class RecognitionSession:
     def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
         self._changed()
         frame.test, frame.value = test, value
+        frame.awaiting_reselection = False
         child = split(frame.node, test, self.matrix)[idx]
         self._frames.append(_Frame(child, self.position))
         return Matched(idx, test.ranges[idx], value)
@@ -260,6 +281,7 @@ class RecognitionSession:
                         if k[0] == parent.test.test.feature and _serves(k[1], parent.test.test.position)]:
                 del self.measurements[key]
         parent.test, parent.value = None, None
+        parent.awaiting_reselection = False  # the parent chooses afresh
         return True
 
     # -- grasping -------------------------------------------------------------------
@@ -268,7 +290,7 @@ class RecognitionSession:
         """A grasp at a leaf failed; rebuild the tree from the current position.
 
         Without side effects the object is not of that grasp's class: drop its
-        descriptions, keep what was measured. With side effects (method.md §5.4) we
+        descriptions, keep what was measured. With side effects (docs/method.md §5.4) we
         tell apart the two cases the camera distinguishes: *pushed* is the same object,
         moved; the push may be why this grasp failed, so its descriptions are restored,
         but grasps that failed cleanly before stay ruled out and every value measured
@@ -283,6 +305,7 @@ class RecognitionSession:
         if not side_effects:  # a clean failure says the prediction was wrong; a push or a fall does not
             self.wrong_predictions.append(grasp)
         if side_effects and changed:
+            self.unreliable_count = 0  # a new object as far as sensing goes
             self.dropped_grasps.clear()
             self.measurements.clear()
             self.pushes.clear()
@@ -351,7 +374,7 @@ class RecognitionSession:
                 self.measurements[(feature, where)] = float(value)
 
     def description(self, object_id: str, grasp: str, grasp_position: Position) -> ObjectDescription:
-        """The new object description to save after a successful grasp (method.md §5.3)."""
+        """The new object description to save after a successful grasp (docs/method.md §5.3)."""
         observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
         return ObjectDescription(object_id, grasp, grasp_position, observations)
 

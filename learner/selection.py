@@ -7,7 +7,7 @@ Each is scored with the criterion on its gain and its cost *from the current pos
 the ranked list is kept so the executive can reselect the next-best test.
 
 Gains for all columns are computed at once on the :class:`DescriptionMatrix`
-(method.md §3): values within the feature's error chain into one range; descriptions
+(docs/method.md §3): values within the feature's error chain into one range; descriptions
 lacking the value are spread evenly over the ranges (plus an "unknown" subset when the
 ranges, widened by the error, leave part of the feature's domain uncovered).
 """

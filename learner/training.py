@@ -1,4 +1,4 @@
-"""The training stage (method.md §4): choose training positions, then learn descriptions.
+"""The training stage (docs/method.md §4): choose training positions, then learn descriptions.
 
 Phase 1 picks a few positions worth sensing from: orientations perpendicular to the
 objects' faces (sonar works best there), and distances as far as a sweep still tells
@@ -24,7 +24,7 @@ from learner.position import Position
 from learner.selection import Context, Node
 from learner.matrix import DescriptionMatrix
 from learner.training_data import MeasurementSource, TrainingObject
-from learner.tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grow
+from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grow
 
 ORIENTATION_TOLERANCE_DEG = 20.0  # face normals closer than this are one training orientation
 DISTANCE_TOLERANCE = 0.3  # candidate distances within 30% of a cluster's nearest are one
@@ -171,7 +171,7 @@ class _Recorder:
 
     Phase 1's size scans are paid for once and reused if phase 2 wants the same
     procedure there, but they are not features of a description until it does: a
-    description holds only what was needed to classify the object (method.md §4).
+    description holds only what was needed to classify the object (docs/method.md §4).
     """
 
     def __init__(self, source: MeasurementSource, knowledge: Knowledge, log: TrainingLog) -> None:

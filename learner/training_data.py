@@ -1,6 +1,6 @@
 """Inputs of the training stage: the training objects and where measurements come from.
 
-Training objects are labelled only with their grasp (method.md §4) plus their overhead
+Training objects are labelled only with their grasp (docs/method.md §4) plus their overhead
 footprint, from which training orientations are derived. Measurements come from a
 :class:`MeasurementSource`: the simulator or a live driver in the executive, or a
 *replay* file of values a team recorded on a real robot (``docs/training-format.md``).

@@ -1,24 +1,22 @@
 """planner: overhead vision, the vision map, OMPL paths and the move-cost heuristic.
 
-Depends on numpy, OpenCV and OMPL only; knows nothing of the learner, the behaviours
-or the driver (it has its own :class:`Pose` and :class:`OverheadImage`, field-for-field
-the driver's, which the executive converts). See docs/planner.md.
+Depends on numpy, OpenCV, OMPL and the robot profile (``robot_profile``: the body's
+geometry and motion it plans for); knows nothing of the learner, the behaviours or the
+driver (it has its own :class:`Pose` and :class:`OverheadImage`, field-for-field the
+driver's, which the executive converts). See docs/planner.md.
 """
 
 from planner.geometry import Pose
 from planner.image import OverheadImage
 from planner.move_cost import CostEstimator, MoveCost, arrived, move_seconds, price_plan
 from planner.navigator import Navigator
-from planner.orientations import face_normals, training_orientations
 from planner.paths import PathPlanner, PlanResult
 from planner.positions import face_distance_in, pose_for_position, position_of
-from planner.robot import MoveModel, RobotGeometry, RobotProfile, load_robot_profile
 from planner.vision import Region, Scene, look
 from planner.vision_map import VisionMap, build_vision_map
 
 __all__ = [
-    "CostEstimator", "MoveCost", "MoveModel", "Navigator", "OverheadImage", "PathPlanner",
-    "PlanResult", "Pose", "Region", "RobotGeometry", "RobotProfile", "Scene", "VisionMap",
-    "arrived", "build_vision_map", "face_distance_in", "face_normals", "load_robot_profile", "look",
-    "move_seconds", "pose_for_position", "position_of", "price_plan", "training_orientations",
+    "CostEstimator", "MoveCost", "Navigator", "OverheadImage", "PathPlanner", "PlanResult", "Pose", "Region",
+    "Scene", "VisionMap", "arrived", "build_vision_map", "face_distance_in", "look", "move_seconds",
+    "pose_for_position", "position_of", "price_plan",
 ]

@@ -1,4 +1,4 @@
-"""The move-cost heuristic: seconds of robot time to reach a pose (method.md §3, C(F)).
+"""The move-cost heuristic: seconds of robot time to reach a pose (docs/method.md §3, C(F)).
 
 A move costs overhead-camera processing, driving, turning in place and sonar centring:
 
@@ -28,8 +28,8 @@ from planner.grid_search import GRID_TO_EUCLIDEAN, GridGraph, descend
 from planner.paths import (
     ESCAPE_LIMIT_IN, GOAL_BLOCKED, GOAL_OUTSIDE, OK, START_BLOCKED, START_OUTSIDE, UNREACHABLE, PlanResult,
 )
-from planner.robot import MoveModel
 from planner.vision_map import VisionMap
+from robot_profile import RobotMotion
 
 # A goal this close to the start (inches, degrees) needs no move at all.
 ARRIVED_IN = 0.5
@@ -57,7 +57,7 @@ class MoveCost:
         return math.isfinite(self.seconds)
 
 
-def move_seconds(model: MoveModel, length_in: float, turning_deg: float) -> float:
+def move_seconds(model: RobotMotion, length_in: float, turning_deg: float) -> float:
     """The heuristic's formula for a move of this length and total turning."""
     if not (math.isfinite(length_in) and math.isfinite(turning_deg)):
         return math.inf
@@ -70,7 +70,7 @@ def arrived(start: Pose, goal: Pose) -> bool:
             and angle_between(start.heading_deg, goal.heading_deg) <= ARRIVED_DEG)
 
 
-def price_plan(model: MoveModel, plan: PlanResult) -> MoveCost:
+def price_plan(model: RobotMotion, plan: PlanResult) -> MoveCost:
     """Exact mode: the cost of driving a planned path."""
     if not plan.found:
         return MoveCost(math.inf, math.inf, math.inf, True, plan.reason)
@@ -85,7 +85,7 @@ FIELD_COARSENING = 2
 class CostEstimator:
     """Estimate mode on one vision map: distance fields cached per start cell."""
 
-    def __init__(self, vision_map: VisionMap, model: MoveModel, cache_size: int = 8) -> None:
+    def __init__(self, vision_map: VisionMap, model: RobotMotion, cache_size: int = 8) -> None:
         self.map = vision_map
         self.model = model
         self._fields: LruCache[tuple[np.ndarray, np.ndarray]] = LruCache(cache_size)

@@ -19,10 +19,10 @@ from planner.image import OverheadImage
 from planner.move_cost import CostEstimator, MoveCost, arrived, price_plan
 from planner.paths import OK, PathPlanner, PlanResult
 from planner.positions import pose_for_position, position_of
-from planner.robot import RobotProfile
 from planner.vision import Region, Scene, look
 from planner.roadmap import Roadmap
 from planner.vision_map import VisionMap, build_vision_map, map_key
+from robot_profile import Robot
 
 NOTHING_OBSERVED = "no overhead image observed yet: call observe(image) first"
 # A roadmap carried to a new map is re-checked every half cell along each edge, as the
@@ -44,9 +44,9 @@ class _World:
 class Navigator:
     """Vision, paths and move costs on the latest overhead image."""
 
-    def __init__(self, profile: RobotProfile, *, time_limit_s: float = 0.25, optimise_time_s: float = 0.5,
+    def __init__(self, robot: Robot, *, time_limit_s: float = 0.25, optimise_time_s: float = 0.5,
                  spacing_in: float = 6.0, worlds_kept: int = 4) -> None:
-        self.profile = profile
+        self.robot = robot
         self._time_limit_s = time_limit_s
         self._optimise_time_s = optimise_time_s
         self._spacing_in = spacing_in
@@ -58,7 +58,7 @@ class Navigator:
     def observe(self, image: OverheadImage) -> Scene:
         """Look at a new overhead image; later calls plan on it."""
         scene = self._scenes.get_or_make(image.content_key(), lambda: look(image))
-        key = map_key(scene, self.profile.geometry)
+        key = map_key(scene, self.robot.geometry)
         self._current = self._worlds.get_or_make(key, lambda: self._build(scene))
         self._scene = scene
         return scene
@@ -78,11 +78,11 @@ class Navigator:
     def pose_for(self, region: Region, distance_in: float, orientation_deg: float) -> Pose:
         """The base pose for a learner position of ``region`` (docs/conventions.md)."""
         self._require_on_map(region)
-        return pose_for_position(region, distance_in, orientation_deg, self.profile.geometry)
+        return pose_for_position(region, distance_in, orientation_deg, self.robot.geometry)
 
     def position_of(self, region: Region, pose: Pose) -> tuple[float, float]:
         """The learner position ``(distance_in, orientation_deg)`` of a robot pose."""
-        return position_of(region, pose, self.profile.geometry)
+        return position_of(region, pose, self.robot.geometry)
 
     def plan(self, start: Pose, goal: Pose, *, optimise: bool = False,
              spacing_in: float | None = None) -> PlanResult:
@@ -103,7 +103,7 @@ class Navigator:
         goal.require_finite("goal")
         if arrived(start, goal):
             return MoveCost(0.0, 0.0, 0.0, True, OK)
-        return price_plan(self.profile.move, world.paths.plan(start, goal))
+        return price_plan(self.robot.motion, world.paths.plan(start, goal))
 
     def position_cost(self, start: Pose, region: Region, distance_in: float, orientation_deg: float,
                       *, exact: bool = False) -> MoveCost:
@@ -111,11 +111,11 @@ class Navigator:
         return self.move_cost(start, self.pose_for(region, distance_in, orientation_deg), exact=exact)
 
     def _build(self, scene: Scene) -> _World:
-        vision_map = build_vision_map(scene, self.profile.geometry)
+        vision_map = build_vision_map(scene, self.robot.geometry)
         paths = PathPlanner(vision_map, time_limit_s=self._time_limit_s,
                             optimise_time_s=self._optimise_time_s, spacing_in=self._spacing_in,
                             roadmap=self._reusable_roadmap(vision_map))
-        return _World(vision_map, paths, CostEstimator(vision_map, self.profile.move))
+        return _World(vision_map, paths, CostEstimator(vision_map, self.robot.motion))
 
     def _reusable_roadmap(self, vision_map: VisionMap) -> Roadmap | None:
         """The current world's roadmap, pruned to what is still clear on the new map.

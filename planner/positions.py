@@ -13,8 +13,8 @@ import math
 import numpy as np
 
 from planner.geometry import Pose, ray_exit_distance, unit, wrap_360
-from planner.robot import RobotGeometry
 from planner.vision import Region
+from robot_profile import RobotGeometry
 
 
 def face_distance_in(region: Region, orientation_deg: float) -> float:

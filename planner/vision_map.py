@@ -20,8 +20,8 @@ import cv2
 import numpy as np
 
 from planner.image import OverheadImage
-from planner.robot import RobotGeometry
 from planner.vision import Scene
+from robot_profile import RobotGeometry
 
 
 @dataclass(frozen=True, eq=False)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from executive.commands import learner_cmd, learning, library, log, run
+from executive.commands import learner_cmd, library, log, offline, run
 from hero_driver import cli as driver
 
-MODULES: list[ModuleType] = [run, log, learning, library, learner_cmd, driver]
+MODULES: list[ModuleType] = [run, log, offline, library, learner_cmd, driver]

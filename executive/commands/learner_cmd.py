@@ -4,17 +4,14 @@ one library (docs/learner-protocol.md)."""
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
-import threading
 from pathlib import Path
-from types import FrameType
 
 from executive import defaults
 from learner.library import read_library_json
-from learner.service import protocol
-from learner.service.config import DEFAULT_ENDPOINT, check_endpoint
 from learner.service.local import LocalLearner
+from learner.service.protocol import learner_keys
+from zenoh_rpc.endpoints import LEARNER_ENDPOINT, check_endpoint
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -51,36 +48,31 @@ def register(sub: argparse._SubParsersAction) -> None:
     serve.add_argument("--seed-library", type=Path, default=defaults.EXAMPLE_LIBRARY, metavar="JSON",
                        help="library JSON imported only into an empty database "
                             "(default: the shipped HERO 2000 example library)")
-    serve.add_argument("--listen", default=DEFAULT_ENDPOINT, metavar="ENDPOINT",
-                       help=f"zenoh endpoint to listen on (default {DEFAULT_ENDPOINT})")
+    serve.add_argument("--listen", default=LEARNER_ENDPOINT, metavar="ENDPOINT",
+                       help=f"zenoh endpoint to listen on (default {LEARNER_ENDPOINT})")
     serve.set_defaults(handler=run_serve)
 
 
 def run_serve(args: argparse.Namespace) -> int:
     """Serve until SIGINT or SIGTERM; exit status 0 after a clean shutdown."""
-    protocol.check_name(args.name)
+    learner_keys(args.name)
     check_endpoint(args.listen)
     # Imported here: zenoh costs `csl --help` and every other command its start-up time.
     from learner.service.zenoh_node import serve_learner
+    from zenoh_rpc.serving import stop_on_signals
 
     db = args.db or defaults.library_db()
     service = LocalLearner(db, seed_library=read_library_json(args.seed_library))
-    stop = threading.Event()
-
-    def on_signal(_signum: int, _frame: FrameType | None) -> None:
-        stop.set()
 
     def on_ready() -> None:
         snapshot = service.library()
         print(f"serving learner {args.name!r} on {args.listen}: {len(snapshot.descriptions)} "
               f"descriptions, version {snapshot.version}, from {db} (Ctrl-C to stop)", flush=True)
 
-    previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
-        serve_learner(service, args.name, [args.listen], stop, on_ready=on_ready)
+        with stop_on_signals() as stop:
+            serve_learner(service, args.name, [args.listen], stop, on_ready=on_ready)
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
         service.close()
     print(f"learner {args.name!r} stopped", file=sys.stderr)
     return 0

@@ -7,8 +7,8 @@ from collections import Counter
 from pathlib import Path
 
 from executive import defaults
+from executive.profile import load_knowledge
 from executive.tables import print_table
-from learner.knowledge import load_knowledge
 from learner.library import LibraryStore, check_library, read_library_json, write_library_json
 
 

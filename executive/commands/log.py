@@ -5,7 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from executive.episode_log import EVENT_KINDS, read_log
+from behaviours.events import Event
+from executive.episode_log import read_log
+
+EVENT_KINDS = tuple(e.value for e in Event)
 
 _SKIP = {"tick", "event", "object", "behaviour"}
 

@@ -4,34 +4,40 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import py_trees
 from rich.console import Console
 
-from behaviours.context import ObjectRecord, Params
+from behaviours.records import ObjectRecord
+from behaviours.services import Params
 from executive import defaults
-from executive.args import endpoint, non_negative_int, output_folder, positive_int
+from executive.args import (add_criterion_options, criterion_from_args, endpoint, non_negative_int, output_folder,
+                            positive_int)
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
+from executive.profile import knowledge_of
 from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
 from executive.tables import print_table
 from executive.training_sources import SimulatorSource, catalogue_objects
 from hero_driver.interface import CameraImage, Driver
 from learner.costs import ModelMoveCost
-from learner.criteria import CRITERIA
-from learner.knowledge import Knowledge, load_knowledge
+from learner.criteria import Criterion
+from learner.knowledge import Knowledge
 from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
 from learner.training import train
+from robot_profile import RobotProfile, load_profile
+from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 
 
 def _executive_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE,
                    help="the robot's knowledge TOML (default: the shipped HERO 2000 profile)")
-    p.add_argument("--criterion", choices=CRITERIA, default="cs-id3", help="test evaluation function (default cs-id3)")
+    add_criterion_options(p)
     p.add_argument("--alternatives", type=positive_int, default=3, metavar="N",
                    help="alternatives tried at a node before backtracking (the paper's N, default 3)")
     p.add_argument("--nearest-after", type=positive_int, default=None, metavar="K",
@@ -63,7 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--driver", choices=("sim", "zenoh"), default="sim", help="which driver (default sim)")
     run.add_argument("--robot", default="r1", help="robot name (zenoh keys hero/ROBOT/...)")
     run.add_argument("--connect", type=endpoint, default=None, metavar="ENDPOINT",
-                     help="zenoh endpoint of the driver node (with --driver zenoh; default tcp/127.0.0.1:7447)")
+                     help=f"zenoh endpoint of the driver node (with --driver zenoh; default {DRIVER_ENDPOINT})")
     run.add_argument("--world", default=None, help="world name or file (with --driver sim; default: the lab)")
     run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
     run.add_argument("--library", type=Path, default=None,
@@ -72,19 +78,35 @@ def register(sub: argparse._SubParsersAction) -> None:
                      help="learner service: in this process, or shared over zenoh (csl learner serve)")
     run.add_argument("--learner-name", default=None, help="name of the zenoh learner service (default 'default')")
     run.add_argument("--learner-connect", type=endpoint, default=None, metavar="ENDPOINT",
-                     help="zenoh endpoint of the learner service (with --learner zenoh; default tcp/127.0.0.1:7448)")
+                     help=f"zenoh endpoint of the learner service (with --learner zenoh; default {LEARNER_ENDPOINT})")
     _executive_options(run)
     run.set_defaults(handler=run_run)
 
     bt = sub.add_parser("bt", help="show the behaviour tree",
                         description="Print the executive's behaviour tree, or render it to a PNG.")
     bt.add_argument("--render", type=Path, metavar="PNG", help="write the tree as a PNG picture")
-    bt.add_argument("--unicode", action="store_true", help="draw with box-drawing connectors (default: ascii indents)")
+    bt.add_argument("--unicode", action="store_true", help="draw with py_trees' unicode symbols (default: ascii)")
     bt.set_defaults(handler=run_bt)
 
 
-def _params(args: argparse.Namespace) -> Params:
-    return Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after, max_steps=args.max_steps)
+@dataclass(frozen=True)
+class Setup:
+    """What the arguments choose, read and checked before anything runs: the robot's
+    profile (one reading serves the learner, the planner and the simulator), the
+    control parameters and the criterion."""
+
+    profile: RobotProfile
+    knowledge: Knowledge
+    params: Params
+    criterion: Criterion
+
+
+def _setup(args: argparse.Namespace) -> Setup:
+    profile = load_profile(args.knowledge)
+    return Setup(profile, knowledge_of(profile),
+                 Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
+                        max_steps=args.max_steps),
+                 criterion_from_args(args))
 
 
 def _only_with(args: argparse.Namespace, mode: str, value: str, options: tuple[str, ...]) -> None:
@@ -96,15 +118,15 @@ def _only_with(args: argparse.Namespace, mode: str, value: str, options: tuple[s
 
 def run_demo(args: argparse.Namespace) -> int:
     console = Console(stderr=True, soft_wrap=True)
-    knowledge = load_knowledge(args.knowledge)
-    params = _params(args)
+    setup = _setup(args)
+    knowledge = setup.knowledge
     output_folder(args.out, "--out")
     from hero_driver.sim_driver import SimulatedHero
 
-    driver = SimulatedHero("r1", world=args.world, seed=args.seed)  # a bad world fails before training
+    driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile)  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
-        result = train(catalogue_objects("training"), knowledge, SimulatorSource(args.seed),
-                       ModelMoveCost(knowledge.move))
+        source = SimulatorSource(args.seed, profile=setup.profile)
+        result = train(catalogue_objects("training"), knowledge, source, ModelMoveCost(knowledge.move))
     log = result.log
     console.print(f"trained: {len(result.descriptions)} descriptions at distances "
                   f"{', '.join(f'{d:g}' for d in log.distances)} in and orientations "
@@ -112,13 +134,12 @@ def run_demo(args: argparse.Namespace) -> int:
     store = args.out / "library.sqlite"
     store.unlink(missing_ok=True)
     learner = LocalLearner(store, seed_library=list(result.descriptions))
-    return _episode(args, driver, learner, knowledge, params, console)
+    return _episode(args, driver, learner, setup, console)
 
 
 def run_run(args: argparse.Namespace) -> int:
     console = Console(stderr=True, soft_wrap=True)
-    knowledge = load_knowledge(args.knowledge)
-    params = _params(args)
+    setup = _setup(args)
     if args.driver == "sim":
         _only_with(args, "--driver", "zenoh", ("--connect",))
     else:
@@ -130,32 +151,32 @@ def run_run(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
     learner = _learner(args)
     try:
-        driver = _driver(args)
+        driver = _driver(args, setup.profile)
     except BaseException:
         learner.close()
         raise
-    return _episode(args, driver, learner, knowledge, params, console)
+    return _episode(args, driver, learner, setup, console)
 
 
 def _learner(args: argparse.Namespace) -> LearnerService:
     if args.learner == "zenoh":
         from learner.service.zenoh_client import ZenohLearner
 
-        return ZenohLearner(args.learner_name or "default", connect=[args.learner_connect or "tcp/127.0.0.1:7448"])
+        return ZenohLearner(args.learner_name or "default", connect=[args.learner_connect or LEARNER_ENDPOINT])
     path = args.library or defaults.library_db()
     if path.is_dir():
         raise ValueError(f"--library: {path} is a folder, not a library database")
     return LocalLearner(path, seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
 
 
-def _driver(args: argparse.Namespace) -> Driver:
+def _driver(args: argparse.Namespace, profile: RobotProfile) -> Driver:
     if args.driver == "sim":
         from hero_driver.sim_driver import SimulatedHero
 
-        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0)
+        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0, profile=profile)
     from hero_driver.zenoh_link.client import ZenohDriver
 
-    connect = args.connect or "tcp/127.0.0.1:7447"
+    connect = args.connect or DRIVER_ENDPOINT
     driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0)
     if not driver.wait_ready(5.0):  # alive, and its first state published
         driver.close()
@@ -164,23 +185,23 @@ def _driver(args: argparse.Namespace) -> Driver:
     return driver
 
 
-def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, knowledge: Knowledge,
-             params: Params, console: Console) -> int:
+def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, setup: Setup,
+             console: Console) -> int:
     """Run one episode and report it; the driver and learner are closed however it ends
     (an open zenoh session would keep the process alive)."""
     try:
-        return _report_episode(args, driver, learner, knowledge, params, console)
+        return _report_episode(args, driver, learner, setup, console)
     finally:
         driver.close()
         learner.close()
 
 
-def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, knowledge: Knowledge,
-                    params: Params, console: Console) -> int:
-    check_library(learner.library().descriptions, knowledge, "the library")  # before the robot moves
+def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, setup: Setup,
+                    console: Console) -> int:
+    check_library(learner.library().descriptions, setup.knowledge, "the library")  # before the robot moves
     log = EpisodeLog(args.out / "episode.jsonl")
-    executive = Executive(driver, learner, knowledge, profile=defaults.KNOWLEDGE, params=params,
-                          criterion_name=args.criterion, log=log)
+    executive = Executive(driver, learner, profile=setup.profile, params=setup.params, criterion=setup.criterion,
+                          log=log)
     first_image = driver.camera().result(timeout=60)
     start = driver.state().pose
     truths = _truths(driver, [])
@@ -244,14 +265,13 @@ def _plots(out: Path, executive: Executive, result: EpisodeResult, image: Camera
 
 
 def run_bt(args: argparse.Namespace) -> int:
-    from executive.tree_shape import outline, shape_tree
+    from executive.behaviour_tree import build_tree
 
-    root = shape_tree()
+    root = build_tree()
     if args.render:
         plot_behaviour_tree(args.render, root)
         print(f"wrote {args.render}")
         return 0
-    text = outline(root) if args.unicode else py_trees.display.ascii_tree(root)
+    text = py_trees.display.unicode_tree(root) if args.unicode else py_trees.display.ascii_tree(root)
     sys.stdout.write(text + ("\n" if not text.endswith("\n") else ""))
     return 0
-

@@ -1,7 +1,7 @@
 """Sensor and actuator imperfections, all drawn from the world's seeded generator.
 
 Sonar values stay within a procedure's *expected error* unless an outlier is drawn,
-because the learner merges values that agree within that error (method.md §3): noise
+because the learner merges values that agree within that error (docs/method.md §3): noise
 inside the band is what the learner is built to tolerate, outliers and dropouts are
 what reselection and backtracking are for.
 """

@@ -11,8 +11,9 @@ import math
 
 from hero_driver.interface import Pose, SenseResult
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import SimWorld, knowledge, normalise_deg
+from hero_driver.sim.world import SimWorld, normalise_deg, profile_and_catalogue
 from hero_driver.sim.worldfile import one_object_world
+from robot_profile import RobotProfile
 
 
 def approach_pose(sim: SimWorld, index: int, distance_in: float, orientation_deg: float) -> Pose:
@@ -30,30 +31,31 @@ def approach_pose(sim: SimWorld, index: int, distance_in: float, orientation_deg
     far = 1000.0
     hit = obj.shape.segment_query((obj.x_in + far * ux, obj.y_in + far * uy), (obj.x_in, obj.y_in), 0.0)
     r_face = far * (1.0 - float(hit.alpha))
-    reach = r_face + distance_in + sim.profile.robot.sensor_offset_in
+    reach = r_face + distance_in + sim.profile.robot.geometry.sensor_offset_in
     return Pose(obj.x_in + reach * ux, obj.y_in + reach * uy, normalise_deg(alpha + orientation_deg + 180.0))
 
 
-def _probe_world(entry_id: str, seed: int, noise: bool) -> SimWorld:
-    _, catalogue = knowledge()
-    return SimWorld(one_object_world(entry_id, catalogue), seed,
+def _probe_world(entry_id: str, seed: int, noise: bool, profile: RobotProfile | None) -> SimWorld:
+    loaded, catalogue = profile_and_catalogue(profile)
+    return SimWorld(one_object_world(entry_id, catalogue), seed, profile=loaded,
                     noise=NoiseConfig() if noise else NoiseConfig.off())
 
 
 def probe(entry_id: str, procedure: str, distance_in: float, orientation_deg: float,
-          seed: int = 0, noise: bool = False) -> SenseResult:
+          seed: int = 0, noise: bool = False, profile: RobotProfile | None = None) -> SenseResult:
     """Apply ``procedure`` to ``entry_id`` seen from ``(distance, orientation)``;
     raises DriverError as the driver would (out of range, unknown procedure)."""
-    sim = _probe_world(entry_id, seed, noise)
+    sim = _probe_world(entry_id, seed, noise, profile)
     sim.pose = approach_pose(sim, 0, distance_in, orientation_deg)
     return sim.sense(procedure)
 
 
-def grasp_probe(entry_id: str, grasp: str, orientation_deg: float, seed: int = 0) -> bool:
+def grasp_probe(entry_id: str, grasp: str, orientation_deg: float, seed: int = 0,
+                profile: RobotProfile | None = None) -> bool:
     """Whether ``grasp`` picks ``entry_id`` up when approached from ``orientation`` at
     the near end of the grasp's range (6 in for the HERO's grasps)."""
-    sim = _probe_world(entry_id, seed, noise=False)
-    spec = sim.profile.grasping.get(grasp)
+    sim = _probe_world(entry_id, seed, False, profile)
+    spec = sim.profile.grasping_procedure(grasp)
     distance = spec.range_in[0] if spec is not None else 0.0  # unknown: grasp() refuses it
     sim.pose = approach_pose(sim, 0, distance, orientation_deg)
     return sim.grasp(grasp).success

@@ -25,8 +25,8 @@ from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
 from hero_driver.sim.noise import NoiseConfig, perturb, perturb_flag
 from hero_driver.sim.physics import Physics, SimObject
-from hero_driver.sim.profile import Profile, load_profile
 from hero_driver.sim.worldfile import WorldSpec, load_world
+from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile
 
 RANGE_TOLERANCE_IN = 1.5  # docs/conventions.md: a procedure accepts its range ± this
 CENTRING_RADIUS_IN = 12.0  # sonar centring finds an object whose centre is this near `face`
@@ -56,11 +56,12 @@ class ObjectTruth:
 
 
 @lru_cache(maxsize=4)
-def knowledge(profile: str | None = None) -> tuple[Profile, Mapping[str, CatalogueEntry]]:
-    """The profile and the shipped catalogue, read once per profile: training probes
-    build thousands of one-object worlds and must not re-parse files each time."""
-    loaded = load_profile(profile)
-    return loaded, MappingProxyType(load_catalogue(loaded.grasping))
+def profile_and_catalogue(profile: RobotProfile | None = None) -> tuple[RobotProfile, Mapping[str, CatalogueEntry]]:
+    """The profile (None: the shipped one) and the shipped catalogue checked against
+    its grasps, read once per profile: training probes build thousands of one-object
+    worlds and must not re-parse files each time."""
+    loaded = load_profile(DEFAULT_PROFILE) if profile is None else profile
+    return loaded, MappingProxyType(load_catalogue(loaded.grasp_names))
 
 
 def _wrap_deg(angle: float) -> float:
@@ -77,17 +78,16 @@ class SimWorld:
     """The simulated robot and its world; see the module docstring."""
 
     def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
-                 profile: str | Path | None = None, noise: NoiseConfig | None = None) -> None:
-        self.profile, self.catalogue = knowledge(None if profile is None else str(profile))
+                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None) -> None:
+        self.profile, self.catalogue = profile_and_catalogue(profile)
         self._explicit_noise = noise
         self.load(world if isinstance(world, WorldSpec) else load_world(world, self.catalogue), seed)
 
     def load(self, spec: WorldSpec, seed: int) -> None:
         """Put the world back to the spec's initial state with a fresh random stream."""
-        robot = self.profile.robot
         physics = Physics(spec, self.catalogue)
         x, y, heading = spec.robot
-        if physics.overlaps_disc((x, y), robot.base_radius_in):
+        if physics.overlaps_disc((x, y), self.profile.robot.geometry.base_radius_in):
             raise ValueError(f"{spec.source}: robot: base at ({x:g}, {y:g}) overlaps a wall, furniture or object")
         self.spec, self.seed, self.physics = spec, seed, physics
         self.noise = next((n for n in (self._explicit_noise, spec.noise) if n is not None), NoiseConfig())
@@ -109,7 +109,7 @@ class SimWorld:
 
     def sonar_point(self) -> tuple[float, float]:
         h = math.radians(self.pose.heading_deg)
-        off = self.profile.robot.sensor_offset_in
+        off = self.profile.robot.geometry.sensor_offset_in
         return self.pose.x_in + off * math.cos(h), self.pose.y_in + off * math.sin(h)
 
     # -- moving ------------------------------------------------------------------
@@ -120,8 +120,8 @@ class SimWorld:
         object there, or else to the last waypoint's heading."""
         if not waypoints or not all(isinstance(w, Pose) for w in waypoints):
             raise DriverError(BAD_REQUEST, "move: waypoints must be a non-empty list of Pose")
-        robot = self.profile.robot
-        duration = robot.vision_s
+        motion, radius = self.profile.robot.motion, self.profile.robot.geometry.base_radius_in
+        duration = motion.vision_s
         x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg
         collided = False
         for wp in waypoints:
@@ -130,12 +130,12 @@ class SimWorld:
             if length < 1e-6:
                 continue
             course = math.degrees(math.atan2(dy, dx))
-            duration += abs(_wrap_deg(course - heading)) / robot.turn_deg_per_s
+            duration += abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
             heading = course
-            alpha = self.physics.sweep_circle((x, y), (wp.x_in, wp.y_in), robot.base_radius_in)
+            alpha = self.physics.sweep_circle((x, y), (wp.x_in, wp.y_in), radius)
             travel = length if alpha is None else max(0.0, alpha * length - COLLISION_BACKOFF_IN)
             collided = alpha is not None
-            duration += travel / robot.speed_in_per_s
+            duration += travel / motion.speed_in_per_s
             stop = (wp.x_in, wp.y_in) if alpha is None else (x + travel * dx / length, y + travel * dy / length)
             x, y = self._odometry(stop, course, travel)
             if collided:
@@ -146,12 +146,12 @@ class SimWorld:
                 target = self._centring_target(x, y, face)
                 goal = (target.x_in, target.y_in) if target is not None else face
                 final = math.degrees(math.atan2(goal[1] - y, goal[0] - x))
-                duration += abs(_wrap_deg(final - heading)) / robot.turn_deg_per_s + robot.centring_s
+                duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s + motion.centring_s
                 centred = target is not None
                 heading = final if centred else final + self._heading_error()
             else:
                 final = waypoints[-1].heading_deg
-                duration += abs(_wrap_deg(final - heading)) / robot.turn_deg_per_s
+                duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s
                 heading = final + self._heading_error()
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
@@ -167,7 +167,7 @@ class SimWorld:
         c, s = math.cos(math.radians(course_deg)), math.sin(math.radians(course_deg))
         along, across = self.rng.normal(0.0, sigma, 2)
         jx, jy = stop[0] + along * c - across * s, stop[1] + along * s + across * c
-        if self.physics.overlaps_disc((jx, jy), self.profile.robot.base_radius_in):
+        if self.physics.overlaps_disc((jx, jy), self.profile.robot.geometry.base_radius_in):
             return stop
         return float(jx), float(jy)
 
@@ -196,10 +196,10 @@ class SimWorld:
         if not lo - RANGE_TOLERANCE_IN <= distance <= hi + RANGE_TOLERANCE_IN:
             raise DriverError(OUT_OF_RANGE, f"{procedure}: object at {distance:.1f} in, range is {lo:g}-{hi:g} in")
         return sonar.Aim(origin, self.pose.heading_deg, target, distance,
-                         self.profile.robot.sensor_height_in, hi + RANGE_TOLERANCE_IN)
+                         self.profile.robot.geometry.sensor_height_in, hi + RANGE_TOLERANCE_IN)
 
     def sense(self, procedure: str) -> SenseResult:
-        spec = self.profile.sensing.get(procedure)
+        spec = self.profile.sensing_procedure(procedure)
         model = sonar.PROCEDURES.get(procedure)
         if spec is None or model is None:
             raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure '{procedure}'")
@@ -228,7 +228,7 @@ class SimWorld:
     # -- grasping ----------------------------------------------------------------
 
     def grasp(self, procedure: str) -> GraspResult:
-        spec = self.profile.grasping.get(procedure)
+        spec = self.profile.grasping_procedure(procedure)
         if spec is None:
             raise DriverError(UNKNOWN_PROCEDURE, f"grasp: unknown grasping procedure '{procedure}'")
         if self.held is not None:
@@ -289,5 +289,5 @@ class SimWorld:
     def camera(self) -> CameraImage:
         """The overhead image (vision time is charged to moves, not here)."""
         floor = [(o.entry.footprint, o.x_in, o.y_in, o.yaw_deg) for o in self.physics.objects if o.status == "floor"]
-        return camera.render(self.spec, floor, self.pose, self.profile.robot.base_radius_in,
+        return camera.render(self.spec, floor, self.pose, self.profile.robot.geometry.base_radius_in,
                              self.noise, self.rng, self.clock_s)

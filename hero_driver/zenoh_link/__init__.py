@@ -2,6 +2,7 @@
 
 ``node.serve`` / ``node.DriverNode`` put a driver on the keys of
 ``docs/driver-protocol.md``; ``client.ZenohDriver`` drives whatever serves them;
-``config.make_config`` builds the peer-mode configuration both sides use;
-``conformance`` checks a driver process against the protocol.
+``verbs`` is the table of verbs both sides (and ``conformance``, which checks a
+driver process against the protocol) read. Sessions, keys, queryables and the
+liveliness token come from the shared :mod:`zenoh_rpc` kit.
 """

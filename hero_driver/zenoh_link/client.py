@@ -17,10 +17,9 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, InvalidStateError
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import zenoh
@@ -38,45 +37,42 @@ from hero_driver.interface import (
     RobotState,
     SenseResult,
 )
-from hero_driver.zenoh_link import codec, keys
-from hero_driver.zenoh_link.codec import (
-    CodecError,
-    EmptyRequest,
-    MoveRequest,
-    ProcedureRequest,
-    Request,
-    ResetRequest,
-)
-from hero_driver.zenoh_link.config import DEFAULT_ENDPOINT, open_session
+from hero_driver.zenoh_link import codec
+from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request, ResetRequest
+from hero_driver.zenoh_link.keys import robot_keys
+from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
+from zenoh_rpc.client import Reply, RpcClient
+from zenoh_rpc.config import open_session
+from zenoh_rpc.endpoints import DRIVER_ENDPOINT
 
 log = logging.getLogger(__name__)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class VerbTimeouts:
     """Wall-clock seconds a verb may take before its future fails with ``timeout``.
 
-    Generous by default because a real HERO moves at half an inch a second and a
-    fine sonar sweep takes minutes; the simulator answers in milliseconds.
+    Built as ``VerbTimeouts(move_s=0.3)``: every verb not named keeps its default
+    from the verb table, generous because a real HERO moves at half an inch a second
+    and a fine sonar sweep takes minutes; the simulator answers in milliseconds.
     """
 
-    move_s: float = 900.0
-    sense_s: float = 300.0
-    grasp_s: float = 300.0
-    release_s: float = 120.0
-    camera_s: float = 30.0
-    reset_s: float = 120.0
-    noop_s: float = 5.0
+    seconds: tuple[tuple[str, float], ...]
 
-    def __post_init__(self) -> None:
-        for spec in fields(self):
-            value = getattr(self, spec.name)
+    def __init__(self, **overrides: float) -> None:
+        known = {f"{verb.name}_s": verb.timeout_s for verb in VERBS}
+        for name, value in overrides.items():
+            if name not in known:
+                raise TypeError(f"VerbTimeouts has no {name!r} (verbs: {', '.join(known)})")
             if not value > 0:
-                raise ValueError(f"{spec.name} must be a positive number of seconds, got {value}")
+                raise ValueError(f"{name} must be a positive number of seconds, got {value}")
+        chosen = {**known, **overrides}
+        object.__setattr__(self, "seconds", tuple((name.removesuffix("_s"), float(chosen[name]))
+                                                  for name in known))
 
     def of(self, verb: str) -> float:
         """The timeout of ``verb``."""
-        return float(getattr(self, f"{verb}_s"))
+        return dict(self.seconds)[verb]
 
 
 class ZenohDriver:
@@ -89,22 +85,23 @@ class ZenohDriver:
     picked up when its token appears (see :attr:`alive`, :meth:`wait_ready`).
     """
 
-    def __init__(self, robot: str = "r1", *, connect: Sequence[str] = (DEFAULT_ENDPOINT,),
+    def __init__(self, robot: str = "r1", *, connect: Sequence[str] = (DRIVER_ENDPOINT,),
                  timeouts: VerbTimeouts = VerbTimeouts(), session: zenoh.Session | None = None,
                  discover_s: float = 1.0) -> None:
-        self.robot = keys.check_robot(robot)
+        self._keys = robot_keys(robot)
+        self.robot = self._keys.name
         self.timeouts = timeouts
         self._owns_session = session is None
         self._session = open_session(connect=connect) if session is None else session
+        self._rpc = RpcClient(self._session, self._keys)
         self._lock = threading.Condition()
         self._alive = False
         self._liveliness_events = 0  # bumped by every token change, to ignore stale queries
         self._state: RobotState | None = None
         self._pending: set[_Call] = set()
         self._closed = False
-        self._state_sub = self._session.declare_subscriber(keys.state_key(robot), self._on_state)
-        liveliness = self._session.liveliness()
-        self._token_sub = liveliness.declare_subscriber(keys.alive_key(robot), self._on_token)
+        self._state_sub = self._session.declare_subscriber(self._keys.state, self._on_state)
+        self._token_sub = self._rpc.watch_alive(self._on_token)
         self._query_liveliness()
         with self._lock:  # the session may still be connecting: give the token a moment
             self._lock.wait_for(lambda: self._alive, discover_s)
@@ -127,8 +124,8 @@ class ZenohDriver:
         with self._lock:
             return self._lock.wait_for(lambda: not self._alive, timeout_s)
 
-    def _on_token(self, sample: zenoh.Sample) -> None:
-        if sample.kind == zenoh.SampleKind.PUT:
+    def _on_token(self, appeared: bool) -> None:
+        if appeared:
             with self._lock:
                 self._liveliness_events += 1
                 self._alive = not self._closed
@@ -136,14 +133,19 @@ class ZenohDriver:
             return
         with self._lock:
             self._liveliness_events += 1
-            self._alive = False
-            self._state = None
-            orphans, self._pending = self._pending, set()
-            self._lock.notify_all()
+            orphans = self._lose_driver()
         for call in orphans:
             call.fail(DriverError(UNAVAILABLE, f"{call.verb}: driver for {self.robot} went away"))
         # Another process may still hold a token under the same name.
         self._query_liveliness()
+
+    def _lose_driver(self) -> set[_Call]:
+        """With the lock held: no driver, no state; the verbs in flight, to fail."""
+        self._alive = False
+        self._state = None
+        orphans, self._pending = self._pending, set()
+        self._lock.notify_all()
+        return orphans
 
     def _query_liveliness(self) -> None:
         """Ask which tokens exist now (the subscriber only reports changes)."""
@@ -152,16 +154,14 @@ class ZenohDriver:
             if self._closed:
                 return  # a token change racing close(): the session is going away
 
-        def on_reply(reply: zenoh.Reply) -> None:
-            if reply.ok is None:
-                return
+        def on_found() -> None:
             with self._lock:
                 if self._liveliness_events == generation and not self._closed:
                     self._alive = True
                     self._lock.notify_all()
 
         try:
-            self._session.liveliness().get(keys.alive_key(self.robot), on_reply)
+            self._rpc.query_alive(on_found)
         except zenoh.ZError:
             if not self._closed:  # closed between the check above and the query: nothing to ask
                 raise
@@ -222,7 +222,7 @@ class ZenohDriver:
         future: Future[Any] = Future()
         future.set_running_or_notify_cancel()  # a robot verb under way cannot be called back
         try:
-            payload = codec.encode_request(build())
+            payload = BY_NAME[verb].encode_request(build())
         except (CodecError, TypeError) as exc:
             future.set_exception(DriverError(BAD_REQUEST, f"{verb}: {exc}"))
             return future
@@ -231,7 +231,7 @@ class ZenohDriver:
             if self._closed:
                 refusal = "the client is closed"
             elif not self._alive:
-                refusal = f"no driver serves {self.robot} (no token on {keys.alive_key(self.robot)})"
+                refusal = f"no driver serves {self.robot} (no token on {self._keys.alive})"
             else:
                 refusal = ""
                 self._pending.add(call)
@@ -239,13 +239,9 @@ class ZenohDriver:
             future.set_exception(DriverError(UNAVAILABLE, f"{verb}: {refusal}"))
             return future
         try:
-            # Replies are handled on zenoh's own thread (indirect=False): it halves the
-            # round trip's tail, at the price that a future's done-callbacks run there
-            # and must not block (behaviours poll ``done()`` in ``update`` instead).
-            self._session.get(keys.rpc_key(self.robot, verb),
-                              zenoh.handlers.Callback(call.on_reply, call.on_done, indirect=False),
-                              payload=payload, encoding=zenoh.Encoding.APPLICATION_JSON,
-                              consolidation=zenoh.ConsolidationMode.NONE, timeout=call.timeout_s)
+            # Futures complete on zenoh's thread: behaviours poll ``done()`` in
+            # ``update`` rather than block in a done-callback.
+            self._rpc.send(verb, payload, call.timeout_s, call.on_reply, call.on_done)
         except zenoh.ZError as exc:
             call.fail(DriverError(UNAVAILABLE, f"{verb}: {exc}"))
         return future
@@ -260,10 +256,7 @@ class ZenohDriver:
             if self._closed:
                 return
             self._closed = True
-            self._alive = False
-            self._state = None
-            orphans, self._pending = self._pending, set()
-            self._lock.notify_all()
+            orphans = self._lose_driver()
         for call in orphans:
             call.fail(DriverError(UNAVAILABLE, f"{call.verb}: the client is closed"))
         self._token_sub.undeclare()
@@ -287,53 +280,43 @@ class _Call:
         self.verb = verb
         self.future = future
         self.timeout_s = timeout_s
-        self.started = time.monotonic()
 
-    def _timed_out(self) -> bool:
-        # zenoh finishes a query that outlived its timeout with a plain-text error
-        # reply and then the drop; both are recognised by the time they arrive.
-        return time.monotonic() - self.started >= self.timeout_s * 0.99
-
-    def on_reply(self, reply: zenoh.Reply) -> None:
+    def on_reply(self, reply: Reply) -> None:
         if reply.ok is not None:
             try:
-                result = codec.decode_result(self.verb, reply.ok.payload.to_bytes())
+                result = BY_NAME[self.verb].decode_result(reply.ok)
             except CodecError as exc:
                 self.fail(DriverError(INTERNAL, f"{self.verb}: malformed reply from the driver: {exc}"))
                 return
             if isinstance(result, RobotState):
                 self.client._set_state(result)
-            self.succeed(result)
+            self._complete(lambda: self.future.set_result(result))
             return
         try:
-            error = codec.decode_error(reply.err.payload.to_bytes())
+            error = codec.decode_error(reply.err or b"")
         except CodecError as exc:
-            if self._timed_out():
+            if reply.late:  # zenoh's own plain-text end of an unanswered query
                 error = self._timeout()
             else:
                 error = DriverError(INTERNAL, f"{self.verb}: malformed error reply from the driver: {exc}")
         self.fail(error)
 
-    def on_done(self) -> None:
-        if self._timed_out():
+    def on_done(self, late: bool) -> None:
+        if late:
             self.fail(self._timeout())
         else:
             self.fail(DriverError(UNAVAILABLE, f"{self.verb}: no driver answered on "
-                                  f"{keys.rpc_key(self.client.robot, self.verb)}"))
+                                  f"{self.client._keys.rpc(self.verb)}"))
 
     def _timeout(self) -> DriverError:
         return DriverError(TIMEOUT, f"{self.verb}: no reply within {self.timeout_s:g} s")
 
-    def succeed(self, result: Any) -> None:
-        self.client._forget(self)
-        try:
-            self.future.set_result(result)
-        except InvalidStateError:
-            pass  # already completed by an earlier reply, the deadline or the token
-
     def fail(self, error: DriverError) -> None:
+        self._complete(lambda: self.future.set_exception(error))
+
+    def _complete(self, settle: Callable[[], None]) -> None:
         self.client._forget(self)
         try:
-            self.future.set_exception(error)
+            settle()
         except InvalidStateError:
             pass  # already completed by an earlier reply, the deadline or the token

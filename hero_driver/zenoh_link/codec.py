@@ -9,7 +9,8 @@ caught on its own side before anything is sent.
 
 Problems raise :class:`CodecError` naming the field path (``waypoints[1].x_in``); the
 node answers them as ``bad_request``, the client reports a malformed reply as
-``internal``. The formats are specified in ``docs/driver-protocol.md``.
+``internal``. The formats are specified in ``docs/driver-protocol.md``; which codec
+each verb's request and reply use is said once, in the verb table (:mod:`.verbs`).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import binascii
 import json
 import math
 import numbers
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -214,7 +215,7 @@ def _pose_in(obj: object, path: str) -> Pose:
                 _real(fields["heading_deg"], f"{path}.heading_deg"))
 
 
-def _state_out(state: object) -> Json:
+def state_out(state: object) -> Json:
     if not isinstance(state, RobotState):
         raise CodecError(f"message: expected a RobotState, got {type(state).__name__}")
     return {"pose": _pose_out(state.pose, "pose"),
@@ -222,7 +223,7 @@ def _state_out(state: object) -> Json:
             "battery": _between(_real(state.battery, "battery"), 0.0, 1.0, "battery")}
 
 
-def _state_in(message: Json) -> RobotState:
+def state_in(message: Json) -> RobotState:
     fields = _fields(message, "", ("pose", "clock_s", "battery"))
     return RobotState(_pose_in(fields["pose"], "pose"),
                       _not_negative(_real(fields["clock_s"], "clock_s"), "clock_s"),
@@ -232,17 +233,17 @@ def _state_in(message: Json) -> RobotState:
 def encode_state(state: RobotState) -> bytes:
     """The body of a ``hero/<robot>/state`` publication (also the reply of
     ``release`` and ``reset``)."""
-    return dumps(_state_out(state))
+    return dumps(state_out(state))
 
 
 def decode_state(data: bytes) -> RobotState:
-    return _state_in(loads(data))
+    return state_in(loads(data))
 
 
 # ----------------------------------------------------------------------------- requests
 
 
-def _move_request_in(message: Json) -> MoveRequest:
+def move_request_in(message: Json) -> MoveRequest:
     fields = _fields(message, "", ("waypoints",), ("face",))
     items = _array(fields["waypoints"], "waypoints")
     if not items:
@@ -254,7 +255,7 @@ def _move_request_in(message: Json) -> MoveRequest:
     )
 
 
-def _move_request_out(request: MoveRequest) -> Json:
+def move_request_out(request: MoveRequest) -> Json:
     if not request.waypoints:
         raise CodecError("waypoints: expected at least one pose (the goal)")
     waypoints = [_pose_out(p, f"waypoints[{i}]") for i, p in enumerate(_array(request.waypoints, "waypoints"))]
@@ -262,55 +263,40 @@ def _move_request_out(request: MoveRequest) -> Json:
     return {"waypoints": waypoints, "face": face}
 
 
-def _procedure_request_in(message: Json) -> ProcedureRequest:
+def procedure_request_in(message: Json) -> ProcedureRequest:
     fields = _fields(message, "", ("procedure",))
     return ProcedureRequest(_name(fields["procedure"], "procedure"))
 
 
-def _reset_request_in(message: Json) -> ResetRequest:
+def reset_request_in(message: Json) -> ResetRequest:
     fields = _fields(message, "", (), ("world", "seed"))
     world, seed = fields.get("world"), fields.get("seed")
     return ResetRequest(None if world is None else _name(world, "world"),
                         None if seed is None else _integer(seed, "seed"))
 
 
-def _empty_request_in(message: Json) -> EmptyRequest:
+def empty_request_in(message: Json) -> EmptyRequest:
     _fields(message, "", ())
     return EmptyRequest()
 
 
-_REQUEST_DECODERS: dict[str, Callable[[Json], Request]] = {
-    "move": _move_request_in,
-    "sense": _procedure_request_in,
-    "grasp": _procedure_request_in,
-    "release": _empty_request_in,
-    "camera": _empty_request_in,
-    "reset": _reset_request_in,
-    "noop": _empty_request_in,
-}
+def procedure_request_out(request: ProcedureRequest) -> Json:
+    return {"procedure": _name(request.procedure, "procedure")}
 
 
-def decode_request(verb: str, data: bytes) -> Request:
-    """Parse the request of a known ``verb``."""
-    return _REQUEST_DECODERS[verb](loads(data))
+def reset_request_out(request: ResetRequest) -> Json:
+    return {"world": None if request.world is None else _name(request.world, "world"),
+            "seed": None if request.seed is None else _integer(request.seed, "seed")}
 
 
-def encode_request(request: Request) -> bytes:
-    """The query payload for ``request`` (the verb is the key, not part of the body)."""
-    if isinstance(request, MoveRequest):
-        return dumps(_move_request_out(request))
-    if isinstance(request, ProcedureRequest):
-        return dumps({"procedure": _name(request.procedure, "procedure")})
-    if isinstance(request, ResetRequest):
-        return dumps({"world": None if request.world is None else _name(request.world, "world"),
-                      "seed": None if request.seed is None else _integer(request.seed, "seed")})
-    return dumps({})
+def empty_request_out(_request: EmptyRequest) -> Json:
+    return {}
 
 
 # ------------------------------------------------------------------------------ replies
 
 
-def _move_result_out(result: object) -> Json:
+def move_result_out(result: object) -> Json:
     if not isinstance(result, MoveResult):
         raise CodecError(f"message: expected a MoveResult, got {type(result).__name__}")
     return {"pose": _pose_out(result.pose, "pose"),
@@ -319,7 +305,7 @@ def _move_result_out(result: object) -> Json:
             "centred": _boolean(result.centred, "centred")}
 
 
-def _move_result_in(message: Json) -> MoveResult:
+def move_result_in(message: Json) -> MoveResult:
     fields = _fields(message, "", ("pose", "duration_s", "collided", "centred"))
     return MoveResult(_pose_in(fields["pose"], "pose"),
                       _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"),
@@ -337,7 +323,7 @@ def _feature_values(values: object, path: str) -> dict[str, float | None]:
     return out
 
 
-def _sense_result_out(result: object) -> Json:
+def sense_result_out(result: object) -> Json:
     if not isinstance(result, SenseResult):
         raise CodecError(f"message: expected a SenseResult, got {type(result).__name__}")
     return {"procedure": _name(result.procedure, "procedure"),
@@ -346,7 +332,7 @@ def _sense_result_out(result: object) -> Json:
             "distance_in": _not_negative(_real(result.distance_in, "distance_in"), "distance_in")}
 
 
-def _sense_result_in(message: Json) -> SenseResult:
+def sense_result_in(message: Json) -> SenseResult:
     fields = _fields(message, "", ("procedure", "values", "duration_s", "distance_in"))
     return SenseResult(_name(fields["procedure"], "procedure"),
                        _feature_values(fields["values"], "values"),
@@ -354,7 +340,7 @@ def _sense_result_in(message: Json) -> SenseResult:
                        _not_negative(_real(fields["distance_in"], "distance_in"), "distance_in"))
 
 
-def _grasp_result_out(result: object) -> Json:
+def grasp_result_out(result: object) -> Json:
     if not isinstance(result, GraspResult):
         raise CodecError(f"message: expected a GraspResult, got {type(result).__name__}")
     return {"procedure": _name(result.procedure, "procedure"),
@@ -362,7 +348,7 @@ def _grasp_result_out(result: object) -> Json:
             "duration_s": _not_negative(_real(result.duration_s, "duration_s"), "duration_s")}
 
 
-def _grasp_result_in(message: Json) -> GraspResult:
+def grasp_result_in(message: Json) -> GraspResult:
     fields = _fields(message, "", ("procedure", "success", "duration_s"))
     return GraspResult(_name(fields["procedure"], "procedure"),
                        _boolean(fields["success"], "success"),
@@ -437,7 +423,7 @@ def _numpy_to_json(value: object) -> object:
     raise TypeError(f"{type(value).__name__} is not JSON")
 
 
-def _camera_out(image: object) -> Json:
+def camera_out(image: object) -> Json:
     if not isinstance(image, CameraImage):
         raise CodecError(f"message: expected a CameraImage, got {type(image).__name__}")
     matrix = None
@@ -455,7 +441,7 @@ def _camera_out(image: object) -> Json:
             "meta": _meta_out(image.meta)}
 
 
-def _camera_in(message: Json) -> CameraImage:
+def camera_in(message: Json) -> CameraImage:
     fields = _fields(message, "", ("image", "inches_per_pixel", "origin_x_in", "origin_y_in"),
                      ("camera_matrix", "fisheye", "clock_s", "meta"))
     matrix = fields.get("camera_matrix")
@@ -480,45 +466,14 @@ def _camera_in(message: Json) -> CameraImage:
     )
 
 
-def _noop_out(result: object) -> Json:
+def noop_out(result: object) -> Json:
     if result is not None:
         raise CodecError(f"message: noop returns nothing, got {type(result).__name__}")
     return {}
 
 
-def _noop_in(message: Json) -> None:
+def noop_in(message: Json) -> None:
     _fields(message, "", ())
-
-
-_RESULT_ENCODERS: dict[str, Callable[[Any], Json]] = {
-    "move": _move_result_out,
-    "sense": _sense_result_out,
-    "grasp": _grasp_result_out,
-    "release": _state_out,
-    "camera": _camera_out,
-    "reset": _state_out,
-    "noop": _noop_out,
-}
-
-_RESULT_DECODERS: dict[str, Callable[[Json], Any]] = {
-    "move": _move_result_in,
-    "sense": _sense_result_in,
-    "grasp": _grasp_result_in,
-    "release": _state_in,
-    "camera": _camera_in,
-    "reset": _state_in,
-    "noop": _noop_in,
-}
-
-
-def encode_result(verb: str, result: object) -> bytes:
-    """The reply body for what the driver returned for ``verb``."""
-    return dumps(_RESULT_ENCODERS[verb](result))
-
-
-def decode_result(verb: str, data: bytes) -> Any:
-    """The interface value carried by a reply to ``verb``."""
-    return _RESULT_DECODERS[verb](loads(data))
 
 
 # ------------------------------------------------------------------------------- errors

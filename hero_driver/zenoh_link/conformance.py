@@ -36,10 +36,13 @@ from hero_driver.interface import (
     RobotState,
     SenseResult,
 )
-from hero_driver.sim.profile import load_profile
-from hero_driver.zenoh_link import codec, keys
+from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError
-from hero_driver.zenoh_link.config import open_session
+from hero_driver.zenoh_link.keys import robot_keys
+from hero_driver.zenoh_link.verbs import BY_NAME
+from zenoh_rpc.client import Reply, RpcClient
+from zenoh_rpc.config import open_session
+from robot_profile import DEFAULT_PROFILE, load_profile
 
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
 MIN_STATE_PUBLICATIONS = 2  # ... and expect at least this many (the node sends 5 Hz)
@@ -68,9 +71,9 @@ class Procedures:
     @classmethod
     def from_profile(cls, profile: str | Path | None = None) -> Procedures:
         """Pick them from a knowledge profile (default: the HERO 2000's)."""
-        loaded = load_profile(profile)
-        sensing = sorted(loaded.sensing.values(), key=lambda p: (-p.range_in[1], p.time_s))
-        grasping = sorted(loaded.grasping.values(), key=lambda p: (p.range_in[1], p.time_s))
+        loaded = load_profile(DEFAULT_PROFILE if profile is None else profile)
+        sensing = sorted(loaded.sensing, key=lambda p: (-p.range_in[1], p.time_s))
+        grasping = sorted(loaded.grasping, key=lambda p: (p.range_in[1], p.time_s))
         near = min(sensing, key=lambda p: (p.range_in[1], p.time_s))
         return cls(sensing[0].name, near.name, grasping[0].name)
 
@@ -79,27 +82,15 @@ class CheckFailed(Exception):
     """A check's expectation was not met; the text says what was seen instead."""
 
 
-@dataclass(frozen=True)
-class _Answer:
-    """What one query got back: the first reply's body (or none), and how many
-    replies came (the protocol wants exactly one)."""
-
-    ok: bytes | None = None
-    err: bytes | None = None
-    replies: int = 0
-    timed_out: bool = False
-
-
 class _Probe:
     """Raw queries and state publications of one robot on one session."""
 
     def __init__(self, session: zenoh.Session, robot: str, timeout_s: float) -> None:
-        self.session = session
-        self.robot = robot
+        self.rpc = RpcClient(session, robot_keys(robot))
         self.timeout_s = timeout_s
         self._states: list[tuple[float, bytes]] = []
         self._lock = threading.Lock()
-        self._subscriber = session.declare_subscriber(keys.state_key(robot), self._on_state)
+        self._subscriber = session.declare_subscriber(self.rpc.keys.state, self._on_state)
 
     def _on_state(self, sample: zenoh.Sample) -> None:
         with self._lock:
@@ -112,55 +103,35 @@ class _Probe:
     def close(self) -> None:
         self._subscriber.undeclare()
 
-    def ask(self, verb: str, payload: bytes) -> _Answer:
-        """Send ``payload`` to ``rpc/<verb>`` and collect the replies until the query ends."""
-        replies: list[_Answer] = []
-        finished = threading.Event()
-
-        def on_reply(reply: zenoh.Reply) -> None:
-            if reply.ok is not None:
-                replies.append(_Answer(ok=reply.ok.payload.to_bytes()))
-            else:
-                replies.append(_Answer(err=reply.err.payload.to_bytes()))
-
-        started = time.monotonic()
-        self.session.get(keys.rpc_key(self.robot, verb),
-                         zenoh.handlers.Callback(on_reply, finished.set), payload=payload,
-                         encoding=zenoh.Encoding.APPLICATION_JSON,
-                         consolidation=zenoh.ConsolidationMode.NONE, timeout=self.timeout_s)
-        finished.wait(self.timeout_s + 1.0)
-        if time.monotonic() - started >= self.timeout_s * 0.99:
-            # zenoh ends an unanswered query with a plain-text error reply of its own
-            return _Answer(timed_out=True)
-        if not replies:
-            return _Answer()
-        return _Answer(replies[0].ok, replies[0].err, len(replies))
+    def ask(self, verb: str, payload: bytes) -> Reply | None:
+        """Send ``payload`` to ``rpc/<verb>``: the one reply (CheckFailed for more),
+        or None when none came."""
+        answer = self.rpc.ask(verb, payload, self.timeout_s)
+        if answer.late:  # zenoh ends an unanswered query with a plain-text error reply of its own
+            raise CheckFailed("no reply before the timeout")
+        if len(answer.replies) > 1:
+            raise CheckFailed(f"{len(answer.replies)} replies to one query, expected exactly one")
+        return answer.first
 
     def result(self, verb: str, fields: dict[str, object]) -> Any:
         """Call a verb that must succeed; its decoded result."""
-        answer = _single(self.ask(verb, _message(fields)))
-        if answer.ok is None:
-            raise CheckFailed(_describe(answer))
-        try:
-            return codec.decode_result(verb, answer.ok)
-        except CodecError as exc:
-            raise CheckFailed(f"malformed reply: {exc}") from None
+        reply = self.ask(verb, _message(fields))
+        if reply is None or reply.ok is None:
+            raise CheckFailed(_describe(reply))
+        return _decoded(verb, reply.ok)
 
     def outcome(self, verb: str, fields: dict[str, object]) -> Any:
         """Call a verb that may succeed or answer a protocol error: the decoded
         result or the :class:`DriverError`."""
-        answer = _single(self.ask(verb, _message(fields)))
-        if answer.ok is not None:
-            try:
-                return codec.decode_result(verb, answer.ok)
-            except CodecError as exc:
-                raise CheckFailed(f"malformed reply: {exc}") from None
-        return _error(answer)
+        reply = self.ask(verb, _message(fields))
+        if reply is not None and reply.ok is not None:
+            return _decoded(verb, reply.ok)
+        return _error(reply)
 
     def refusal(self, verb: str, payload: bytes, codes: Sequence[str], field: str = "") -> str:
         """Send a request that must be refused with one of ``codes`` (and, for a bad
         field, a message naming it); a one-line account of the refusal."""
-        error = _error(_single(self.ask(verb, payload)))
+        error = _error(self.ask(verb, payload))
         if error.code not in codes:
             raise CheckFailed(f"{verb}: expected {' or '.join(codes)}, got {error.code}: {error.message}")
         if field and field not in error.message:
@@ -172,30 +143,31 @@ def _message(fields: dict[str, object]) -> bytes:
     return json.dumps({"v": PROTOCOL_VERSION, **fields}, ensure_ascii=False).encode("utf-8")
 
 
-def _single(answer: _Answer) -> _Answer:
-    if answer.replies > 1:
-        raise CheckFailed(f"{answer.replies} replies to one query, expected exactly one")
-    return answer
-
-
-def _error(answer: _Answer) -> DriverError:
-    """The protocol error an answer carries; CheckFailed for a result or no reply."""
-    if answer.err is None:
-        raise CheckFailed(_describe(answer) if answer.ok is None else "expected an error reply, got a result")
+def _decoded(verb: str, body: bytes) -> Any:
     try:
-        return codec.decode_error(answer.err)
+        return BY_NAME[verb].decode_result(body)
+    except CodecError as exc:
+        raise CheckFailed(f"malformed reply: {exc}") from None
+
+
+def _error(reply: Reply | None) -> DriverError:
+    """The protocol error a reply carries; CheckFailed for a result or no reply."""
+    if reply is None or reply.err is None:
+        raise CheckFailed(_describe(reply) if reply is None else "expected an error reply, got a result")
+    try:
+        return codec.decode_error(reply.err)
     except CodecError as exc:
         raise CheckFailed(f"malformed error reply: {exc}") from None
 
 
-def _describe(answer: _Answer) -> str:
-    if answer.err is not None:
-        try:
-            error = codec.decode_error(answer.err)
-        except CodecError as exc:
-            return f"malformed error reply: {exc}"
-        return f"error reply {error.code}: {error.message}"
-    return "no reply before the timeout" if answer.timed_out else "no reply (nothing serves the key)"
+def _describe(reply: Reply | None) -> str:
+    if reply is None or reply.err is None:
+        return "no reply (nothing serves the key)"
+    try:
+        error = codec.decode_error(reply.err)
+    except CodecError as exc:
+        return f"malformed error reply: {exc}"
+    return f"error reply {error.code}: {error.message}"
 
 
 def _valid_states(bodies: Sequence[bytes]) -> list[RobotState]:
@@ -245,18 +217,14 @@ class _Suite:
         ]
 
     def liveliness(self) -> str:
-        key = keys.alive_key(self.probe.robot)
-        found: list[str] = []
+        key = self.probe.rpc.keys.alive
+        found = threading.Event()
         finished = threading.Event()
-        self.probe.session.liveliness().get(
-            key, zenoh.handlers.Callback(
-                lambda r: found.append(str(r.ok.key_expr)) if r.ok is not None else None,
-                finished.set),
-            timeout=self.probe.timeout_s)
+        self.probe.rpc.query_alive(found.set, finished.set, self.probe.timeout_s)
         finished.wait(self.probe.timeout_s + 1.0)
-        if not found:
+        if not found.is_set():
             raise CheckFailed(f"no liveliness token on {key}")
-        return f"token on {found[0]}"
+        return f"token on {key}"
 
     def state_published(self) -> str:
         since = time.monotonic()
@@ -264,7 +232,7 @@ class _Suite:
         states = _valid_states(self.probe.states_since(since))
         self.last_state = states[-1] if states else None
         if len(states) < MIN_STATE_PUBLICATIONS:
-            raise CheckFailed(f"{len(states)} publications on {keys.state_key(self.probe.robot)} "
+            raise CheckFailed(f"{len(states)} publications on {self.probe.rpc.keys.state} "
                               f"in {STATE_WINDOW_S:g} s, expected at least {MIN_STATE_PUBLICATIONS}")
         return f"{len(states)} valid publications in {STATE_WINDOW_S:g} s"
 
@@ -401,14 +369,14 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
                procedures: Procedures | None = None) -> list[CheckResult]:
     """Run every check against the driver serving ``robot`` at ``connect``."""
-    keys.check_robot(robot)
+    robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
     chosen = procedures if procedures is not None else Procedures.from_profile()
     session = open_session(connect=connect)
     probe = _Probe(session, robot, timeout_s)
     try:
-        _await_token(session, robot, timeout_s)
+        probe.rpc.wait_alive(timeout_s)  # time to connect; the liveliness check reports a missing token
         results = []
         for name, check in _Suite(probe, chosen).checks():
             try:
@@ -419,18 +387,6 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
     finally:
         probe.close()
         session.close()
-
-
-def _await_token(session: zenoh.Session, robot: str, timeout_s: float) -> None:
-    """Give the session time to connect: wait for the token (the liveliness check
-    reports its absence), for at most ``timeout_s``."""
-    appeared = threading.Event()
-    subscriber = session.liveliness().declare_subscriber(
-        keys.alive_key(robot), lambda sample: appeared.set(), history=True)
-    try:
-        appeared.wait(timeout_s)
-    finally:
-        subscriber.undeclare()
 
 
 def format_table(results: Sequence[CheckResult]) -> str:

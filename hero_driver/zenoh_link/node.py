@@ -4,7 +4,8 @@ A hardware team that writes its driver in Python implements the ``Driver`` proto
 and hands it to :func:`serve`; the simulated HERO is served the same way by
 ``csl driver sim``. The node owns everything protocol-shaped (keys, JSON, error
 replies, liveliness, state publications) so that a driver only deals in interface
-dataclasses.
+dataclasses; the transport plumbing it shares with the learner service comes from
+:mod:`zenoh_rpc`.
 
 Verbs are serialised: the robot does one thing at a time, and a verb that arrives
 while another is still executing is refused at once with ``busy`` rather than queued
@@ -32,16 +33,12 @@ from hero_driver.interface import (
     Driver,
     DriverError,
 )
-from hero_driver.zenoh_link import codec, keys
-from hero_driver.zenoh_link.codec import (
-    CodecError,
-    EmptyRequest,
-    MoveRequest,
-    ProcedureRequest,
-    Request,
-    ResetRequest,
-)
-from hero_driver.zenoh_link.config import open_session
+from hero_driver.zenoh_link import codec
+from hero_driver.zenoh_link.codec import CodecError, Request
+from hero_driver.zenoh_link.keys import robot_keys
+from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, Verb
+from zenoh_rpc.server import JSON, RpcServer, payload_of, reply
+from zenoh_rpc.serving import serve_until
 
 log = logging.getLogger(__name__)
 
@@ -58,27 +55,20 @@ class DriverNode:
     def __init__(self, driver: Driver, session: zenoh.Session, *,
                  state_period_s: float = STATE_PERIOD_S) -> None:
         self.driver = driver
-        self.robot = keys.check_robot(driver.robot)
-        self._session = session
+        keys = robot_keys(driver.robot)
+        self.robot = keys.name
         self._driver_lock = threading.Lock()  # the driver object is called by one thread at a time
         self._busy_lock = threading.Lock()
         self._busy_verb: str | None = None
         self._stopping = threading.Event()
-        self._publisher = session.declare_publisher(keys.state_key(self.robot),
-                                                    encoding=zenoh.Encoding.APPLICATION_JSON)
-        self._queryables = [
-            session.declare_queryable(keys.rpc_key(self.robot, verb), self._handler(verb),
-                                      complete=True)
-            for verb in keys.VERBS
-        ]
-        self._queryables.append(
-            session.declare_queryable(keys.rpc_prefix(self.robot), self._on_other_key))
+        self._publisher = session.declare_publisher(keys.state, encoding=JSON)
         self._publish_state()
         self._ticker = threading.Thread(target=self._tick, args=(state_period_s,),
                                         name=f"hero-{self.robot}-state", daemon=True)
         self._ticker.start()
-        # Declared last: a client that sees the token finds every queryable in place.
-        self._token = session.liveliness().declare_token(keys.alive_key(self.robot))
+        # The queryables, then the token: state is already flowing when a client sees it.
+        self._server = RpcServer(session, keys, NAMES, self._serve, _error_body,
+                                 bad_request=BAD_REQUEST, unknown_verb=UNKNOWN_VERB)
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -87,9 +77,7 @@ class DriverNode:
         if self._stopping.is_set():
             return
         self._stopping.set()
-        self._token.undeclare()
-        for queryable in self._queryables:
-            queryable.undeclare()
+        self._server.close()
         self._ticker.join()
         self._publisher.undeclare()
 
@@ -101,79 +89,54 @@ class DriverNode:
 
     # ------------------------------------------------------------------- queries
 
-    def _handler(self, verb: str) -> Callable[[zenoh.Query], None]:
-        exact_key = keys.rpc_key(self.robot, verb)
-
-        def on_query(query: zenoh.Query) -> None:
-            # A wildcard query (hero/r1/rpc/*) also reaches this queryable; it must not
-            # run the verb. The catch-all answers it.
-            if str(query.key_expr) != exact_key:
-                query.drop()
-                return
-            self._serve(verb, query)
-
-        return on_query
-
-    def _on_other_key(self, query: zenoh.Query) -> None:
-        key = str(query.key_expr)
-        verb = key.removeprefix(keys.rpc_key(self.robot, ""))
-        if verb in keys.VERBS and "/" not in verb:
-            query.drop()  # served by the verb's own queryable
-        elif any(c in key for c in "*$"):
-            _reply_error(query, BAD_REQUEST, f"{key}: verbs must be addressed by their exact key")
-        else:
-            _reply_error(query, UNKNOWN_VERB,
-                         f"{verb!r} is not a verb (known: {', '.join(keys.VERBS)})")
-
-    def _serve(self, verb: str, query: zenoh.Query) -> None:
+    def _serve(self, name: str, query: zenoh.Query) -> None:
+        verb = BY_NAME[name]
         try:
-            request = codec.decode_request(verb, _payload(query))
-            future = self._start(verb, request)
+            future = self._start(verb, verb.decode_request(payload_of(query)))
         except CodecError as exc:
-            _reply_error(query, BAD_REQUEST, str(exc))
+            self._server.reply_error(query, BAD_REQUEST, str(exc))
             return
         except DriverError as exc:
-            _reply_error(query, exc.code, exc.message)
+            self._server.reply_error(query, exc.code, exc.message)
             return
         except Exception as exc:  # the node outlives any driver bug
-            log.exception("driver %s failed to start %s", self.robot, verb)
-            _reply_error(query, INTERNAL, f"{verb}: {type(exc).__name__}: {exc}")
+            log.exception("driver %s failed to start %s", self.robot, name)
+            self._server.reply_error(query, INTERNAL, f"{name}: {type(exc).__name__}: {exc}")
             return
         future.add_done_callback(lambda done: self._finish(verb, query, done))
 
-    def _start(self, verb: str, request: Request) -> Future[Any]:
-        if verb == keys.NOOP:
+    def _start(self, verb: Verb, request: Request) -> Future[Any]:
+        if verb.call is None:
             done: Future[None] = Future()
             done.set_result(None)
             return done
         with self._busy_lock:
             if self._busy_verb is not None:
-                raise DriverError(BUSY, f"{verb}: the robot is still executing {self._busy_verb}")
-            self._busy_verb = verb
+                raise DriverError(BUSY, f"{verb.name}: the robot is still executing {self._busy_verb}")
+            self._busy_verb = verb.name
         try:
             with self._driver_lock:
-                return _call(self.driver, verb, request)
+                return verb.call(self.driver, request)
         except BaseException:
             self._release_busy()
             raise
 
-    def _finish(self, verb: str, query: zenoh.Query, done: Future[Any]) -> None:
-        if verb != keys.NOOP:
+    def _finish(self, verb: Verb, query: zenoh.Query, done: Future[Any]) -> None:
+        if verb.touches_robot:
             self._release_busy()
             self._publish_state()  # sent ahead of the reply: clients see the new state soon
         try:
-            payload = codec.encode_result(verb, done.result())
+            payload = verb.encode_result(done.result())
         except DriverError as exc:
-            _reply_error(query, exc.code, exc.message)
+            self._server.reply_error(query, exc.code, exc.message)
         except CodecError as exc:
-            log.error("driver %s returned a malformed %s result: %s", self.robot, verb, exc)
-            _reply_error(query, INTERNAL, f"{verb}: driver returned a malformed result: {exc}")
+            log.error("driver %s returned a malformed %s result: %s", self.robot, verb.name, exc)
+            self._server.reply_error(query, INTERNAL, f"{verb.name}: driver returned a malformed result: {exc}")
         except Exception as exc:
-            log.exception("driver %s failed during %s", self.robot, verb)
-            _reply_error(query, INTERNAL, f"{verb}: {type(exc).__name__}: {exc}")
+            log.exception("driver %s failed during %s", self.robot, verb.name)
+            self._server.reply_error(query, INTERNAL, f"{verb.name}: {type(exc).__name__}: {exc}")
         else:
-            query.reply(query.key_expr, payload, encoding=zenoh.Encoding.APPLICATION_JSON)
-            query.drop()
+            reply(query, payload)
 
     def _release_busy(self) -> None:
         with self._busy_lock:
@@ -202,33 +165,10 @@ class DriverNode:
                 raise
 
 
-def _call(driver: Driver, verb: str, request: Request) -> Future[Any]:
-    """Start ``verb`` on the driver with the decoded request."""
-    match verb, request:
-        case "move", MoveRequest(waypoints=waypoints, face=face):
-            return driver.move(list(waypoints), face)
-        case "sense", ProcedureRequest(procedure=procedure):
-            return driver.sense(procedure)
-        case "grasp", ProcedureRequest(procedure=procedure):
-            return driver.grasp(procedure)
-        case "reset", ResetRequest(world=world, seed=seed):
-            return driver.reset(world, seed)
-        case "release", EmptyRequest():
-            return driver.release()
-        case "camera", EmptyRequest():
-            return driver.camera()
-    raise ValueError(f"no driver call for {verb} with {request!r}")
-
-
-def _payload(query: zenoh.Query) -> bytes:
-    return b"" if query.payload is None else query.payload.to_bytes()
-
-
-def _reply_error(query: zenoh.Query, code: str, message: str) -> None:
+def _error_body(code: str, message: str) -> bytes:
     if code not in ERROR_CODES:  # a driver's own invention: still answer, as a driver fault
         code, message = INTERNAL, f"driver answered with unknown error code {code!r}: {message}"
-    query.reply_err(codec.encode_error(code, message), encoding=zenoh.Encoding.APPLICATION_JSON)
-    query.drop()
+    return codec.encode_error(code, message)
 
 
 def serve(driver: Driver, *, listen: Sequence[str], stop: threading.Event,
@@ -236,13 +176,6 @@ def serve(driver: Driver, *, listen: Sequence[str], stop: threading.Event,
     """Serve ``driver`` on its own session listening on ``listen`` until ``stop`` is set.
 
     ``on_ready`` runs once every key is declared (the CLI prints a line there).
-    Raises OSError when a listen endpoint cannot be opened.
+    Raises ConnectionError (an OSError) when a listen endpoint cannot be opened.
     """
-    session = open_session(listen=listen)
-    try:
-        with DriverNode(driver, session):
-            if on_ready is not None:
-                on_ready()
-            stop.wait()
-    finally:
-        session.close()
+    serve_until(stop, listen, lambda session: DriverNode(driver, session), on_ready)

@@ -1,21 +1,21 @@
 """The learner protocol on zenoh (docs/learner-protocol.md): keys and JSON messages.
 
 Keys, message shapes and error codes live in one module so the node and the client
-cannot drift apart. Descriptions travel in the library JSON format
-(docs/library-format.md), so a library reply is also a valid library file and the
+cannot drift apart; the transport they ride on is the shared :mod:`zenoh_rpc` kit.
+Descriptions travel in the library JSON format (docs/library-format.md), so a library reply is also a valid library file and the
 validation of ``csl library import`` guards what a robot may learn.
 """
 
 from __future__ import annotations
 
 import json
-import re
 from collections.abc import Mapping
 from typing import cast
 
 from learner.description import ObjectDescription
 from learner.library import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
 from learner.service.interface import LibrarySnapshot
+from zenoh_rpc.keys import KeySpace
 
 PREFIX = "csl/learner"
 PROTOCOL_VERSION = 1
@@ -27,35 +27,16 @@ BAD_REQUEST = "bad_request"  # the request is malformed or cannot be stored; res
 INTERNAL = "internal"  # the service failed (disk full, a bug); the library is unchanged
 ERROR_CODES = (BAD_REQUEST, INTERNAL)
 
-_NAME = re.compile(r"[A-Za-z0-9_.-]+")
-
 
 class ProtocolError(ValueError):
     """A message that does not follow the protocol; the text names the field."""
 
 
 # -- keys -----------------------------------------------------------------------------
-def check_name(name: str) -> str:
-    """Return ``name`` if it is one key chunk, so it cannot smuggle ``*`` or ``/`` into
-    a key; ValueError otherwise."""
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise ValueError(f"learner name {name!r} must be letters, digits, '_', '-' or '.' (one key chunk)")
-    return name
-
-
-def alive_key(name: str) -> str:
-    """The liveliness token the service declares while it serves."""
-    return f"{PREFIX}/{check_name(name)}/alive"
-
-
-def rpc_key(name: str, verb: str) -> str:
-    """The queryable that answers ``verb``."""
-    return f"{PREFIX}/{check_name(name)}/rpc/{verb}"
-
-
-def rpc_prefix(name: str) -> str:
-    """Every key below ``rpc/``: where unknown verbs and wildcards are refused."""
-    return f"{PREFIX}/{check_name(name)}/rpc/**"
+def learner_keys(name: str) -> KeySpace:
+    """The keys of the service ``name``; ValueError when the name is not one key
+    chunk (it could smuggle ``*`` or ``/`` into a key)."""
+    return KeySpace(PREFIX, name, "learner name")
 
 
 # -- requests -------------------------------------------------------------------------

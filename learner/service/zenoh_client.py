@@ -20,9 +20,11 @@ import zenoh
 
 from learner.description import ObjectDescription
 from learner.service import protocol
-from learner.service.config import DEFAULT_ENDPOINT, open_session
 from learner.service.interface import LibrarySnapshot
 from learner.service.protocol import LEARN, LIBRARY, VERSION_VERB, ProtocolError
+from zenoh_rpc.client import RpcClient
+from zenoh_rpc.config import open_session
+from zenoh_rpc.endpoints import LEARNER_ENDPOINT
 
 T = TypeVar("T")
 
@@ -36,9 +38,10 @@ class ZenohLearner:
     the service raises ValueError.
     """
 
-    def __init__(self, name: str = "default", connect: Sequence[str] = (DEFAULT_ENDPOINT,),
+    def __init__(self, name: str = "default", connect: Sequence[str] = (LEARNER_ENDPOINT,),
                  timeout_s: float = 5.0) -> None:
-        self.name = protocol.check_name(name)
+        keys = protocol.learner_keys(name)
+        self.name = keys.name
         if not timeout_s > 0:
             raise ValueError(f"timeout_s must be a positive number of seconds, got {timeout_s}")
         self.timeout_s = timeout_s
@@ -50,29 +53,16 @@ class ZenohLearner:
             self._session = open_session(connect=connect, connect_timeout_s=timeout_s)
         except ConnectionError as exc:
             raise ConnectionError(f"learner {self.name!r}: cannot reach a service: {exc}") from None
+        self._rpc = RpcClient(self._session, keys)
+        found = False
         try:
-            self._wait_alive()
-        except BaseException:
-            self._session.close()
-            raise
-
-    def _wait_alive(self) -> None:
-        """Wait for the service's liveliness token: connected is not yet served."""
-        alive = threading.Event()
-
-        def on_token(sample: zenoh.Sample) -> None:
-            if sample.kind == zenoh.SampleKind.PUT:
-                alive.set()
-
-        key = protocol.alive_key(self.name)
-        subscriber = self._session.liveliness().declare_subscriber(key, on_token, history=True)
-        try:
-            found = alive.wait(self.timeout_s)
+            found = self._rpc.wait_alive(self.timeout_s)
         finally:
-            subscriber.undeclare()
+            if not found:
+                self._session.close()
         if not found:
             raise ConnectionError(f"no learner service {self.name!r} on {self._where} "
-                                  f"(no liveliness token {key} within {self.timeout_s:g} s)")
+                                  f"(no liveliness token {keys.alive} within {self.timeout_s:g} s)")
 
     def library(self) -> LibrarySnapshot:
         version = self.version()
@@ -112,19 +102,16 @@ class ZenohLearner:
         with self._lock:
             if self._closed:
                 raise ConnectionError(f"learner {self.name!r}: {verb}: the client is closed")
-        key = protocol.rpc_key(self.name, verb)
         try:
-            replies = self._session.get(key, payload=payload, encoding=zenoh.Encoding.APPLICATION_JSON,
-                                        timeout=self.timeout_s)
-            reply = next(iter(replies), None)
+            reply = self._rpc.ask(verb, payload, self.timeout_s).first
         except zenoh.ZError as exc:
             raise ConnectionError(f"learner {self.name!r}: {verb}: {exc}") from None
         if reply is None:
-            raise ConnectionError(f"learner {self.name!r}: {verb}: no service answered on {key} "
-                                  f"(is 'csl learner serve' running at {self._where}?)")
+            raise ConnectionError(f"learner {self.name!r}: {verb}: no service answered on "
+                                  f"{self._rpc.keys.rpc(verb)} (is 'csl learner serve' running at {self._where}?)")
         if reply.ok is not None:
-            return reply.ok.payload.to_bytes()
-        data = reply.err.payload.to_bytes()
+            return reply.ok
+        data = reply.err or b""
         try:
             code, message = protocol.decode_error(data)
         except ProtocolError:  # not the service's: zenoh's own, e.g. the query timed out

@@ -1,6 +1,6 @@
 """Scripted episodes: one object (or two) in a bare room, a seeded simulator with sonar
 noise but exact odometry, the shipped example library. Seeds were chosen so that each
-control strategy of method.md §5 shows up; the tests assert that it did."""
+control strategy of docs/method.md §5 shows up; the tests assert that it did."""
 
 from __future__ import annotations
 
@@ -9,15 +9,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from behaviours.context import Params
-from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
+from behaviours.services import Params
+from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import EpisodeResult, Executive
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import probe
 from hero_driver.sim.worldfile import Placement, WorldSpec
 from hero_driver.sim_driver import SimulatedHero
 from learner.description import ObjectDescription, Observation
-from learner.knowledge import load_knowledge
 from learner.library import read_library_json
 from learner.position import Position
 from learner.service.local import LocalLearner
@@ -48,8 +47,7 @@ def run(spec: WorldSpec, seed: int, *, params: Params = Params(), library: Seque
     """One episode; ``store`` keeps the library between episodes (learning)."""
     path = store or Path(tempfile.mkdtemp()) / "library.sqlite"
     learner = LocalLearner(path, seed_library=list(library) if library is not None else read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner,
-                          load_knowledge(KNOWLEDGE), profile=KNOWLEDGE, params=params)
+    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner, params=params)
     result = executive.run(trace=True, max_ticks=max_ticks)
     executive.shutdown()
     return Scenario(result, executive, learner)

@@ -1,5 +1,5 @@
 """Snapshots of the behaviour tree: its shape, and tick-by-tick traces of scripted
-episodes, one per control strategy (method.md §5)."""
+episodes, one per control strategy (docs/method.md §5)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import py_trees
 import pytest
 from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
 
-from behaviours.context import Params
-from executive.tree_shape import shape_tree
+from behaviours.services import Params
+from executive.behaviour_tree import build_tree
 from hero_driver.sim.noise import NoiseConfig
 from tests.executive.scenarios import NOISE, NOISY_SONAR, one, run, transcript, tumbler_story_library
 
@@ -24,7 +24,7 @@ def snap(snapshot):  # noqa: ANN001, ANN201
 
 
 def test_tree_shape(snap) -> None:  # noqa: ANN001
-    assert py_trees.display.unicode_tree(shape_tree()) == snap
+    assert py_trees.display.unicode_tree(build_tree()) == snap
 
 
 def _one_object(entry: str, seed: int, params: Params = Params(), noise: NoiseConfig = NOISE):  # noqa: ANN202

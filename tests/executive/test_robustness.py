@@ -9,11 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from behaviours.context import Params
-from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
+from behaviours.services import Params
+from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from hero_driver.sim_driver import SimulatedHero
-from learner.knowledge import load_knowledge
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
 from tests.executive.scenarios import DEAF_SONAR, one, run
@@ -35,7 +34,7 @@ def test_the_ledger_balances_with_the_robots_clock() -> None:
     """Every robot second the simulator spent is on some object's ledger, once."""
     hero = SimulatedHero("clock", world="lab", seed=3)
     learner = LocalLearner(Path(tempfile.mkdtemp()) / "lib.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(hero, learner, load_knowledge(KNOWLEDGE), profile=KNOWLEDGE)
+    executive = Executive(hero, learner)
     result = executive.run()
     executive.shutdown()
     booked = sum(o.ledger.robot_s for o in result.objects)

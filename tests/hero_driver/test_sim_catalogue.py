@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from hero_driver.sim.catalogue import load_catalogue
-from hero_driver.sim.world import SimWorld, knowledge
+from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import load_world, parse_world
 
 TABLE_3 = {
@@ -33,7 +33,7 @@ TEST_OBJECTS = ["closed-box-2x2x2/upright", "soda-bottle-16oz/upright", "tumbler
 
 
 def test_table_3_training_objects_have_the_papers_grasps() -> None:
-    catalogue = knowledge()[1]
+    catalogue = profile_and_catalogue()[1]
     for entry_id, grasps in TABLE_3.items():
         assert catalogue[entry_id].set == "training"
         assert {g.procedure for g in catalogue[entry_id].grasps} == grasps
@@ -41,7 +41,7 @@ def test_table_3_training_objects_have_the_papers_grasps() -> None:
 
 
 def test_test_objects_present_and_knock_over_targets_lie() -> None:
-    catalogue = knowledge()[1]
+    catalogue = profile_and_catalogue()[1]
     for entry_id in TEST_OBJECTS:
         assert catalogue[entry_id].set == "test"
     for entry in catalogue.values():
@@ -79,7 +79,7 @@ GOOD = {"room": {"width_in": 100, "depth_in": 100}, "robot": {"x_in": 20, "y_in"
 def test_bad_world_file_names_file_entry_and_problem(tmp_path: Path, change: dict, words: list[str]) -> None:
     path = _write(tmp_path, {**GOOD, **change})
     with pytest.raises(ValueError) as info:
-        load_world(path, knowledge()[1])
+        load_world(path, profile_and_catalogue()[1])
     message = str(info.value)
     assert "\n" not in message and str(path) in message
     for word in words:
@@ -96,7 +96,7 @@ def test_unreadable_world_file(tmp_path: Path) -> None:
     path = tmp_path / "broken.json"
     path.write_text("{not json")
     with pytest.raises(ValueError, match="broken.json"):
-        load_world(path, knowledge()[1])
+        load_world(path, profile_and_catalogue()[1])
 
 
 def test_bad_catalogue_entry_is_named(tmp_path: Path) -> None:
@@ -104,17 +104,17 @@ def test_bad_catalogue_entry_is_named(tmp_path: Path) -> None:
     data["entries"][3]["grasps"] = [{"procedure": "Front-Squeeze", "approach": "any"}]
     path = _write(tmp_path, data, "cat.json")
     with pytest.raises(ValueError) as info:
-        load_catalogue(knowledge()[0].grasping, path)
+        load_catalogue(profile_and_catalogue()[0].grasp_names, path)
     assert "cat.json" in str(info.value) and data["entries"][3]["id"] in str(info.value)
     assert "procedure" in str(info.value)
 
 
 def test_parse_world_defaults_yaw_and_noise() -> None:
-    spec = parse_world(GOOD, "<inline>", knowledge()[1])
+    spec = parse_world(GOOD, "<inline>", profile_and_catalogue()[1])
     assert spec.objects[0].yaw_deg == 0.0 and spec.noise is None
 
 
 def test_misspelt_fields_are_rejected(tmp_path: Path) -> None:
     path = _write(tmp_path, {**GOOD, "objetcs": []})
     with pytest.raises(ValueError, match="objetcs"):
-        load_world(path, knowledge()[1])
+        load_world(path, profile_and_catalogue()[1])

@@ -12,15 +12,15 @@ from hypothesis import strategies as st
 from hero_driver.interface import BAD_REQUEST, OUT_OF_RANGE, DriverError
 from hero_driver.sim.grasping import JAMMED, KNOCKED_OVER, LIFTED, NOTHING, PUSHED
 from hero_driver.sim.probe import grasp_probe
-from hero_driver.sim.world import SimWorld, knowledge
+from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from tests.hero_driver.test_sim_support import lone, object_pixels
 
 GRASPS = ["Front-Pinch", "Front-Wrap", "Top-Pinch", "Top-Vert-Grip", "Top-Hor-Grip", "No-Grab"]
 
 
-@pytest.mark.parametrize("entry", sorted(knowledge()[1]))
+@pytest.mark.parametrize("entry", sorted(profile_and_catalogue()[1]))
 def test_each_object_is_lifted_by_exactly_its_grasps(entry: str) -> None:
-    rules = knowledge()[1][entry].grasps
+    rules = profile_and_catalogue()[1][entry].grasps
     for theta, end_on in ((0, True), (90, False), (180, True), (270, False)):
         expected = {r.procedure for r in rules if r.procedure != "No-Grab"
                     and (r.approach == "any" or (r.approach == "end") == end_on)}

@@ -10,13 +10,13 @@ import pytest
 
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
-from hero_driver.sim.world import SimWorld, knowledge
+from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import one_object_world
 
 
 def lone(entry_id: str, distance_in: float = 6.0, orientation_deg: float = 0.0, *, seed: int = 0,
          noise: NoiseConfig | None = None, yaw_deg: float = 0.0) -> SimWorld:
-    sim = SimWorld(one_object_world(entry_id, knowledge()[1], yaw_deg=yaw_deg), seed,
+    sim = SimWorld(one_object_world(entry_id, profile_and_catalogue()[1], yaw_deg=yaw_deg), seed,
                    noise=noise if noise is not None else NoiseConfig.off())
     sim.pose = approach_pose(sim, 0, distance_in, orientation_deg)
     return sim
@@ -30,7 +30,7 @@ def test_approach_pose_follows_the_conventions() -> None:
     """sonar = c + (r_face + d) u, base = sonar + offset u, heading = alpha + theta + 180."""
     sim = lone("magazine-box-9x4x7/upright", 16.0, 90.0, yaw_deg=30.0)
     obj = sim.physics.objects[0]
-    offset = sim.profile.robot.sensor_offset_in
+    offset = sim.profile.robot.geometry.sensor_offset_in
     # theta = 90 from a 9x4 box's major axis: the face is the 9 in side, 2 in from c.
     u = (math.cos(math.radians(120.0)), math.sin(math.radians(120.0)))
     assert sim.pose.x_in == pytest.approx(obj.x_in + (2.0 + 16.0 + offset) * u[0])

@@ -25,13 +25,8 @@ from hero_driver.interface import (
     SenseResult,
 )
 from hero_driver.zenoh_link import codec
-from hero_driver.zenoh_link.codec import (
-    CodecError,
-    EmptyRequest,
-    MoveRequest,
-    ProcedureRequest,
-    ResetRequest,
-)
+from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest
+from hero_driver.zenoh_link.verbs import BY_NAME
 
 finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
 not_negative = st.floats(min_value=0, max_value=1e9, allow_nan=False)
@@ -53,38 +48,38 @@ def test_state_round_trips(state: RobotState) -> None:
        st.none() | st.tuples(finite, finite))
 def test_move_request_round_trips(waypoints: list[Pose], face: tuple[float, float] | None) -> None:
     request = MoveRequest(tuple(waypoints), face)
-    assert codec.decode_request("move", codec.encode_request(request)) == request
+    assert BY_NAME["move"].decode_request(BY_NAME["move"].encode_request(request)) == request
 
 
 @given(names)
 def test_procedure_request_round_trips(procedure: str) -> None:
     request = ProcedureRequest(procedure)
-    assert codec.decode_request("sense", codec.encode_request(request)) == request
+    assert BY_NAME["sense"].decode_request(BY_NAME["sense"].encode_request(request)) == request
 
 
 @given(st.none() | names, st.none() | st.integers())
 def test_reset_request_round_trips(world: str | None, seed: int | None) -> None:
     request = ResetRequest(world, seed)
-    assert codec.decode_request("reset", codec.encode_request(request)) == request
+    assert BY_NAME["reset"].decode_request(BY_NAME["reset"].encode_request(request)) == request
 
 
 @given(poses, not_negative, st.booleans(), st.booleans())
 def test_move_result_round_trips(pose: Pose, duration: float, collided: bool, centred: bool) -> None:
     result = MoveResult(pose, duration, collided, centred)
-    assert codec.decode_result("move", codec.encode_result("move", result)) == result
+    assert BY_NAME["move"].decode_result(BY_NAME["move"].encode_result(result)) == result
 
 
 @given(names, st.dictionaries(names, st.none() | finite, max_size=4), not_negative, not_negative)
 def test_sense_result_round_trips(procedure: str, values: dict[str, float | None], duration: float,
                                   distance: float) -> None:
     result = SenseResult(procedure, values, duration, distance)
-    assert codec.decode_result("sense", codec.encode_result("sense", result)) == result
+    assert BY_NAME["sense"].decode_result(BY_NAME["sense"].encode_result(result)) == result
 
 
 @given(names, st.booleans(), not_negative)
 def test_grasp_result_round_trips(procedure: str, success: bool, duration: float) -> None:
     result = GraspResult(procedure, success, duration)
-    assert codec.decode_result("grasp", codec.encode_result("grasp", result)) == result
+    assert BY_NAME["grasp"].decode_result(BY_NAME["grasp"].encode_result(result)) == result
 
 
 @settings(deadline=None)  # PNG coding of the first examples can be slow on a busy machine
@@ -96,7 +91,7 @@ def test_camera_image_round_trips_losslessly(pixels: np.ndarray, scale: float, o
                         camera_matrix=np.eye(3) * 2.0 if fisheye else None,
                         fisheye=(0.1, -0.02, 0.0, 0.001) if fisheye else None,
                         clock_s=12.5, meta={"world": "lab", "rows": np.int64(3)})
-    back = codec.decode_result("camera", codec.encode_result("camera", image))
+    back = BY_NAME["camera"].decode_result(BY_NAME["camera"].encode_result(image))
     np.testing.assert_array_equal(back.pixels, pixels)
     assert back.pixels.dtype == np.uint8
     assert (back.inches_per_pixel, back.origin_x_in, back.origin_y_in) == (scale, ox, oy)
@@ -108,14 +103,19 @@ def test_camera_image_round_trips_losslessly(pixels: np.ndarray, scale: float, o
 def test_raw_pixels_are_accepted_for_drivers_without_png() -> None:
     pixels = np.arange(12, dtype=np.uint8).reshape(3, 4)
     image = {"format": "raw", "height": 3, "width": 4, "data": base64.b64encode(pixels.tobytes()).decode()}
-    back = codec.decode_result("camera", body(image=image, inches_per_pixel=0.8, origin_x_in=0,
+    back = BY_NAME["camera"].decode_result(body(image=image, inches_per_pixel=0.8, origin_x_in=0,
                                               origin_y_in=2.4))
     np.testing.assert_array_equal(back.pixels, pixels)
 
 
 def test_noop_and_empty_requests() -> None:
-    assert codec.decode_request("camera", codec.encode_request(EmptyRequest())) == EmptyRequest()
-    assert codec.decode_result("noop", codec.encode_result("noop", None)) is None
+    assert BY_NAME["camera"].decode_request(BY_NAME["camera"].encode_request(EmptyRequest())) == EmptyRequest()
+    assert BY_NAME["noop"].decode_result(BY_NAME["noop"].encode_result(None)) is None
+
+
+def test_a_request_of_another_verb_is_refused_before_sending() -> None:
+    with pytest.raises(CodecError, match="message: expected a ProcedureRequest, got EmptyRequest"):
+        BY_NAME["sense"].encode_request(EmptyRequest())
 
 
 def test_errors_round_trip_with_their_code() -> None:
@@ -150,7 +150,7 @@ def test_errors_round_trip_with_their_code() -> None:
 ])
 def test_bad_requests_are_refused_naming_the_field(verb: str, data: bytes, field: str) -> None:
     with pytest.raises(CodecError, match=re.escape(field)):
-        codec.decode_request(verb, data)
+        BY_NAME[verb].decode_request(data)
 
 
 @pytest.mark.parametrize(("verb", "result", "field"), [
@@ -167,7 +167,7 @@ def test_bad_requests_are_refused_naming_the_field(verb: str, data: bytes, field
 ])
 def test_malformed_driver_results_are_refused_before_sending(verb: str, result: object, field: str) -> None:
     with pytest.raises(CodecError, match=re.escape(field)):
-        codec.encode_result(verb, result)
+        BY_NAME[verb].encode_result(result)
 
 
 @pytest.mark.parametrize(("data", "field"), [
@@ -183,10 +183,10 @@ def test_bad_state_publications_are_refused(data: bytes, field: str) -> None:
 def test_bad_images_and_error_replies_are_refused() -> None:
     png = {"format": "png", "height": 3, "width": 4, "data": "not base64!"}
     with pytest.raises(CodecError, match="image.data: not base64"):
-        codec.decode_result("camera", body(image=png, inches_per_pixel=1, origin_x_in=0, origin_y_in=0))
+        BY_NAME["camera"].decode_result(body(image=png, inches_per_pixel=1, origin_x_in=0, origin_y_in=0))
     raw = {"format": "raw", "height": 3, "width": 4, "data": base64.b64encode(b"12345").decode()}
     with pytest.raises(CodecError, match="5 bytes, expected height\\*width = 12"):
-        codec.decode_result("camera", body(image=raw, inches_per_pixel=1, origin_x_in=0, origin_y_in=0))
+        BY_NAME["camera"].decode_result(body(image=raw, inches_per_pixel=1, origin_x_in=0, origin_y_in=0))
     with pytest.raises(CodecError, match="code: 'oops' is not a protocol error code"):
         codec.decode_error(body(code="oops", message="?"))
     with pytest.raises(CodecError, match="code: 'oops'"):

@@ -7,12 +7,11 @@ import re
 
 import pytest
 
-import zenoh
-
 from executive.cli import main
-from hero_driver.zenoh_link.config import make_config
 from hero_driver.zenoh_link.conformance import Procedures
-from tests.hero_driver.test_zenoh_support import DriverProcess, free_endpoint
+from tests.hero_driver.test_zenoh_support import DriverProcess
+from tests.zenoh_rpc.support import free_endpoint
+from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
@@ -93,6 +92,6 @@ def test_bad_arguments_exit_2_with_one_line(argv: list[str], capsys: pytest.Capt
 
 def test_a_taken_port_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
-    with zenoh.open(make_config(listen=[endpoint])):
+    with open_session(listen=[endpoint]):
         assert main(["driver", "sim", "--listen", endpoint]) == 2
     assert "Address already in use" in capsys.readouterr().err

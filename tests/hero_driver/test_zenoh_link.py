@@ -10,7 +10,6 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
-import zenoh
 
 from hero_driver.interface import (
     BAD_REQUEST,
@@ -22,11 +21,12 @@ from hero_driver.interface import (
     DriverError,
     Pose,
 )
-from hero_driver.zenoh_link import keys
 from hero_driver.zenoh_link.client import ZenohDriver
-from hero_driver.zenoh_link.config import make_config
+from hero_driver.zenoh_link.keys import robot_keys
 from tests.hero_driver.test_zenoh_node import ask, error_of
-from tests.hero_driver.test_zenoh_support import DriverProcess, free_endpoint, wait_until
+from tests.hero_driver.test_zenoh_support import DriverProcess
+from tests.zenoh_rpc.support import free_endpoint, wait_until
+from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
@@ -73,8 +73,9 @@ def test_simulated_hero_answers_every_verb(client: ZenohDriver) -> None:
 
 def test_bad_requests_get_error_replies_and_the_node_serves_on(sim: tuple[str, DriverProcess],
                                                                client: ZenohDriver) -> None:
-    with zenoh.open(make_config(connect=[sim[0]])) as session:
-        assert wait_until(lambda: bool(ask(session, keys.rpc_key("lab1", "noop"), b'{"v":1}')), START_S)
+    keys = robot_keys("lab1")
+    with open_session(connect=[sim[0]]) as session:
+        assert wait_until(lambda: bool(ask(session, keys.rpc("noop"), b'{"v":1}')), START_S)
         bad = {
             "fly": (b'{"v":1}', UNKNOWN_VERB),
             "sense": (b'{"v":1,"procedure":', BAD_REQUEST),
@@ -83,7 +84,7 @@ def test_bad_requests_get_error_replies_and_the_node_serves_on(sim: tuple[str, D
             "grasp": (b'{"v":1,"procedure":"Front-Pinch","force":9}', BAD_REQUEST),
         }
         for verb, (payload, code) in bad.items():
-            [(kind, reply)] = ask(session, keys.rpc_key("lab1", verb), payload)
+            [(kind, reply)] = ask(session, keys.rpc(verb), payload)
             assert (kind, reply["v"], reply["code"]) == ("err", 1, code), verb
             assert reply["message"]
     assert client.noop().result(REPLY_S) is None

@@ -25,11 +25,14 @@ from hero_driver.interface import (
     GraspResult,
     Pose,
 )
-from hero_driver.zenoh_link import codec, keys
 from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
-from hero_driver.zenoh_link.config import make_config
+from hero_driver.zenoh_link.codec import MoveRequest
+from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import DriverNode
-from tests.hero_driver.test_zenoh_support import BrokenHero, FakeHero, SlowHero, free_endpoint, wait_until
+from hero_driver.zenoh_link.verbs import BY_NAME
+from tests.hero_driver.test_zenoh_support import BrokenHero, FakeHero, SlowHero
+from tests.zenoh_rpc.support import free_endpoint, wait_until
+from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
@@ -43,7 +46,7 @@ def endpoint() -> str:
 
 @pytest.fixture
 def server(endpoint: str) -> Iterator[zenoh.Session]:
-    with zenoh.open(make_config(listen=[endpoint])) as session:
+    with open_session(listen=[endpoint]) as session:
         yield session
 
 
@@ -157,14 +160,14 @@ def ask(session: zenoh.Session, key: str, payload: bytes) -> list[tuple[str, dic
 
 def test_unknown_verbs_and_wildcards_never_run_a_verb(server: zenoh.Session, endpoint: str) -> None:
     hero = FakeHero()
-    with DriverNode(hero, server), zenoh.open(make_config(connect=[endpoint])) as session:
-        assert wait_until(lambda: bool(ask(session, keys.rpc_key("r1", "noop"), b'{"v":1}')), 5.0)
-        [(kind, reply)] = ask(session, keys.rpc_key("r1", "fly"), b'{"v":1}')
+    keys = robot_keys("r1")
+    with DriverNode(hero, server), open_session(connect=[endpoint]) as session:
+        assert wait_until(lambda: bool(ask(session, keys.rpc("noop"), b'{"v":1}')), 5.0)
+        [(kind, reply)] = ask(session, keys.rpc("fly"), b'{"v":1}')
         assert (kind, reply["code"], reply["v"]) == ("err", UNKNOWN_VERB, 1)
-        [(kind, reply)] = ask(session, keys.rpc_key("r1", "move/now"), b'{"v":1}')
+        [(kind, reply)] = ask(session, keys.rpc("move/now"), b'{"v":1}')
         assert reply["code"] == UNKNOWN_VERB
-        wildcard = ask(session, keys.rpc_key("r1", "*"),
-                       codec.encode_request(codec.MoveRequest((Pose(99, 99, 0),))))
+        wildcard = ask(session, keys.rpc("*"), BY_NAME["move"].encode_request(MoveRequest((Pose(99, 99, 0),))))
         assert [(k, r["code"]) for k, r in wildcard] == [("err", BAD_REQUEST)]
         assert hero.pose == Pose(30, 30, 0)  # nothing moved
 

@@ -1,4 +1,4 @@
-"""Shared pieces of the zenoh link tests: free endpoints, driver subprocesses that are
+"""Shared pieces of the zenoh link tests: driver subprocesses that are
 always killed, and small fake drivers (good, broken, slow, tokenless).
 
 Run as ``python -m tests.hero_driver.test_zenoh_support KIND ROBOT ENDPOINT`` it
@@ -10,11 +10,9 @@ from __future__ import annotations
 
 import os
 import signal
-import socket
 import subprocess
 import sys
 import threading
-import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from pathlib import Path
@@ -34,30 +32,14 @@ from hero_driver.interface import (
     RobotState,
     SenseResult,
 )
-from hero_driver.zenoh_link import keys
-from hero_driver.zenoh_link.config import make_config
+from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import serve
+from tests.zenoh_rpc.support import free_endpoint, wait_until  # noqa: F401 (tests/executive import them from here)
+from zenoh_rpc.config import open_session
 
 REPO = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 20.0  # a cold interpreter importing numpy, cv2 and zenoh on a busy box
 T = TypeVar("T")
-
-
-def free_endpoint() -> str:
-    """A TCP endpoint on 127.0.0.1 that nothing listens on right now."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        probe.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
-
-
-def wait_until(condition: Callable[[], bool], timeout_s: float, step_s: float = 0.02) -> bool:
-    """Poll ``condition`` until it holds or the deadline passes."""
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(step_s)
-    return True
 
 
 class DriverProcess:
@@ -208,11 +190,11 @@ def serve_tokenless(robot: str, endpoint: str, stop: threading.Event, on_ready: 
     """A hand-written driver that forgets the liveliness token and the state
     publications but answers ``noop`` properly: what a first hardware attempt in
     another language might look like."""
-    with zenoh.open(make_config(listen=[endpoint])) as session:
+    with open_session(listen=[endpoint]) as session:
         def on_query(query: zenoh.Query) -> None:
             query.reply(query.key_expr, b'{"v":1}', encoding=zenoh.Encoding.APPLICATION_JSON)
 
-        queryable = session.declare_queryable(keys.rpc_key(robot, "noop"), on_query)
+        queryable = session.declare_queryable(robot_keys(robot).rpc("noop"), on_query)
         on_ready()
         stop.wait()
         queryable.undeclare()

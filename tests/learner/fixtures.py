@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from executive.profile import load_knowledge
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion
 from learner.description import ObjectDescription, Observation
-from learner.knowledge import Knowledge, MoveModel, load_knowledge
+from learner.knowledge import Knowledge, MoveModel
 from learner.matrix import DescriptionMatrix
 from learner.position import Position
 from learner.selection import Context

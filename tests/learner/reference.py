@@ -2,7 +2,7 @@
 
 Descriptions lacking a feature are spread evenly over its subsets (plus an "unknown"
 subset when the known ranges do not cover the feature's domain), so a feature few
-objects were measured on scores lower: its split is less certain (method.md §3).
+objects were measured on scores lower: its split is less certain (docs/method.md §3).
 """
 
 from __future__ import annotations

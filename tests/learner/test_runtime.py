@@ -1,4 +1,4 @@
-"""The execution stage step by step: each control strategy of method.md §5."""
+"""The execution stage step by step: each control strategy of docs/method.md §5."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from learner.costs import ModelMoveCost
 from learner.criteria import criterion
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable
 from learner.selection import ScoredTest
-from learner.tree import AmbiguousLeaf, GraspLeaf
+from learner.decision_tree import AmbiguousLeaf, GraspLeaf
 from tests.learner.fixtures import P, desc, four_objects, hero
 
 

@@ -22,23 +22,17 @@ import pytest
 
 from executive.cli import main
 from learner.library import write_library_json
-from learner.service import protocol
-from learner.service.config import open_session
+from learner.service.protocol import learner_keys
 from learner.service.zenoh_client import ZenohLearner
 from tests.learner.fixtures import P, desc, four_objects
+from tests.zenoh_rpc.support import free_endpoint
+from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
 REPO = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 20.0  # a cold interpreter importing numpy and zenoh on a busy box
 MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Handle?", P(6, None), 1))
-
-
-def free_endpoint() -> str:
-    """A TCP endpoint on 127.0.0.1 that nothing listens on right now."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
-        probe.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
 
 
 class ServiceProcess:
@@ -154,7 +148,7 @@ def test_malformed_requests_get_error_replies_and_the_node_keeps_serving(service
     session = open_session(connect=[service.endpoint], connect_timeout_s=3.0)
     try:
         for verb, payload, message in BAD_REQUESTS:
-            replies = list(session.get(protocol.rpc_key(service.name, verb), payload=payload, timeout=3.0))
+            replies = list(session.get(learner_keys(service.name).rpc(verb), payload=payload, timeout=3.0))
             assert len(replies) == 1 and replies[0].err is not None, (verb, payload)
             body = json.loads(replies[0].err.payload.to_bytes())
             assert body["v"] == 1 and body["code"] == "bad_request" and message in body["message"], body

@@ -125,7 +125,7 @@ def test_phase_two_presents_every_object_again_until_a_pass_changes_nothing() ->
     from learner.selection import Context, Node
     from learner.criteria import criterion
     from learner.training import TrainingLog, _Recorder, _ZeroMove, train_position
-    from learner.tree import classify, grow
+    from learner.decision_tree import classify, grow
 
     k = hero()
     sweeps = {"o0": (20, 30, 30, 20), "o1": (30, 0, 0, 20), "o2": (30, 0, 20, 10)}

@@ -12,11 +12,11 @@ from hypothesis import strategies as st
 
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion
-from learner.knowledge import MoveModel, knowledge_from_dict
+from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 from learner.matrix import DescriptionMatrix
 from learner.render import tree_json, tree_text
 from learner.selection import Context, Node, rank
-from learner.tree import classify, grow
+from learner.decision_tree import classify, grow
 from tests.learner.fixtures import P, desc, four_objects, context
 
 GRASPS = ["Front-Wrap", "Front-Pinch", "Top-Pinch"]
@@ -25,16 +25,16 @@ FEATURES = [("Width-Degree-1°", P(24, 0)), ("Width-Degree-1°", P(16, 90)), ("H
 
 def equal_cost_knowledge():
     """Every procedure and grasp costs 50 s, so only gain can separate tests."""
-    feat = lambda name, err, **kw: {"name": name, "error": err, "unit": "u", **kw}  # noqa: E731
-    return knowledge_from_dict({
-        "move": {"seconds_per_inch": 0.0, "seconds_per_degree": 0.0, "overhead_s": 0.0},
-        "sensing": [
-            {"name": "sweep", "time_s": 50, "range_in": [6, 127], "features": [feat("Width-Degree-1°", 3.0, span=[0, 180])]},
-            {"name": "scan", "time_s": 50, "range_in": [6, 6],
-             "features": [feat("Height", 0.5, span=[0, 127]), feat("Top-Hole?", 0.0, binary=True)]},
-        ],
-        "grasping": [{"name": g, "time_s": 50, "range_in": [6, 6]} for g in GRASPS],
-    }, "equal.toml")
+    return Knowledge(
+        sensing=(
+            SensingProcedure("sweep", 50.0, (6.0, 127.0), (FeatureSpec("Width-Degree-1°", 3.0, "u", False, (0.0, 180.0)),)),
+            SensingProcedure("scan", 50.0, (6.0, 6.0), (FeatureSpec("Height", 0.5, "u", False, (0.0, 127.0)),
+                                                        FeatureSpec("Top-Hole?", 0.0, "u", True, (0.0, 1.0)))),
+        ),
+        grasping=tuple(GraspingProcedure(g, 50.0, (6.0, 6.0), 0.0, True) for g in GRASPS),
+        move=MoveModel(0.0, 0.0, 0.0),
+        source="equal",
+    )
 
 
 values = {

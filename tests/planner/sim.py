@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from hero_driver.interface import CameraImage
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.sim_driver import SimulatedHero
-from planner import Navigator, OverheadImage, PlanResult, Pose, load_robot_profile
-
-PROFILE = Path(__file__).resolve().parents[2] / "hero_driver" / "profiles" / "hero2000.toml"
+from planner import Navigator, OverheadImage, PlanResult, Pose
+from robot_profile import load_profile
 
 
 def overhead(image: CameraImage) -> OverheadImage:
@@ -28,4 +25,4 @@ def drive(hero: SimulatedHero, plan: PlanResult, face: tuple[float, float]):
 
 
 def navigator() -> Navigator:
-    return Navigator(load_robot_profile(PROFILE))
+    return Navigator(load_profile().robot)

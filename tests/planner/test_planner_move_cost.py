@@ -1,4 +1,4 @@
-"""The move-cost heuristic: formula, estimate mode, exact mode, the profile loader."""
+"""The move-cost heuristic: formula, estimate mode, exact mode."""
 
 from __future__ import annotations
 
@@ -6,44 +6,20 @@ import math
 
 import pytest
 
-from planner import CostEstimator, MoveModel, Navigator, Pose, RobotGeometry, build_vision_map, load_robot_profile, look
+from planner import CostEstimator, Navigator, Pose, build_vision_map, look
 from planner import move_seconds
 from planner import paths as reasons
-from planner.robot import RobotProfile
+from robot_profile import Robot, RobotGeometry, RobotMotion
 from tests.planner.drawing import WALL, Canvas
-from tests.planner.sim import PROFILE
 
-MODEL = MoveModel(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0)
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0)
+MODEL = RobotMotion(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0)
+HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0)
 
 
 def test_formula_by_hand():
     # 40 in at 0.5 in/s, 90° at 5°/s, plus 5 s of vision and 15 s of centring.
     assert move_seconds(MODEL, 40.0, 90.0) == pytest.approx(80 + 18 + 5 + 15)
     assert move_seconds(MODEL, math.inf, 0.0) == math.inf
-
-
-def test_profile_loader_reads_the_robot_table():
-    profile = load_robot_profile(PROFILE)
-    assert profile.geometry == RobotGeometry(9.0, 11.0, 4.0)
-    assert profile.move == MoveModel(0.5, 5.0, 5.0, 15.0)
-
-
-def test_profile_without_robot_table_is_refused(tmp_path):
-    path = tmp_path / "bare.toml"
-    path.write_text("[move]\nseconds_per_inch = 2.0\n")
-    with pytest.raises(ValueError, match=r"no \[robot\] table"):
-        load_robot_profile(path)
-    path.write_text("[robot]\nbase_radius_in = 9.0\n")
-    with pytest.raises(ValueError, match="lacks sensor_offset_in"):
-        load_robot_profile(path)
-
-
-@pytest.mark.parametrize("bad", [dict(speed_in_per_s=0.0), dict(turn_deg_per_s=-1.0), dict(vision_s=-1.0)])
-def test_move_model_refuses_impossible_constants(bad):
-    fields = dict(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0) | bad
-    with pytest.raises(ValueError):
-        MoveModel(**fields)
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +59,7 @@ def test_impossible_moves_cost_infinity(estimator, goal, reason):
 
 def test_exact_and_estimate_agree_on_a_detour():
     room = Canvas().rect(120.0, 65.0, 6.0, 130.0, 0.0, WALL).robot(40.0, 40.0, 0.0)
-    navigator = Navigator(RobotProfile(HERO, MODEL))
+    navigator = Navigator(Robot(HERO, MODEL))
     navigator.observe(room.image())
     start, goal = Pose(40.0, 40.0, 0.0), Pose(200.0, 40.0, 270.0)
     exact = navigator.move_cost(start, goal, exact=True)

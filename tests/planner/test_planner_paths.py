@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from planner import Navigator, PathPlanner, PlanResult, Pose, Region, RobotGeometry, build_vision_map, look
+from planner import Navigator, PathPlanner, PlanResult, Pose, Region, build_vision_map, look
 from planner import paths as reasons
 from planner.geometry import angle_between
-from planner.robot import MoveModel, RobotProfile
+from robot_profile import Robot, RobotGeometry, RobotMotion
 from tests.planner.drawing import WALL, Canvas
 
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0)
+HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0)
 START = Pose(40.0, 40.0, 0.0)
-MODEL_FOR_TESTS = MoveModel(0.5, 5.0, 5.0, 15.0)
+MODEL_FOR_TESTS = RobotMotion(0.5, 5.0, 5.0, 15.0)
 
 
 def divided_room() -> Canvas:
@@ -170,7 +170,7 @@ def test_exact_segment_check_catches_a_grazed_corner():
 
 
 def test_navigator_caches_scenes_on_image_content():
-    navigator = Navigator(RobotProfile(HERO, MODEL_FOR_TESTS))
+    navigator = Navigator(Robot(HERO, MODEL_FOR_TESTS))
     image = divided_room().image()
     scene = navigator.observe(image)
     same = navigator.observe(divided_room().image())
@@ -181,7 +181,7 @@ def test_navigator_caches_scenes_on_image_content():
 
 
 def test_navigator_keeps_the_map_while_only_the_robot_moves():
-    navigator = Navigator(RobotProfile(HERO, MODEL_FOR_TESTS))
+    navigator = Navigator(Robot(HERO, MODEL_FOR_TESTS))
     navigator.observe(divided_room().image())
     first_map = navigator.vision_map
     moved = Canvas().rect(120.0, 65.0, 6.0, 130.0, 0.0, WALL).rect(180.0, 150.0, 20.0, 10.0, 0.0).robot(60.0, 80.0, 90.0)
@@ -194,7 +194,7 @@ def test_navigator_keeps_the_map_while_only_the_robot_moves():
 
 
 def test_navigator_needs_an_image_first():
-    navigator = Navigator(RobotProfile(HERO, MODEL_FOR_TESTS))
+    navigator = Navigator(Robot(HERO, MODEL_FOR_TESTS))
     with pytest.raises(ValueError, match="observe"):
         navigator.plan(START, Pose(80.0, 40.0, 0.0))
     with pytest.raises(ValueError, match="observe"):
@@ -202,7 +202,7 @@ def test_navigator_needs_an_image_first():
 
 
 def test_target_outside_the_map_is_bad_input():
-    navigator = Navigator(RobotProfile(HERO, MODEL_FOR_TESTS))
+    navigator = Navigator(Robot(HERO, MODEL_FOR_TESTS))
     scene = navigator.observe(divided_room().image())
     region = scene.regions[0]
     far = Region(region.polygon, (900.0, 900.0), region.pixel_count, region.orientation_deg, region.round,
@@ -214,7 +214,7 @@ def test_target_outside_the_map_is_bad_input():
 
 
 def test_plan_to_a_learner_position_and_price_it():
-    navigator = Navigator(RobotProfile(HERO, MODEL_FOR_TESTS))
+    navigator = Navigator(Robot(HERO, MODEL_FOR_TESTS))
     region = navigator.observe(divided_room().image()).regions[0]
     plan = navigator.plan_to(START, region, 16.0, 180.0)
     assert plan.found

@@ -9,7 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planner import Pose, Region, RobotGeometry, face_distance_in, look, pose_for_position, position_of
+from planner import Pose, Region, face_distance_in, look, pose_for_position, position_of
+from robot_profile import RobotGeometry
 from planner.geometry import angle_between
 from tests.planner.drawing import Canvas, rect_corners
 

@@ -9,10 +9,12 @@ import pytest
 
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
-from planner import look, training_orientations
+from learner.training import training_orientations
+from planner import look
 from planner.geometry import angle_between
 from planner.move_cost import arrived
 from tests.planner.sim import drive, navigator, overhead, robot_pose
+from tests.planner.test_vision_orientations import as_training_object
 
 
 def truth_by_position(hero: SimulatedHero, region):
@@ -44,7 +46,7 @@ def test_lab_orientations_follow_the_objects_yaw():
         # Symmetric footprints: either end of the axis may hold more pixels.
         assert angle_between(region.orientation_deg % 180, real.yaw_deg % 180) < 5 or \
             angle_between(region.orientation_deg % 180, real.yaw_deg % 180) > 175
-    found = training_orientations(scene.regions)
+    found = training_orientations([as_training_object(r) for r in scene.regions])
     assert len(found) == 4
     for want in (0.0, 90.0, 180.0, 270.0):
         assert min(angle_between(f, want) for f in found) < 8.0

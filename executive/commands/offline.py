@@ -8,12 +8,11 @@ import sys
 from pathlib import Path
 
 from executive import defaults
-from executive.args import non_negative_int, writable_file
+from executive.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
+from executive.profile import knowledge_of, load_knowledge
 from executive.tables import print_table
 from executive.training_sources import RecordingSource, SimulatorSource, catalogue_objects
 from learner.costs import ModelMoveCost
-from learner.criteria import CRITERIA, criterion
-from learner.knowledge import load_knowledge
 from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
 from learner.matrix import DescriptionMatrix
 from learner.position import parse_position
@@ -21,7 +20,8 @@ from learner.render import tree_json, tree_text
 from learner.selection import Context, Node
 from learner.training import train
 from learner.training_data import MeasurementSource, objects_document, read_objects, read_replay, replay_document
-from learner.tree import grow
+from robot_profile import load_profile
+from learner.decision_tree import grow
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -41,9 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="object descriptions, .json or a .sqlite store (default: the shipped example library)")
     p.add_argument("--pose", default="60,0", metavar="D,THETA",
                    help="the robot's position relative to the object, inches and degrees (default: 60,0)")
-    p.add_argument("--criterion", choices=CRITERIA, default="cs-id3",
-                   help="evaluation function: cs-id3 = I^2/C (CSL), id3 = I, idx = I/C, eg2 = (2^I-1)/(C+1)^w")
-    p.add_argument("--eg2-w", type=float, default=1.0, help="the w of eg2 (default 1)")
+    add_criterion_options(p)
     p.add_argument("--no-grasp-features", action="store_true",
                    help="never try a grasp as a binary feature before sensing")
     p.add_argument("--json", action="store_true", help="print the tree as JSON")
@@ -86,7 +84,7 @@ def run_tree(args: argparse.Namespace) -> int:
     if start.distance_in is None or start.orientation_deg is None:
         raise ValueError("--pose: the robot's pose must be concrete (no '*')")
     matrix = DescriptionMatrix(library, knowledge, grasps_as_features=not args.no_grasp_features)
-    ctx = Context(matrix, criterion(args.criterion, args.eg2_w), ModelMoveCost(knowledge.move))
+    ctx = Context(matrix, criterion_from_args(args), ModelMoveCost(knowledge.move))
     tree = grow(Node.root(len(library)), start, ctx)
     if args.json:
         json.dump(tree_json(tree), sys.stdout, indent=2, ensure_ascii=False)
@@ -97,7 +95,8 @@ def run_tree(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
-    knowledge = load_knowledge(args.knowledge)
+    profile = load_profile(args.knowledge)
+    knowledge = knowledge_of(profile)
     if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
         raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
     writable_file(args.out, "--out")  # before hours of (simulated) training, not after
@@ -107,7 +106,7 @@ def run_train(args: argparse.Namespace) -> int:
         if args.objects or args.measurements:
             raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
         objects = catalogue_objects("training")
-        source: MeasurementSource = RecordingSource(SimulatorSource(args.seed, args.noise))
+        source: MeasurementSource = RecordingSource(SimulatorSource(args.seed, args.noise, profile))
     else:
         if not (args.objects and args.measurements):
             raise ValueError("train needs --objects and --measurements (or --sim)")

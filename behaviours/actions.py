@@ -1,0 +1,235 @@
+"""Acting on the robot: looking, moving to a position, applying a test, grasping, and
+putting a learned object away.
+
+Each is a :class:`DriverAction`: the verb runs while the behaviour reports RUNNING, and
+its robot time is charged to the object's ledger when it completes.
+"""
+
+from __future__ import annotations
+
+import math
+from concurrent.futures import Future
+from dataclasses import replace
+
+from py_trees.common import Access, Status
+
+from behaviours.base import DriverAction
+from behaviours.bridge import overhead, to_driver_pose
+from behaviours.events import Event
+from hero_driver.interface import CameraImage, DriverError, GraspResult, MoveResult, RobotState, SenseResult
+from learner.position import Position
+from planner import PlanResult
+
+
+class LocateObjects(DriverAction):
+    """Take an overhead image and queue every object region, nearest first."""
+
+    def __init__(self, robot: str, name: str = "LocateObjects") -> None:
+        super().__init__(name, robot)
+        self.bb.register_key("objects", access=Access.WRITE)
+
+    def start(self) -> Future[CameraImage]:
+        return self.services.driver.camera()
+
+    def finish(self, result: CameraImage) -> Status:
+        scene = self.services.navigator.observe(overhead(result))
+        robot = self.robot_pose()
+        regions = sorted(scene.regions, key=lambda r: (math.hypot(r.centroid[0] - robot.x_in,
+                                                                  r.centroid[1] - robot.y_in), r.centroid))
+        self.bb.objects = list(regions)
+        self.services.log.event(Event.LOCATED, behaviour=self.name, regions=[
+            {"centroid": [round(c, 1) for c in r.centroid], "pixels": r.pixel_count,
+             "orientation": None if r.orientation_deg is None else round(r.orientation_deg, 1)} for r in regions])
+        self.feedback_message = f"{len(regions)} objects"
+        return Status.SUCCESS
+
+
+class MoveTo(DriverAction):
+    """Plan a collision-free path to the chosen test's (or grasp's) position and drive it.
+
+    The goal is the learner position turned into a world pose on the vision map; the
+    move ends facing the object, where the driver centres on it with the sonar. A test
+    position with no path (or a move that collided) is unusable: the session reselects.
+    A grasp position with no path fails here and the "other end" recovery takes over; a
+    grasp move that collided or was refused counts as a failed grasp.
+    """
+
+    POSE_ACCESS = Access.WRITE  # the one writer of where the robot stands
+
+    def __init__(self, robot: str, target: str, name: str | None = None) -> None:
+        super().__init__(name or f"MoveTo {target}", robot)
+        if target not in ("test", "grasp"):
+            raise ValueError(f"MoveTo target must be 'test' or 'grasp', got {target!r}")
+        self.target = target
+        self._goal: Position | None = None
+
+    def goal(self) -> Position | None:
+        """Where to go: the step's test position, or its grasp's."""
+        step = self.step
+        if self.target == "test":
+            return step.test.target if step.test is not None else None
+        return step.attempt.position if step.attempt is not None and not step.attempt.failed else None
+
+    def start(self) -> Future[MoveResult] | Status:
+        goal = self._goal = self.goal()
+        if goal is None:
+            return Status.FAILURE
+        if goal == self.obj.session.position:
+            return Status.SUCCESS  # already there: the paper's "move-to (0s)"
+        plan = self.plan(goal)
+        if not plan.found:
+            return self.no_path(goal, plan)
+        return self.drive(plan)
+
+    def plan(self, goal: Position) -> PlanResult:
+        obj, nav = self.obj, self.services.navigator
+        return self.timed(lambda: nav.plan(self.robot_pose(), obj.estimator.pose(goal)))
+
+    def drive(self, plan: PlanResult) -> Future[MoveResult]:
+        return self.services.driver.move([to_driver_pose(p) for p in plan.path or ()],
+                                         face=self.obj.region.centroid)
+
+    def no_path(self, goal: Position, plan: PlanResult) -> Status:
+        self.note(Event.NO_PATH, to=goal.to_json(), reason=plan.reason)
+        if self.target == "test":
+            return self._unusable()
+        return Status.FAILURE
+
+    def finish(self, result: MoveResult) -> Status:
+        obj = self.obj
+        self.bb.pose = result.pose
+        obj.ledger.moving_s += result.duration_s
+        self.note(Event.MOVE, to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
+                  collided=result.collided,
+                  pose=[round(result.pose.x_in, 1), round(result.pose.y_in, 1), round(result.pose.heading_deg, 1)])
+        if result.collided:
+            return self._unusable()
+        assert self._goal is not None
+        obj.session.position = self._goal
+        return Status.SUCCESS
+
+    def failed(self, exc: DriverError) -> Status:
+        return self._unusable()
+
+    def _unusable(self) -> Status:
+        step = self.step
+        if self.target == "test" and step.test is not None:
+            self.obj.session.unusable(step.test)
+        elif step.attempt is not None:
+            step.attempt = replace(step.attempt, success=False)  # cannot be reached: a failed grasp
+        return Status.FAILURE
+
+
+class ApplyTest(DriverAction):
+    """Apply the chosen test: its sensing procedure, or its grasp when a grasp is tried
+    as a binary feature. A value already measured (free) needs no robot time."""
+
+    def __init__(self, robot: str, name: str = "ApplyTest") -> None:
+        super().__init__(name, robot)
+
+    def start(self) -> Future[SenseResult] | Future[GraspResult] | Status:
+        step = self.step
+        test = step.test
+        if test is None:
+            return Status.FAILURE
+        if test.test.is_grasp:
+            return self.services.driver.grasp(test.test.procedure)
+        if test.cost == 0:
+            step.values = {}
+            return Status.SUCCESS
+        return self.services.driver.sense(test.test.procedure)
+
+    def finish(self, result: SenseResult | GraspResult) -> Status:
+        obj, step = self.obj, self.step
+        if isinstance(result, GraspResult):
+            obj.ledger.grasping_s += result.duration_s
+            assert step.attempt is not None
+            step.attempt = replace(step.attempt, success=result.success)
+            self.note(Event.GRASP, grasp=result.procedure, as_feature=True, success=result.success,
+                      seconds=round(result.duration_s, 1))
+            return Status.SUCCESS
+        obj.ledger.sensing_s += result.duration_s
+        step.values = dict(result.values)
+        self.note(Event.SENSE, procedure=result.procedure, values=_rounded(result.values),
+                  seconds=round(result.duration_s, 1))
+        return Status.SUCCESS
+
+    def failed(self, exc: DriverError) -> Status:
+        step = self.step
+        assert step.test is not None
+        if step.test.test.is_grasp:
+            assert step.attempt is not None
+            step.attempt = replace(step.attempt, success=False)
+            return Status.SUCCESS  # FollowBranch fails on it and the recovery branch looks
+        self.obj.session.unusable(step.test)  # refused here: reselect
+        return Status.FAILURE
+
+
+class Grasp(DriverAction):
+    """Execute the leaf's grasp; the finger infrared sensor says whether it holds.
+
+    A grasp the finger sensor cannot confirm (No-Grab) is not executed: the robot leaves
+    the object, which is that grasp's success.
+    """
+
+    def __init__(self, robot: str, name: str = "Grasp") -> None:
+        super().__init__(name, robot)
+
+    def start(self) -> Future[GraspResult] | Status:
+        step, obj = self.step, self.obj
+        attempt = step.attempt
+        if attempt is None or attempt.failed:
+            return Status.FAILURE
+        if not self.services.knowledge.grasp(attempt.grasp).verifiable:
+            obj.finish("left", attempt.grasp, attempt.position)
+            step.attempt = replace(attempt, success=True)
+            self.note(Event.LEAVE, grasp=attempt.grasp)
+            return Status.SUCCESS
+        return self.services.driver.grasp(attempt.grasp)
+
+    def finish(self, result: GraspResult) -> Status:
+        obj, step = self.obj, self.step
+        assert step.attempt is not None
+        obj.ledger.grasping_s += result.duration_s
+        attempt = step.attempt = replace(step.attempt, success=result.success)
+        self.note(Event.GRASP, grasp=result.procedure, as_feature=False, success=result.success,
+                  seconds=round(result.duration_s, 1))
+        if result.success:
+            obj.finish("grasped", attempt.grasp, attempt.position)
+            return Status.SUCCESS
+        return Status.FAILURE
+
+    def failed(self, exc: DriverError) -> Status:
+        if self.step.attempt is not None:
+            self.step.attempt = replace(self.step.attempt, success=False)
+        return Status.FAILURE
+
+
+class Learn(DriverAction):
+    """Save the new object description after a successful grasp (with every feature
+    measured, discriminating ones included) and put the object away."""
+
+    def __init__(self, robot: str, name: str = "Learn") -> None:
+        super().__init__(name, robot)
+
+    def start(self) -> Future[RobotState] | Status:
+        obj = self.obj
+        if obj.outcome == "left":
+            return Status.SUCCESS
+        if obj.outcome != "grasped" or obj.grasp is None or obj.grasp_position is None:
+            return Status.FAILURE
+        description = obj.session.description(f"learned/{obj.grasp}", obj.grasp, obj.grasp_position)
+        if description.observations:  # a description with no features would match anything
+            obj.learned_id = self.timed(lambda: self.services.learner.learn(description))
+            self.note(Event.LEARN, id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
+                      wrong=list(obj.session.wrong_predictions))
+        else:
+            self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0, reason="nothing was measured")
+        return self.services.driver.release()
+
+    def finish(self, result: RobotState) -> Status:
+        return Status.SUCCESS
+
+
+def _rounded(values: object) -> dict[str, float | None]:
+    return {k: (None if v is None else round(float(v), 3)) for k, v in dict(values).items()}  # type: ignore[call-overload]

@@ -1,0 +1,68 @@
+"""Conversions between the driver's, the planner's and the learner's views of space.
+
+The driver speaks world poses, the planner its own poses and regions, the learner
+positions relative to the object (``docs/conventions.md``). These are the only places
+where one becomes another, so behaviours and tests import them instead of re-typing
+them.
+"""
+
+from __future__ import annotations
+
+from hero_driver.interface import CameraImage, Pose as DriverPose
+from learner.position import Position
+from planner import Navigator, OverheadImage, Pose as PlannerPose, Region
+
+
+def to_planner_pose(p: DriverPose) -> PlannerPose:
+    return PlannerPose(p.x_in, p.y_in, p.heading_deg)
+
+
+def to_driver_pose(p: PlannerPose) -> DriverPose:
+    return DriverPose(p.x_in, p.y_in, p.heading_deg)
+
+
+def overhead(image: CameraImage) -> OverheadImage:
+    """The driver's camera image as the planner's input (same fields)."""
+    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
+                         image.camera_matrix, image.fisheye)
+
+
+def relative_position(navigator: Navigator, region: Region, pose: PlannerPose) -> Position:
+    """Where a robot pose stands relative to an object, in the learner's terms (rounded)."""
+    d, o = navigator.position_of(region, pose)
+    return Position(round(max(d, 0.0), 1), round(o, 1) % 360.0)
+
+
+def other_end(position: Position) -> Position:
+    """The same approach from the opposite side: vision knows an object's reference
+    direction only up to a half turn, so a grasp there is as good."""
+    return Position(position.distance_in, ((position.orientation_deg or 0.0) + 180.0) % 360.0)
+
+
+class PlannerMoveCost:
+    """The learner's move-cost estimator on the planner's vision map, for one object.
+
+    Positions relative to the object become world poses (docs/conventions.md); the
+    estimate mode of the planner prices them in milliseconds. Cached per pair: the
+    learner prices the same few positions again at every node.
+    """
+
+    def __init__(self, navigator: Navigator, region: Region) -> None:
+        self.navigator, self.region = navigator, region
+        self._cache: dict[tuple[Position, Position], float] = {}
+
+    def retarget(self, region: Region) -> None:
+        """The object moved (pushed, knocked over): price positions around where it is now."""
+        self.region = region
+        self._cache.clear()
+
+    def move_cost(self, start: Position, goal: Position) -> float:
+        key = (start, goal)
+        if key not in self._cache:
+            self._cache[key] = 0.0 if start == goal else \
+                self.navigator.move_cost(self.pose(start), self.pose(goal)).seconds
+        return self._cache[key]
+
+    def pose(self, position: Position) -> PlannerPose:
+        """The world pose from which the sonar stands at ``position`` facing the object."""
+        return self.navigator.pose_for(self.region, position.distance_in or 0.0, position.orientation_deg or 0.0)

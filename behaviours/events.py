@@ -1,0 +1,54 @@
+"""The one vocabulary of what the behaviours report to the episode log.
+
+Each kind carries the one-line reading a person needs to understand it; the log refuses
+any other kind, and ``csl log``, the plots and ``docs/executive.md`` take the list from
+here, so a new event is added in one place.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+
+class Event(str, Enum):
+    """One kind of episode-log event, with its reading and whether it is a recovery."""
+
+    reading: str
+    recovery: bool
+
+    def __new__(cls, value: str, reading: str, recovery: bool = False) -> Event:
+        member = str.__new__(cls, value)
+        member._value_ = value
+        member.reading = reading
+        member.recovery = recovery
+        return member
+
+    def __str__(self) -> str:
+        return self.value
+
+    LOCATED = "located", "the overhead camera's object regions (centroid, pixels, orientation), nearest first"
+    OBJECT = "object", "work starts on an object: where it lies and where the robot stands relative to it"
+    CHOOSE = "choose", "a test chosen (how: best, reselect or backtrack), its position, gain, move and sensing seconds"
+    MOVE = "move", "the robot drove to a position: seconds, whether it collided, the pose it ended at"
+    SENSE = "sense", "a sensing procedure applied: the values it yielded and its seconds"
+    BRANCH = "branch", "the measured value matched a branch of the run-time tree (value and range)"
+    UNRELIABLE = "unreliable", "the value fell between or beyond the branches (or none came): not trusted"
+    BACKTRACK = "backtrack", "the parent's value invalidated to choose a different test there (depth)", True
+    NEAREST = "nearest", "the branch nearest an unreliable value followed, the last resort", True
+    CHOOSE_GRASP = "choose_grasp", "a grasp chosen at a leaf, or an ambiguous leaf's grasp tried as a feature"
+    GRASP = "grasp", "a grasp executed (at a leaf or as a feature) and whether the fingers hold"
+    SIDE_EFFECT = "side_effect", "what the camera saw after a failed grasp: pushed, changed or none"
+    START_OVER = "start_over", "a failed grasp had side effects: every description restored, start again", True
+    DROP_GRASP = "drop_grasp", "a grasp failed cleanly: its descriptions dropped, the tree rebuilt from here", True
+    GRASP_FEATURE_FAILED = "grasp_feature_failed", "a grasp tried as a feature failed: its 'failure' branch followed"
+    DISCRIMINATE = "discriminate", "after a wrong prediction, a feature measured to tell the object apart", True
+    LEAVE = "leave", "a grasp the finger sensor cannot confirm (No-Grab): the object is left where it is"
+    LEARN = "learn", "the new object description saved (id, grasp, features, wrong predictions)"
+    GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
+    DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
+    NO_PATH = "no_path", "no collision-free path to a position: unusable there", True
+    OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
+    EPISODE_END = "episode_end", "the tree finished (status, ticks)"
+
+
+RECOVERIES = frozenset(e.value for e in Event if e.recovery)  # as logged: plain strings

@@ -1,0 +1,93 @@
+"""What the tree knows while it runs: one record per object, one per recognition step.
+
+Per-object facts (its region, run-time session, costs, outcome) live in
+:class:`ObjectRecord` for the whole object. What one step decided (the test chosen, the
+values it yielded, the grasp tried, what the camera saw after a failure) lives in a
+:class:`Step` that the episode loop replaces in one line at every step, so nothing from
+an earlier step can leak into the next. Each field names its one writer. What the
+learner knows (which values were unreliable, what is still consistent) is owned by the
+learner's session, not copied here.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from behaviours.bridge import PlannerMoveCost
+from learner.position import Position
+from learner.runtime import RecognitionSession
+from learner.selection import ScoredTest
+from planner import Region
+
+
+@dataclass
+class Ledger:
+    """Robot seconds by kind for one object, and the computation spent choosing."""
+
+    moving_s: float = 0.0
+    sensing_s: float = 0.0
+    grasping_s: float = 0.0
+    computing_s: float = 0.0  # wall seconds in the learner and planner
+    tests: list[str] = field(default_factory=list)
+    recoveries: Counter[str] = field(default_factory=Counter)
+
+    @property
+    def robot_s(self) -> float:
+        return self.moving_s + self.sensing_s + self.grasping_s
+
+
+@dataclass(frozen=True)
+class GraspAttempt:
+    """A grasp tried in the current step: at a leaf, or as a feature (``as_feature``).
+
+    ``success`` is None until the grasp was executed (or found unreachable).
+    """
+
+    grasp: str
+    position: Position
+    as_feature: ScoredTest | None = None
+    success: bool | None = None
+
+    @property
+    def failed(self) -> bool:
+        return self.success is False
+
+
+@dataclass
+class Step:
+    """What one recognition step decided; replaced by the loop before every step."""
+
+    test: ScoredTest | None = None  # the choosers: BestTest, Reselect, Backtrack
+    values: Mapping[str, float | None] | None = None  # ApplyTest: what the procedure yielded
+    no_alternative: bool = False  # Backtrack: nothing reliable is left to choose up to the root
+    attempt: GraspAttempt | None = None  # chosen by ChooseGrasp/AmbiguousLeaf/the choosers; its
+    #   success set by whoever executed or gave up on it (Grasp, ApplyTest, MoveTo, OtherEnd)
+    side_effect: str | None = None  # SideEffects?: pushed | changed | None
+
+
+@dataclass
+class ObjectRecord:
+    """One object being approached and recognized: its region, session, and costs."""
+
+    index: int
+    region: Region  # where it is now (SideEffects? follows it when pushed)
+    pixels_before: int
+    session: RecognitionSession
+    estimator: PlannerMoveCost
+    first_region: Region  # where it was first seen
+    ledger: Ledger = field(default_factory=Ledger)
+    outcome: str | None = None  # grasped | left | failed
+    grasp: str | None = None
+    grasp_position: Position | None = None
+    learned_id: str | None = None  # Learn
+    steps: int = 0  # UntilHandled
+
+    @property
+    def done(self) -> bool:
+        return self.outcome is not None
+
+    def finish(self, outcome: str, grasp: str | None = None, position: Position | None = None) -> None:
+        """The object is handled (grasped, left) or given up on (failed)."""
+        self.outcome, self.grasp, self.grasp_position = outcome, grasp, position

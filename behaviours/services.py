@@ -1,0 +1,77 @@
+"""What a behaviour may call: the executive's dependencies, handed in at ``setup()``.
+
+The tree is built without resources (``executive.behaviour_tree.build_tree``) and the services
+arrive through ``BehaviourTree.setup(services=...)``, as py_trees intends: a tree can
+be drawn, snapshot and tested without a robot, a planner or a library. Everything here
+is a dependency or a setting; what changes while the tree runs (objects, steps, where
+the robot stands) lives on the blackboard (``behaviours.records``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from hero_driver.interface import Driver
+from learner.criteria import Criterion
+from learner.knowledge import Knowledge
+from learner.matrix import DescriptionMatrix
+from learner.service.interface import LearnerService
+from planner import Navigator
+
+NAMESPACE = "/csl"
+
+
+def namespace(robot: str) -> str:
+    """Blackboard namespace of one robot's tree (two robots never share keys)."""
+    return f"{NAMESPACE}/{robot}"
+
+
+@dataclass(frozen=True)
+class Params:
+    """The control strategies' knobs (docs/method.md §5)."""
+
+    max_alternatives: int = 3  # N: alternatives tried at a node before backtracking
+    nearest_after: int | None = None  # unreliable values before nearest neighbour; None: last resort
+    max_steps: int = 40  # recognition steps per object before giving up
+    changed_ratio: float = 0.25  # pixel-count change after a failed grasp meaning "changed"
+    pushed_in: float = 1.0  # centroid shift meaning "pushed"
+
+
+class EventSink(Protocol):
+    """Where behaviours report what they decided, measured and paid (the episode log)."""
+
+    def event(self, kind: str, **data: object) -> None: ...
+
+
+class LibraryMatrix:
+    """The learner's library as a description matrix, rebuilt only when its version
+    changed: every object of an episode shares one matrix until something is learned."""
+
+    def __init__(self, learner: LearnerService, knowledge: Knowledge) -> None:
+        self._learner, self._knowledge = learner, knowledge
+        self._built: tuple[int, DescriptionMatrix] | None = None
+
+    def current(self) -> DescriptionMatrix:
+        version = self._learner.version()
+        if self._built is None or self._built[0] != version:
+            snapshot = self._learner.library()
+            self._built = (snapshot.version, DescriptionMatrix(snapshot.descriptions, self._knowledge))
+        return self._built[1]
+
+
+@dataclass(frozen=True)
+class Services:
+    """Everything a behaviour may call, shared by the whole tree."""
+
+    driver: Driver
+    navigator: Navigator
+    learner: LearnerService
+    knowledge: Knowledge
+    criterion: Criterion
+    params: Params
+    log: EventSink
+    library: LibraryMatrix
+    clock: Callable[[], float] = field(default=time.perf_counter)

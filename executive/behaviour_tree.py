@@ -1,0 +1,51 @@
+"""The behaviour tree: Table 7 of the paper and its control strategies as composites.
+
+Built without resources: the services arrive in ``setup(services=...)``, so ``csl bt``
+and the shape snapshot build the tree alone. Every recovery is a branch you can see:
+reselection (gated by ``Unreliable?``), backtracking and nearest neighbour under
+"choose a test" / "step"; the ambiguous leaf under "choose a grasp"; the other end
+under "reach the grasp"; and, gated by ``GraspFailed?``, side effects or dropping a
+failed grasp under "recover".
+"""
+
+from __future__ import annotations
+
+import py_trees
+from py_trees.composites import Selector, Sequence
+
+from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
+from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
+from behaviours.loop import ForEachObject, StartObject, UntilHandled
+from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
+                                 GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
+
+
+def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
+    """The executive's tree for one episode of robot ``robot``: locate, then approach and
+    recognize each object."""
+    choose = Selector("choose a test", memory=True, children=[
+        BestTest(robot),
+        Sequence("reselect", memory=True, children=[ValueUnreliable(robot), Reselect(robot)]),
+        Backtrack(robot)])
+    follow = Sequence("follow the tree", memory=True, children=[
+        choose, MoveTo(robot, "test"), ApplyTest(robot), FollowBranch(robot)])
+    grasp = Sequence("grasp", memory=True, children=[
+        Selector("choose a grasp", memory=True, children=[ChooseGrasp(robot), AmbiguousGrasp(robot)]),
+        Selector("reach the grasp", memory=True, children=[MoveTo(robot, "grasp"), OtherEnd(robot)]),
+        Grasp(robot)])
+    recover = Sequence("recover", memory=True, children=[
+        GraspFailed(robot),
+        Selector("how it failed", memory=True, children=[
+            Sequence("side effects", memory=True, children=[CheckSideEffects(robot), StartOver(robot)]),
+            Sequence("wrong grasp", memory=True, children=[DropFailedGrasp(robot), Discriminate(robot)]),
+        ])])
+    step = Selector("step", memory=True, children=[follow, NearestNeighbour(robot), grasp, recover])
+    per_object = Sequence("approach and recognize", memory=True, children=[
+        StartObject(robot),
+        UntilHandled(step, robot, name="recognize and grasp"),
+        Learn(robot),
+    ])
+    return Sequence("retrieve objects", memory=True, children=[
+        LocateObjects(robot),
+        ForEachObject(per_object, robot, name="each object"),
+    ])

@@ -1,0 +1,97 @@
+"""The verb table of the driver protocol: one row per verb, everything about it.
+
+A verb used to be spread over the key list, the codec's dispatch tables, the
+client's timeouts and the node's driver call, and adding one meant finding all four.
+Here a row holds its name, its request type, the codecs of its request and reply,
+its default timeout and how the node calls the driver; the node, the client and the
+conformance suite read the table, and ``tests/hero_driver/test_zenoh_verbs.py``
+holds ``docs/driver-protocol.md`` to it. A new verb is a row here plus its method on
+the ``Driver`` protocol (and on ``ZenohDriver``, which is one).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import Any
+
+from hero_driver.interface import Driver
+from hero_driver.zenoh_link import codec
+from hero_driver.zenoh_link.codec import (
+    CodecError,
+    EmptyRequest,
+    Json,
+    MoveRequest,
+    ProcedureRequest,
+    Request,
+    ResetRequest,
+)
+
+
+@dataclass(frozen=True)
+class Verb:
+    """One verb: ``hero/<robot>/rpc/<name>``.
+
+    ``call`` starts the verb on a driver with the decoded request; ``None`` means the
+    verb touches no robot, so the node answers it at once and never refuses it as
+    ``busy``.
+    """
+
+    name: str
+    request: type
+    request_in: Callable[[Json], Request]
+    request_out: Callable[[Any], Json]
+    result_out: Callable[[Any], Json]
+    result_in: Callable[[Json], Any]
+    timeout_s: float
+    call: Callable[[Driver, Any], Future[Any]] | None
+
+    @property
+    def touches_robot(self) -> bool:
+        return self.call is not None
+
+    def encode_request(self, request: Request) -> bytes:
+        """The query payload (the verb is the key, not part of the body)."""
+        if not isinstance(request, self.request):
+            raise CodecError(f"message: expected a {self.request.__name__}, got {type(request).__name__}")
+        return codec.dumps(self.request_out(request))
+
+    def decode_request(self, data: bytes) -> Request:
+        return self.request_in(codec.loads(data))
+
+    def encode_result(self, result: object) -> bytes:
+        """The reply body for what the driver returned."""
+        return codec.dumps(self.result_out(result))
+
+    def decode_result(self, data: bytes) -> Any:
+        """The interface value a reply carries."""
+        return self.result_in(codec.loads(data))
+
+
+VERBS: tuple[Verb, ...] = (
+    Verb("move", MoveRequest, codec.move_request_in, codec.move_request_out,
+         codec.move_result_out, codec.move_result_in, 900.0,
+         lambda driver, request: driver.move(list(request.waypoints), request.face)),
+    Verb("sense", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
+         codec.sense_result_out, codec.sense_result_in, 300.0,
+         lambda driver, request: driver.sense(request.procedure)),
+    Verb("grasp", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
+         codec.grasp_result_out, codec.grasp_result_in, 300.0,
+         lambda driver, request: driver.grasp(request.procedure)),
+    Verb("release", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
+         codec.state_out, codec.state_in, 120.0,
+         lambda driver, _request: driver.release()),
+    Verb("camera", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
+         codec.camera_out, codec.camera_in, 30.0,
+         lambda driver, _request: driver.camera()),
+    Verb("reset", ResetRequest, codec.reset_request_in, codec.reset_request_out,
+         codec.state_out, codec.state_in, 120.0,
+         lambda driver, request: driver.reset(request.world, request.seed)),
+    # The health ping and the round-trip benchmark.
+    Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
+         codec.noop_out, codec.noop_in, 5.0, None),
+)
+
+BY_NAME: Mapping[str, Verb] = {verb.name: verb for verb in VERBS}
+NAMES: tuple[str, ...] = tuple(BY_NAME)

@@ -1,0 +1,138 @@
+"""The robot profile as typed values: what one TOML file says about one robot.
+
+Every field is validated by :mod:`robot_profile.reader` before these are built, so a
+consumer never re-checks a profile; the two ``[robot]`` parts also check themselves,
+because the planner's tests and tools build them by hand.
+
+The ``[robot]`` keys are the fields of :class:`RobotGeometry` and :class:`RobotMotion`:
+the reader reads each field as a non-negative number, or one greater than 0 when its
+metadata is :data:`POSITIVE`, so a new constant is one field here and one line in the
+profile file (docs/conventions.md, "Adding a robot constant").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+POSITIVE = {"positive": True}  # field metadata: the reader refuses 0 (sizes, and what costs divide by)
+
+
+@dataclass(frozen=True)
+class FeatureSpec:
+    """A feature a sensing procedure yields, with the error expected of it."""
+
+    name: str
+    error: float  # in the feature's unit
+    unit: str
+    binary: bool  # 0/1 features (holes): their span is (0, 1)
+    span: tuple[float, float]  # the values the feature can take
+    angular_of: str | None = None  # the linear feature whose angular size this is
+
+
+@dataclass(frozen=True)
+class SensingProcedure:
+    """An arm motion with the wrist sonar; one application yields all its features."""
+
+    name: str
+    time_s: float
+    range_in: tuple[float, float]
+    features: tuple[FeatureSpec, ...]
+
+
+@dataclass(frozen=True)
+class GraspingProcedure:
+    """A grasp; ``verifiable`` says whether the finger sensor can confirm success."""
+
+    name: str
+    time_s: float
+    range_in: tuple[float, float]
+    side_effect_penalty_s: float
+    verifiable: bool
+
+
+@dataclass(frozen=True)
+class MoveModel:
+    """The ``[move]`` table: the learner's move cost until a planner prices moves on a map."""
+
+    seconds_per_inch: float
+    seconds_per_degree: float
+    overhead_s: float
+
+
+@dataclass(frozen=True)
+class RobotGeometry:
+    """Where the robot's body and sonar are, relative to its pose (docs/conventions.md).
+
+    ``base_radius_in`` inflates the vision map and stops the simulated base;
+    ``sensor_offset_in`` places the base behind the sonar.
+    """
+
+    base_radius_in: float = field(metadata=POSITIVE)
+    sensor_offset_in: float
+    sensor_height_in: float
+
+    def __post_init__(self) -> None:
+        if not self.base_radius_in > 0 or not self.sensor_offset_in >= 0:
+            raise ValueError(
+                f"robot geometry needs base_radius_in > 0 and sensor_offset_in >= 0, got "
+                f"{self.base_radius_in} and {self.sensor_offset_in}"
+            )
+
+
+@dataclass(frozen=True)
+class RobotMotion:
+    """How long the base takes to move: the terms of the planner's move-cost heuristic
+    and of the simulator's clock.
+
+    A move costs ``vision_s`` (overhead image processing before it), driving at
+    ``speed_in_per_s``, turning in place at ``turn_deg_per_s`` and ``centring_s`` (sonar
+    centring on the object at the end).
+    """
+
+    speed_in_per_s: float = field(metadata=POSITIVE)
+    turn_deg_per_s: float = field(metadata=POSITIVE)
+    vision_s: float
+    centring_s: float
+
+    def __post_init__(self) -> None:
+        if not self.speed_in_per_s > 0 or not self.turn_deg_per_s > 0:
+            raise ValueError(
+                f"move model needs positive speeds, got {self.speed_in_per_s} in/s and "
+                f"{self.turn_deg_per_s} deg/s"
+            )
+        if self.vision_s < 0 or self.centring_s < 0:
+            raise ValueError(
+                f"move model needs non-negative overheads, got vision_s={self.vision_s} and "
+                f"centring_s={self.centring_s}"
+            )
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The ``[robot]`` table, split into body geometry and move timing."""
+
+    geometry: RobotGeometry
+    motion: RobotMotion
+
+
+@dataclass(frozen=True)
+class RobotProfile:
+    """A whole profile file; ``source`` names it in messages."""
+
+    robot: Robot
+    move: MoveModel
+    sensing: tuple[SensingProcedure, ...]
+    grasping: tuple[GraspingProcedure, ...]
+    source: str
+
+    def sensing_procedure(self, name: str) -> SensingProcedure | None:
+        """The sensing procedure called ``name``, or None: a driver refuses unknown names."""
+        return next((p for p in self.sensing if p.name == name), None)
+
+    def grasping_procedure(self, name: str) -> GraspingProcedure | None:
+        """The grasping procedure called ``name``, or None."""
+        return next((g for g in self.grasping if g.name == name), None)
+
+    @property
+    def grasp_names(self) -> tuple[str, ...]:
+        return tuple(g.name for g in self.grasping)

@@ -1,0 +1,174 @@
+"""The one reader of a robot profile (format: docs/knowledge-format.md).
+
+The learner, the planner and the simulator all take their part of the robot from
+here, so a procedure costs the same robot time in simulation as the learner was told
+and the planner inflates the map by the body the simulator drives. Validation is
+strict: a profile is hand-edited, and a typo that silently changed a cost would
+silently change every tree.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TypeVar
+
+from robot_profile import fields
+from robot_profile.model import (
+    FeatureSpec, GraspingProcedure, MoveModel, Robot, RobotGeometry, RobotMotion, RobotProfile, SensingProcedure,
+)
+
+DEFAULT_PROFILE = Path(__file__).resolve().parent.parent / "hero_driver" / "profiles" / "hero2000.toml"
+
+_Part = TypeVar("_Part", RobotGeometry, RobotMotion)
+
+
+def load_profile(path: str | Path = DEFAULT_PROFILE) -> RobotProfile:
+    """Read and validate a profile file; errors name the file, entry and problem."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise ValueError(f"{path}: knowledge file not found") from None
+    except IsADirectoryError:
+        raise ValueError(f"{path}: is a folder, not a knowledge file") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text (TOML) knowledge file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not valid TOML: {exc}") from None
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read knowledge file: {exc.strerror}") from None
+    return profile_from_dict(data, str(path))
+
+
+def profile_from_dict(data: Mapping[str, object], source: str = "<profile>") -> RobotProfile:
+    """Validate parsed TOML data into a :class:`RobotProfile`."""
+    fields.only_keys(data, {"move", "robot", "sensing", "grasping"}, source)
+    move = _move(fields.table(data, "move", source), f"{source}: [move]")
+    robot = _robot(fields.table(data, "robot", source), f"{source}: [robot]")
+    sensing = tuple(
+        _sensing(entry, f"{source}: sensing[{i}]") for i, entry in enumerate(fields.array(data, "sensing", source))
+    )
+    grasping = tuple(
+        _grasping(entry, f"{source}: grasping[{i}]")
+        for i, entry in enumerate(fields.array(data, "grasping", source))
+    )
+    fields.unique([p.name for p in sensing] + [g.name for g in grasping], f"{source}: procedure")
+    _check_features(sensing, source)
+    if not sensing:
+        raise ValueError(f"{source}: no [[sensing]] procedures")
+    if not grasping:
+        raise ValueError(f"{source}: no [[grasping]] procedures")
+    return RobotProfile(robot=robot, move=move, sensing=sensing, grasping=grasping, source=source)
+
+
+def _check_features(sensing: tuple[SensingProcedure, ...], source: str) -> None:
+    """Each feature comes from exactly one procedure, and ``angular_of`` names a linear one."""
+    seen: dict[str, tuple[FeatureSpec, str]] = {}
+    for proc in sensing:
+        for feat in proc.features:
+            if feat.name in seen:
+                other, other_proc = seen[feat.name]
+                if (other.error, other.binary, other.span) != (feat.error, feat.binary, feat.span):
+                    raise ValueError(
+                        f"{source}: feature {feat.name!r} is yielded by {other_proc!r} and {proc.name!r} "
+                        f"with different errors ({other.error} vs {feat.error})"
+                    )
+                raise ValueError(
+                    f"{source}: feature {feat.name!r} is yielded by both {other_proc!r} and {proc.name!r}; "
+                    "a feature must come from one procedure"
+                )
+            seen[feat.name] = (feat, proc.name)
+    for feat, proc_name in seen.values():
+        if feat.angular_of is not None and (feat.angular_of not in seen or seen[feat.angular_of][0].binary):
+            raise ValueError(f"{source}: feature {feat.name!r} of {proc_name!r}: 'angular_of' names "
+                             f"{feat.angular_of!r}, which no procedure yields as a linear feature")
+
+
+def _move(table: Mapping[str, object], where: str) -> MoveModel:
+    fields.only_keys(table, {"seconds_per_inch", "seconds_per_degree", "overhead_s"}, where)
+    return MoveModel(
+        seconds_per_inch=fields.cost(table, "seconds_per_inch", where),
+        seconds_per_degree=fields.cost(table, "seconds_per_degree", where),
+        overhead_s=fields.cost(table, "overhead_s", where),
+    )
+
+
+def _robot(table: Mapping[str, object], where: str) -> Robot:
+    """Every field is required: the planner and the simulator must agree on all of them.
+
+    The keys are the two parts' dataclass fields, so a new constant needs no code here.
+    """
+    allowed = {f.name for part in (RobotGeometry, RobotMotion) for f in dataclasses.fields(part)}
+    fields.only_keys(table, allowed, where)
+    return Robot(geometry=_part(RobotGeometry, table, where), motion=_part(RobotMotion, table, where))
+
+
+def _part(part: type[_Part], table: Mapping[str, object], where: str) -> _Part:
+    """One ``[robot]`` part, each field checked as its metadata says (model.POSITIVE)."""
+    values = {
+        f.name: (fields.positive if f.metadata.get("positive") else fields.cost)(table, f.name, where)
+        for f in dataclasses.fields(part)
+    }
+    return part(**values)
+
+
+def _sensing(entry: object, where: str) -> SensingProcedure:
+    entry = fields.as_table(entry, where)
+    name = fields.name(entry, where)
+    where = f"{where} ({name})"
+    fields.only_keys(entry, {"name", "time_s", "range_in", "features"}, where)
+    features_raw = entry.get("features")
+    if not isinstance(features_raw, list) or not features_raw:
+        raise ValueError(f"{where}: 'features' must be a non-empty array of tables")
+    features = tuple(_feature(f, f"{where} features[{i}]") for i, f in enumerate(features_raw))
+    fields.unique([f.name for f in features], f"{where}: feature")
+    return SensingProcedure(name=name, time_s=fields.cost(entry, "time_s", where),
+                            range_in=_range(entry, where), features=features)
+
+
+def _feature(entry: object, where: str) -> FeatureSpec:
+    entry = fields.as_table(entry, where)
+    name = fields.name(entry, where)
+    where = f"{where} ({name})"
+    fields.only_keys(entry, {"name", "error", "unit", "span", "binary", "angular_of"}, where)
+    binary = fields.flag(entry, "binary", False, where)
+    unit = entry.get("unit")
+    if not isinstance(unit, str) or not unit:
+        raise ValueError(f"{where}: missing field 'unit'")
+    error = fields.cost(entry, "error", where)
+    if binary:
+        if "span" in entry:
+            raise ValueError(f"{where}: a binary feature takes no 'span' (its values are 0 and 1)")
+        span = (0.0, 1.0)
+    else:
+        span = fields.pair(entry, "span", where)
+    angular_of = entry.get("angular_of")
+    if angular_of is not None and (not isinstance(angular_of, str) or binary):
+        raise ValueError(f"{where}: 'angular_of' must name a linear feature (and not be set on a binary one)")
+    return FeatureSpec(name=name, error=error, unit=unit, binary=binary, span=span, angular_of=angular_of)
+
+
+def _grasping(entry: object, where: str) -> GraspingProcedure:
+    entry = fields.as_table(entry, where)
+    name = fields.name(entry, where)
+    where = f"{where} ({name})"
+    fields.only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "verifiable"}, where)
+    penalty = fields.cost(entry, "side_effect_penalty_s", where) if "side_effect_penalty_s" in entry else 0.0
+    return GraspingProcedure(
+        name=name,
+        time_s=fields.cost(entry, "time_s", where),
+        range_in=_range(entry, where),
+        side_effect_penalty_s=penalty,
+        verifiable=fields.flag(entry, "verifiable", True, where),
+    )
+
+
+def _range(entry: Mapping[str, object], where: str) -> tuple[float, float]:
+    lo, hi = fields.pair(entry, "range_in", where)
+    if lo < 0:
+        raise ValueError(f"{where}: 'range_in' must not be negative, got [{lo}, {hi}]")
+    return lo, hi

@@ -1,0 +1,87 @@
+"""The verb table against ``docs/driver-protocol.md``: every verb of the table is
+documented (key, section, fields, timeout) as the table has it, and the page names no
+verb the table lacks. Fields are read off the wire: each verb encodes a hand-made
+request and result and the JSON keys are compared with the page's."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hero_driver.interface import CameraImage, GraspResult, MoveResult, Pose, RobotState, SenseResult
+from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest
+from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
+
+DOC = (Path(__file__).resolve().parents[2] / "docs" / "driver-protocol.md").read_text(encoding="utf-8")
+HERE = Pose(30.0, 30.0, 0.0)
+STATE = RobotState(HERE, 0.0, 1.0)
+EXAMPLES: dict[str, tuple[object, object]] = {
+    "move": (MoveRequest((HERE,), (60.0, 30.0)), MoveResult(HERE, 2.0, False, True)),
+    "sense": (ProcedureRequest("H-Sweep-5°"), SenseResult("H-Sweep-5°", {"Width-Degree-5°": 31.5}, 45.0, 20.0)),
+    "grasp": (ProcedureRequest("Front-Pinch"), GraspResult("Front-Pinch", True, 45.0)),
+    "release": (EmptyRequest(), STATE),
+    "camera": (EmptyRequest(), CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6)),
+    "reset": (ResetRequest("lab", 3), STATE),
+    "noop": (EmptyRequest(), None),
+}
+
+
+def names_in(cell: str) -> set[str]:
+    """The backticked field names of a table cell (``none`` for no field)."""
+    return set(re.findall(r"`(\w+)`", cell))
+
+
+def summary() -> dict[str, list[str]]:
+    """The verb table of the page: verb -> [request fields, reply fields, timeout]."""
+    rows = re.findall(r"^\| `(\w+)` \| (.*?) \| (.*?) \| ([\d.]+) s \|$", DOC, re.MULTILINE)
+    return {verb: [request, reply, timeout] for verb, request, reply, timeout in rows}
+
+
+def sections() -> dict[str, str]:
+    """Each ``#### `verb`: ...`` section's text, up to the next heading."""
+    parts = re.split(r"^#### `(\w+)`:.*$", DOC, flags=re.MULTILINE)
+    return {verb: re.split(r"^#", text, flags=re.MULTILINE)[0] for verb, text in zip(parts[1::2], parts[2::2])}
+
+
+def wire_fields(body: bytes) -> set[str]:
+    return set(json.loads(body)) - {"v"}
+
+
+def test_the_examples_cover_the_table() -> None:
+    assert tuple(EXAMPLES) == NAMES
+
+
+def test_the_page_names_exactly_the_verbs_of_the_table() -> None:
+    assert tuple(summary()) == NAMES
+    assert tuple(sections()) == NAMES
+    [served] = re.findall(r"^\| `hero/<robot>/rpc/<verb>` \|.*\| (.*) \|$", DOC, re.MULTILINE)
+    assert re.findall(r"`(\w+)`", served) == list(NAMES)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_verb_is_documented_as_the_table_has_it(name: str) -> None:
+    verb = BY_NAME[name]
+    request_cell, reply_cell, timeout = summary()[name]
+    assert float(timeout) == verb.timeout_s
+    request, result = EXAMPLES[name]
+    assert names_in(request_cell) == wire_fields(verb.encode_request(request))
+    assert names_in(reply_cell) == wire_fields(verb.encode_result(result))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_section_states_the_same_fields(name: str) -> None:
+    """Where a section spells fields out (a field table, an example request), they
+    are the verb table's."""
+    text = sections()[name]
+    request_cell, reply_cell, _ = summary()[name]
+    for heading, cell in (("request field", request_cell), ("reply field", reply_cell)):
+        table = re.search(rf"^\| {heading} \|.*\n\|[-|]+\|\n((?:\|.*\n)+)", text, re.MULTILINE)
+        if table:
+            rows = re.findall(r"^\| (.*?) \|", table.group(1), re.MULTILINE)
+            assert set().union(*map(names_in, rows)) == names_in(cell), heading
+    for example in re.findall(r"Request:? `(\{.*?\})`", text):
+        assert set(json.loads(example)) - {"v"} == names_in(request_cell)

@@ -1,0 +1,103 @@
+"""The serving half: one queryable per verb, a catch-all that refuses the rest, and
+the liveliness token that tells clients all of it is in place.
+
+A queryable also receives every *wildcard* query whose key expression intersects its
+own (``<prefix>/<name>/rpc/*`` reaches every verb). Running a verb for such a query
+would let one careless ``get`` move a robot or write a library, so a verb's
+queryable answers only its exact key; the catch-all on ``rpc/**`` gives wildcards
+and unknown verbs one error reply each, so a client always learns why nothing ran.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import zenoh
+
+from zenoh_rpc.keys import KeySpace
+
+JSON = zenoh.Encoding.APPLICATION_JSON
+
+Handler = Callable[[str, zenoh.Query], None]
+ErrorEncoder = Callable[[str, str], bytes]
+
+
+def payload_of(query: zenoh.Query) -> bytes:
+    """The query's payload; empty when it carried none."""
+    return b"" if query.payload is None else query.payload.to_bytes()
+
+
+def reply(query: zenoh.Query, body: bytes) -> None:
+    """Answer ``query`` with a JSON result and finish it (exactly one reply)."""
+    query.reply(query.key_expr, body, encoding=JSON)
+    query.drop()
+
+
+def reply_err(query: zenoh.Query, body: bytes) -> None:
+    """Answer ``query`` with a JSON error body (code and message) and finish it."""
+    query.reply_err(body, encoding=JSON)
+    query.drop()
+
+
+class RpcServer:
+    """Declares ``verbs`` of ``keys`` on ``session``, then the liveliness token.
+
+    ``handle(verb, query)`` gets each exact-key query and must answer it, at once or
+    later from any thread, with :func:`reply` or :func:`reply_err`. ``encode_error``
+    makes error bodies from a code and a message; a wildcard query is refused with
+    ``bad_request`` and an unknown verb with ``unknown_verb`` (the same code where a
+    protocol has no separate one). The session stays the caller's: :meth:`close`
+    undeclares the token first, so clients stop sending, then the queryables.
+    """
+
+    def __init__(self, session: zenoh.Session, keys: KeySpace, verbs: Sequence[str], handle: Handler,
+                 encode_error: ErrorEncoder, *, bad_request: str, unknown_verb: str) -> None:
+        self.keys = keys
+        self.verbs = tuple(verbs)
+        self._handle = handle
+        self._encode_error = encode_error
+        self._bad_request = bad_request
+        self._unknown_verb = unknown_verb
+        self._closed = False
+        self._queryables = [
+            session.declare_queryable(keys.rpc(verb), self._exact(verb), complete=True)
+            for verb in self.verbs
+        ]
+        self._queryables.append(session.declare_queryable(keys.rpc_all, self._on_other_key))
+        # Declared last: a client that sees the token finds every queryable in place.
+        self._token = session.liveliness().declare_token(keys.alive)
+
+    def reply_error(self, query: zenoh.Query, code: str, message: str) -> None:
+        """Answer ``query`` with this protocol's error body and finish it."""
+        reply_err(query, self._encode_error(code, message))
+
+    def close(self) -> None:
+        """Stop serving: undeclare the token, then the queryables."""
+        if self._closed:
+            return
+        self._closed = True
+        self._token.undeclare()
+        for queryable in self._queryables:
+            queryable.undeclare()
+
+    def _exact(self, verb: str) -> Callable[[zenoh.Query], None]:
+        exact_key = self.keys.rpc(verb)
+
+        def on_query(query: zenoh.Query) -> None:
+            if str(query.key_expr) != exact_key:
+                query.drop()  # a wildcard: the catch-all answers it
+                return
+            self._handle(verb, query)
+
+        return on_query
+
+    def _on_other_key(self, query: zenoh.Query) -> None:
+        key = str(query.key_expr)
+        verb = key.removeprefix(self.keys.rpc_root)
+        if verb in self.verbs:
+            query.drop()  # answered by the verb's own queryable
+        elif any(c in key for c in "*$"):
+            self.reply_error(query, self._bad_request, f"{key}: verbs must be addressed by their exact key")
+        else:
+            self.reply_error(query, self._unknown_verb,
+                             f"{verb!r} is not a verb (known: {', '.join(self.verbs)})")

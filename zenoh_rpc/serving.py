@@ -1,0 +1,58 @@
+"""A process that serves until it is told to stop: ``csl driver sim`` and
+``csl learner serve`` run this way under a terminal or a service manager.
+
+SIGINT (Ctrl-C) and SIGTERM (systemd, docker, ``kill``) both mean "stop cleanly":
+the server undeclares its liveliness token before the process exits, so clients
+learn at once that it is gone instead of waiting for the lease to run out.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager
+from types import FrameType
+
+from zenoh import Session
+
+from zenoh_rpc.config import open_session
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextmanager
+def stop_on_signals(signals: Sequence[signal.Signals] = STOP_SIGNALS) -> Iterator[threading.Event]:
+    """An event that ``signals`` set while the block runs; the previous handlers
+    come back afterwards (so a test calling the CLI in-process keeps its own)."""
+    stop = threading.Event()
+
+    def on_signal(_signum: int, _frame: FrameType | None) -> None:
+        stop.set()
+
+    previous = {sig: signal.signal(sig, on_signal) for sig in signals}
+    try:
+        yield stop
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def serve_until(stop: threading.Event, listen: Sequence[str],
+                declare: Callable[[Session], AbstractContextManager[object]],
+                on_ready: Callable[[], None] | None = None) -> None:
+    """Open a session listening on ``listen``, declare a server on it with
+    ``declare(session)`` and keep it until ``stop`` is set; then close both.
+
+    ``on_ready`` runs once every key is declared (a CLI prints its line there, so a
+    script waiting for that line can connect at once). Raises ConnectionError when
+    an endpoint cannot be listened on.
+    """
+    session = open_session(listen=listen)
+    try:
+        with declare(session):
+            if on_ready is not None:
+                on_ready()
+            stop.wait()
+    finally:
+        session.close()
