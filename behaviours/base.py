@@ -66,8 +66,11 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
         return self.bb.step
 
     def note(self, kind: Event, **data: object) -> None:
-        """Report an event to the episode log, tagged with the object."""
-        self.services.log.event(kind, object=self.obj.index, behaviour=self.name, **data)
+        """Report an event to the episode log, tagged with the object when there is one
+        (locating happens before any object)."""
+        obj: ObjectRecord | None = self.bb.get("object") if self.bb.exists("object") else None
+        tagged: dict[str, object] = {"object": obj.index} if obj is not None else {}
+        self.services.log.event(kind, **tagged, behaviour=self.name, **data)
 
     def timed(self, fn: Callable[[], T]) -> T:
         """Run learner or planner work, charging its wall time to the object's computation."""

@@ -91,14 +91,16 @@ class UntilHandled(py_trees.decorators.Decorator):
     def update(self) -> Status:
         if self.decorated.status == Status.RUNNING:
             return Status.RUNNING
-        assert self._services is not None, f"{self.name}: ticked before setup(services=...)"
+        if self._services is None:
+            raise RuntimeError(f"{self.name}: ticked before setup(services=...)")
         obj: ObjectRecord = self.bb.object
         obj.steps += 1
         if obj.done:
             return Status.SUCCESS if obj.outcome != "failed" else Status.FAILURE
         if obj.steps >= self._services.params.max_steps:
             obj.finish("failed")
-            self._services.log.event(Event.GAVE_UP, object=obj.index, reason=f"{obj.steps} steps")
+            self._services.log.event(Event.GAVE_UP, object=obj.index, behaviour=self.name,
+                                     reason=f"{obj.steps} steps")
             return Status.FAILURE
         self.bb.step = Step()
         return Status.RUNNING

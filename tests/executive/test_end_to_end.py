@@ -18,7 +18,8 @@ from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
-from tests.hero_driver.test_zenoh_support import DriverProcess, free_endpoint, wait_until
+from tests.hero_driver.test_zenoh_support import DriverProcess
+from tests.zenoh_rpc.support import free_endpoint, wait_until
 from tests.learner.test_service_zenoh import ServiceProcess
 
 REPO = Path(__file__).resolve().parents[2]

@@ -34,7 +34,6 @@ from hero_driver.interface import (
 )
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import serve
-from tests.zenoh_rpc.support import free_endpoint, wait_until  # noqa: F401 (tests/executive import them from here)
 from zenoh_rpc.config import open_session
 
 REPO = Path(__file__).resolve().parents[2]
