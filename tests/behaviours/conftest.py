@@ -27,7 +27,6 @@ from collections import deque
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -39,62 +38,20 @@ from behaviours.bridge import PlannerMoveCost, to_driver_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import LibraryMatrix, Params, Services, namespace
-from executive.profile import load_knowledge
 from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Pose as DriverPose,
                                    RobotState, SenseResult)
 from learner.criteria import criterion
-from learner.description import ObjectDescription, Observation
-from learner.knowledge import Knowledge
+from learner.description import ObjectDescription
 from learner.matrix import DescriptionMatrix
 from learner.position import Position
 from learner.runtime import RecognitionSession
 from learner.selection import ScoredTest
 from learner.service.interface import LibrarySnapshot
 from planner import MoveCost, PlanResult, Pose, Region, Scene
+from tests.learner.fixtures import ANY, P, desc, four_objects, hero  # noqa: F401 - the tests here take them from this module
 
 ROBOT = "r1"
-HERO = Path(__file__).resolve().parents[2] / "hero_driver" / "profiles" / "hero2000.toml"
-ANY = None
 PENDING = object()  # script this to leave a verb's future pending
-
-
-def P(d: float | None, o: float | None) -> Position:  # noqa: N802 - reads like the paper
-    return Position(d, o)
-
-
-# -- the library -------------------------------------------------------------------------
-
-
-def desc(oid: str, grasp: str, *obs: tuple[str, Position, float], at: Position = P(6, ANY)) -> ObjectDescription:
-    return ObjectDescription(oid, grasp, at, tuple(sorted(Observation(f, p, v) for f, p, v in obs)))
-
-
-def four_objects() -> list[ObjectDescription]:
-    """Cup, open box, tumbler, closed box: four grasps, H(C) = 2 bits.
-
-    Width-Degree-1°(24,0) (H-Sweep-1°, 100 s, error 3): 8, 18, 9, 30 -> ranges [8,9]
-    [18,18] [30,30], I = 2 - 2/4 * 1 = 1.5 bits. From (60,0) it costs 36 in * 2 s = 72 s
-    of moving plus 100 s of sensing and beats every other test (Height(6,*) needs 108 s
-    of moving plus 84 s and gains less).
-    """
-    return [
-        desc("cup", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 8), ("Height", P(6, ANY), 3.5)),
-        desc("box", "Front-Pinch", ("Width-Degree-1°", P(24, 0), 18), ("Height", P(6, ANY), 9)),
-        desc("tumbler", "Top-Pinch", ("Width-Degree-1°", P(24, 0), 9), ("Height", P(6, ANY), 6),
-             ("Top-Hole?", P(6, ANY), 1)),
-        desc("closed", "No-Grab", ("Width-Degree-1°", P(24, 0), 30), at=P(ANY, ANY)),
-    ]
-
-
-_KNOWLEDGE: Knowledge | None = None
-
-
-def hero() -> Knowledge:
-    """The shipped robot profile's knowledge (read once per session: it never changes)."""
-    global _KNOWLEDGE
-    if _KNOWLEDGE is None:
-        _KNOWLEDGE = load_knowledge(HERO)
-    return _KNOWLEDGE
 
 
 class FakeLearner:
