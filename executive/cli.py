@@ -2,10 +2,12 @@
 
 Each command module exposes ``register(subparsers)``, adding its parser(s) with a
 ``handler`` default: a function taking the parsed namespace and returning an exit
-status. Bad input anywhere (files, arguments) is raised as ``ValueError`` or
-``OSError`` with a one-line message naming what is wrong; ``main`` prints it as
-``csl: error: ...`` and exits 2, never with a traceback (set ``CSL_DEBUG=1`` to see
-one). A robot that vanishes mid-run stops it with ``csl: robot error: ...``, exit 1.
+status (``executive/exit_status.py``). Bad input anywhere (files, arguments) is raised
+as ``ValueError`` or ``OSError`` with a one-line message naming what is wrong; ``main``
+prints it as ``csl: error: ...`` and exits 2, never with a traceback (set
+``CSL_DEBUG=1`` to see one). A robot or learner service that cannot be reached or
+vanishes mid-run stops it with ``csl: robot error: ...`` or ``csl: learner error: ...``,
+exit 3.
 """
 
 from __future__ import annotations
@@ -18,16 +20,15 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from executive import commands
+from executive.exit_status import BAD_INPUT, LOST
 from hero_driver.interface import DriverError
-
-USAGE_ERROR = 2
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse, but a bad argument is one line (and where to read more), exit 2."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(USAGE_ERROR, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        self.exit(BAD_INPUT, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -67,16 +68,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    except ConnectionError as exc:  # the learner service could not be reached or vanished
+        if os.environ.get("CSL_DEBUG"):
+            raise
+        print(f"csl: learner error: {_one_line(exc)}", file=sys.stderr)
+        return LOST
     except (ValueError, OSError, KeyError) as exc:
         if os.environ.get("CSL_DEBUG"):
             raise
         print(f"csl: error: {_one_line(exc)}", file=sys.stderr)
-        return USAGE_ERROR
+        return BAD_INPUT
     except DriverError as exc:  # the robot refused or vanished while the executive ran
         if os.environ.get("CSL_DEBUG"):
             raise
         print(f"csl: robot error: {exc}", file=sys.stderr)
-        return 1
+        return LOST
     except KeyboardInterrupt:
         print("csl: interrupted", file=sys.stderr)
         return 130

@@ -85,19 +85,21 @@ class RecognitionSession:
         *,
         max_alternatives: int = 3,
         orientation_free: bool = False,
+        seed: int = 0,
     ) -> None:
         """Start recognizing one object from ``start``; ``matrix`` is the library, built
         once and shared by every object until the library changes.
 
         ``orientation_free``: the object has no orientation (a round footprint), so its
         values hold from every side and are recorded at ``(d,*)``, as training does.
+        ``seed``: for the choices the criterion leaves to chance (ties of a cost-blind one).
         """
         if not matrix.descriptions:
             raise ValueError("the library holds no object descriptions to recognize with")
         if max_alternatives < 1:
             raise ValueError(f"max_alternatives must be at least 1, got {max_alternatives}")
         self.matrix = matrix
-        self.ctx = Context(matrix, criterion, estimator)
+        self.ctx = Context(matrix, criterion, estimator, np.random.default_rng(seed))
         self.orientation_free = orientation_free
         self.max_alternatives = max_alternatives
         self._changes = 0  # bumped by every change that can alter decide()'s answer

@@ -17,7 +17,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -71,11 +71,14 @@ Measurements = Mapping[tuple[str, Position], float]
 
 @dataclass(frozen=True)
 class Context:
-    """What scoring needs besides the node: the library, the criterion, the move costs."""
+    """What scoring needs besides the node: the library, the criterion, the move costs,
+    and a seeded generator for the choices a criterion leaves to chance (a cost-blind
+    criterion breaks ties at random), so a run is repeatable from its seed."""
 
     matrix: DescriptionMatrix
     criterion: Criterion
     estimator: MoveCostEstimator
+    rng: np.random.Generator = field(default_factory=lambda: np.random.default_rng(0), compare=False)
 
     @property
     def knowledge(self) -> Knowledge:

@@ -17,12 +17,13 @@ from executive.args import (add_criterion_options, criterion_from_args, endpoint
                             positive_int)
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
+from executive.exit_status import episode_status
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from executive.profile import knowledge_of
 from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
 from executive.tables import print_table
 from executive.training_sources import SimulatorSource, catalogue_objects
-from hero_driver.interface import CameraImage, Driver
+from hero_driver.interface import UNAVAILABLE, CameraImage, Driver, DriverError
 from learner.costs import ModelMoveCost
 from learner.criteria import Criterion
 from learner.knowledge import Knowledge
@@ -180,7 +181,7 @@ def _driver(args: argparse.Namespace, profile: RobotProfile) -> Driver:
     driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0)
     if not driver.wait_ready(5.0):  # alive, and its first state published
         driver.close()
-        raise ValueError(f"no driver is serving robot {args.robot!r} at {connect} (start one with "
+        raise DriverError(UNAVAILABLE, f"no driver is serving robot {args.robot!r} at {connect} (start one with "
                          f"'csl driver sim --robot {args.robot}')")
     return driver
 
@@ -227,7 +228,9 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
     if isinstance(learner, LocalLearner):
         print(f"library: {learner.path}")
-    return 0 if result.status == "SUCCESS" else 1
+    status, why = episode_status([record.outcome for record in result.objects])
+    print(f"exit status {status}: {why}")
+    return status
 
 
 def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:

@@ -36,7 +36,6 @@ def test_bt_prints_and_renders(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     [
         (["demo", "--alternatives", "0"], "--alternatives: must be at least 1"),
         (["demo", "--world", "/nonexistent/world.json"], "world"),
-        (["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:9"], "no driver is serving robot 'r1'"),
         (["demo", "--seed", "-1"], "argument --seed: must not be negative"),
         (["run", "--connect", "tcp/127.0.0.1:7447"], "--connect goes with --driver zenoh"),
         (["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:99999"], "the port must be a number from 1"),
@@ -47,6 +46,23 @@ def test_bad_arguments_are_one_line(tmp_path: Path, capsys, argv, message) -> No
     assert main([*argv, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("csl") and "error: " in err[0] and message in err[0]
+
+
+def test_an_unreachable_driver_is_exit_status_3_not_bad_input(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    assert main(["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:9", "--out", str(tmp_path)]) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [err[0]] and err[0].startswith("csl: robot error: unavailable: no driver is serving robot 'r1'")
+
+
+def test_a_run_that_leaves_objects_exits_1_and_says_why(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    # One recognition step per object is too few to reach any grasp (every object needs
+    # at least one test before its leaf), so all seven of the lab's objects fail.
+    assert main(["run", "--max-steps", "1", "--no-plots", "--out", str(tmp_path),
+                 "--library", str(tmp_path / "lib.sqlite")]) == 1
+    out = capsys.readouterr().out
+    assert "exit status 1: 7 of 7 objects were not handled" in out
+    events = [json.loads(x) for x in (tmp_path / "episode.jsonl").read_text().splitlines()]
+    assert events[-1]["status"] == "SUCCESS"  # the tree finished: only the objects tell
 
 
 def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001

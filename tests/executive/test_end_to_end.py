@@ -90,7 +90,7 @@ def test_a_driver_vanishing_mid_episode_stops_the_run_with_one_line(tmp_path: Pa
         out, err = run.communicate(timeout=60)
     events = [json.loads(line) for line in log.read_text().splitlines()]
     assert events[-1]["event"] != "episode_end" and not any(e["event"] == "learn" for e in events[1:])
-    assert run.returncode == 1, err
+    assert run.returncode == 3, err  # robot lost (executive/exit_status.py)
     messages = [x for x in err.strip().splitlines() if x.startswith("csl:")]
     assert messages == [messages[-1]] and messages[-1].startswith("csl: robot error: unavailable")
     assert "Traceback" not in err
