@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -75,3 +76,10 @@ def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     bad.write_text("{not json\n")
     assert main(["log", str(bad)]) == 2
     assert "bad.jsonl:1: not a JSON event" in capsys.readouterr().err
+
+
+def test_the_default_library_lives_under_csl_home(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    home = Path(os.environ["CSL_HOME"])  # the suite's autouse fixture: a temporary folder
+    assert home.is_relative_to(tmp_path.parent) and not (home / "library.sqlite").exists()
+    assert main(["run", "--no-plots", "--out", str(tmp_path)]) == 0
+    assert f"library: {home / 'library.sqlite'}" in capsys.readouterr().out
