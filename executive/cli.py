@@ -22,6 +22,7 @@ from typing import NoReturn
 from executive import commands
 from executive.exit_status import BAD_INPUT, LOST
 from hero_driver.interface import DriverError
+from learner.service.interface import LearnerUnavailable
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,7 +69,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except ConnectionError as exc:  # the learner service could not be reached or vanished
+    except LearnerUnavailable as exc:  # the learner service could not be reached or vanished
         if os.environ.get("CSL_DEBUG"):
             raise
         print(f"csl: learner error: {_one_line(exc)}", file=sys.stderr)

@@ -13,6 +13,12 @@ from typing import Protocol
 from learner.description import ObjectDescription
 
 
+class LearnerUnavailable(ConnectionError):
+    """The learner service could not be reached, stopped answering, or answered with
+    something that is not the protocol: the learner is lost, not the input wrong (the
+    command line tells the two apart by exit status)."""
+
+
 @dataclass(frozen=True)
 class LibrarySnapshot:
     """The library as of one ``version``.

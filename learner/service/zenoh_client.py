@@ -20,7 +20,7 @@ import zenoh
 
 from learner.description import ObjectDescription
 from learner.service import protocol
-from learner.service.interface import LibrarySnapshot
+from learner.service.interface import LearnerUnavailable, LibrarySnapshot
 from learner.service.protocol import LEARN, LIBRARY, VERSION_VERB, ProtocolError
 from zenoh_rpc.client import RpcClient
 from zenoh_rpc.config import open_session
@@ -52,7 +52,7 @@ class ZenohLearner:
         try:
             self._session = open_session(connect=connect, connect_timeout_s=timeout_s)
         except ConnectionError as exc:
-            raise ConnectionError(f"learner {self.name!r}: cannot reach a service: {exc}") from None
+            raise LearnerUnavailable(f"learner {self.name!r}: cannot reach a service: {exc}") from None
         self._rpc = RpcClient(self._session, keys)
         found = False
         try:
@@ -61,8 +61,8 @@ class ZenohLearner:
             if not found:
                 self._session.close()
         if not found:
-            raise ConnectionError(f"no learner service {self.name!r} on {self._where} "
-                                  f"(no liveliness token {keys.alive} within {self.timeout_s:g} s)")
+            raise LearnerUnavailable(f"no learner service {self.name!r} on {self._where} "
+                                     f"(no liveliness token {keys.alive} within {self.timeout_s:g} s)")
 
     def library(self) -> LibrarySnapshot:
         version = self.version()
@@ -101,14 +101,14 @@ class ZenohLearner:
         """The payload of the first reply to ``verb``; the error cases as documented."""
         with self._lock:
             if self._closed:
-                raise ConnectionError(f"learner {self.name!r}: {verb}: the client is closed")
+                raise LearnerUnavailable(f"learner {self.name!r}: {verb}: the client is closed")
         try:
             reply = self._rpc.ask(verb, payload, self.timeout_s).first
         except zenoh.ZError as exc:
-            raise ConnectionError(f"learner {self.name!r}: {verb}: {exc}") from None
+            raise LearnerUnavailable(f"learner {self.name!r}: {verb}: {exc}") from None
         if reply is None:
-            raise ConnectionError(f"learner {self.name!r}: {verb}: no service answered on "
-                                  f"{self._rpc.keys.rpc(verb)} (is 'csl learner serve' running at {self._where}?)")
+            raise LearnerUnavailable(f"learner {self.name!r}: {verb}: no service answered on "
+                                     f"{self._rpc.keys.rpc(verb)} (is 'csl learner serve' running at {self._where}?)")
         if reply.ok is not None:
             return reply.ok
         data = reply.err or b""
@@ -116,14 +116,14 @@ class ZenohLearner:
             code, message = protocol.decode_error(data)
         except ProtocolError:  # not the service's: zenoh's own, e.g. the query timed out
             text = data.decode("utf-8", "replace").splitlines()[0] if data else "no reason given"
-            raise ConnectionError(f"learner {self.name!r}: {verb}: {text}") from None
+            raise LearnerUnavailable(f"learner {self.name!r}: {verb}: {text}") from None
         raise ValueError(f"learner {self.name!r}: {code}: {_one_line(message)}")
 
     def _decode(self, decode: Callable[[bytes], T], data: bytes) -> T:
         try:
             return decode(data)
         except ProtocolError as exc:
-            raise ConnectionError(f"learner {self.name!r}: malformed reply: {exc}") from None
+            raise LearnerUnavailable(f"learner {self.name!r}: malformed reply: {exc}") from None
 
 
 def _one_line(text: str) -> str:

@@ -55,6 +55,13 @@ def test_an_unreachable_driver_is_exit_status_3_not_bad_input(tmp_path: Path, ca
     assert err == [err[0]] and err[0].startswith("csl: robot error: unavailable: no driver is serving robot 'r1'")
 
 
+def test_an_unreachable_learner_service_is_exit_status_3(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    argv = ["run", "--learner", "zenoh", "--learner-connect", "tcp/127.0.0.1:9", "--out", str(tmp_path)]
+    assert main(argv) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [err[0]] and err[0].startswith("csl: learner error: ")
+
+
 def test_a_run_that_leaves_objects_exits_1_and_says_why(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     # One recognition step per object is too few to reach any grasp (every object needs
     # at least one test before its leaf), so all seven of the lab's objects fail.
