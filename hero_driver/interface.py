@@ -125,6 +125,19 @@ class CameraImage:
     meta: Mapping[str, object] = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class Hello:
+    """What a driver process serves: the protocol versions it speaks and the optional
+    features it offers (the ``hello`` verb's answer, docs/driver-protocol.md).
+
+    The driver node answers it, not the robot: versions and features are properties
+    of the protocol a process serves, so in-process drivers have no ``hello``.
+    """
+
+    versions: tuple[int, ...]
+    features: tuple[str, ...] = ()
+
+
 @runtime_checkable
 class Driver(Protocol):
     """A robot the executive can drive: the simulated HERO or a hardware driver."""

@@ -9,6 +9,10 @@ fail with ``unavailable`` and new ones fail at once; when a driver process (the 
 or a new one) declares the token again, the same client object simply works again,
 because zenoh routes the queries to whoever serves the keys.
 
+Each driver process that appears is first asked ``hello``: the client uses the
+highest protocol version both ends speak and refuses, with one line, a driver it
+shares none with (:mod:`.versions` states the policy).
+
 Futures complete on zenoh's network thread: a done-callback must be quick and must
 never wait on another verb's future there.
 """
@@ -29,9 +33,11 @@ from hero_driver.interface import (
     INTERNAL,
     TIMEOUT,
     UNAVAILABLE,
+    UNKNOWN_VERB,
     CameraImage,
     DriverError,
     GraspResult,
+    Hello,
     MoveResult,
     Pose,
     RobotState,
@@ -41,6 +47,7 @@ from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request, ResetRequest
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
+from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import open_session
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT
@@ -83,6 +90,9 @@ class ZenohDriver:
     constructor waits up to ``discover_s`` for a driver's liveliness token, so a
     driver that is already up is usable straight away; one that starts later is
     picked up when its token appears (see :attr:`alive`, :meth:`wait_ready`).
+    Either way the driver is asked ``hello`` first; a driver that shares no protocol
+    version with this client is refused with ``DriverError(unavailable)`` (raised by
+    the constructor or :meth:`wait_ready`, and by every verb's future).
     """
 
     def __init__(self, robot: str = "r1", *, connect: Sequence[str] = (DRIVER_ENDPOINT,),
@@ -98,13 +108,20 @@ class ZenohDriver:
         self._alive = False
         self._liveliness_events = 0  # bumped by every token change, to ignore stale queries
         self._state: RobotState | None = None
+        self._agreement: Agreement | None = None  # with the live driver, once it answered hello
+        self._refusal: str | None = None  # why the live driver cannot be used, if it cannot
         self._pending: set[_Call] = set()
         self._closed = False
         self._state_sub = self._session.declare_subscriber(self._keys.state, self._on_state)
         self._token_sub = self._rpc.watch_alive(self._on_token)
         self._query_liveliness()
         with self._lock:  # the session may still be connecting: give the token a moment
-            self._lock.wait_for(lambda: self._alive, discover_s)
+            if self._lock.wait_for(lambda: self._alive, discover_s):
+                self._lock.wait_for(self._greeted, self.timeouts.of("hello") + 1.0)
+            refusal = self._refusal
+        if refusal is not None:
+            self.close()
+            raise DriverError(UNAVAILABLE, refusal)
 
     # ------------------------------------------------------------------ liveness
 
@@ -114,10 +131,25 @@ class ZenohDriver:
         with self._lock:
             return self._alive
 
-    def wait_ready(self, timeout_s: float) -> bool:
-        """Wait until a driver is alive and has published its state; False on timeout."""
+    @property
+    def agreement(self) -> Agreement | None:
+        """The protocol version and features agreed with the live driver; None until
+        it has answered ``hello`` (or while none is alive or it cannot be used)."""
         with self._lock:
-            return self._lock.wait_for(lambda: self._alive and self._state is not None, timeout_s)
+            return self._agreement
+
+    def wait_ready(self, timeout_s: float) -> bool:
+        """Wait until a driver is alive, agreed on a version and published its state;
+        False on timeout. Raises ``DriverError(unavailable)`` when the live driver
+        shares no protocol version with this client."""
+        with self._lock:
+            ready = self._lock.wait_for(
+                lambda: self._refusal is not None or (self._alive and self._greeted() and self._state is not None),
+                timeout_s)
+            refusal = self._refusal
+        if refusal is not None:
+            raise DriverError(UNAVAILABLE, refusal)
+        return ready
 
     def wait_gone(self, timeout_s: float) -> bool:
         """Wait until no driver is alive; False on timeout."""
@@ -130,6 +162,7 @@ class ZenohDriver:
                 self._liveliness_events += 1
                 self._alive = not self._closed
                 self._lock.notify_all()
+            self._greet()
             return
         with self._lock:
             self._liveliness_events += 1
@@ -143,6 +176,7 @@ class ZenohDriver:
         """With the lock held: no driver, no state; the verbs in flight, to fail."""
         self._alive = False
         self._state = None
+        self._agreement = self._refusal = None
         orphans, self._pending = self._pending, set()
         self._lock.notify_all()
         return orphans
@@ -156,15 +190,50 @@ class ZenohDriver:
 
         def on_found() -> None:
             with self._lock:
-                if self._liveliness_events == generation and not self._closed:
-                    self._alive = True
-                    self._lock.notify_all()
+                if self._liveliness_events != generation or self._closed:
+                    return
+                self._alive = True
+                self._lock.notify_all()
+            self._greet()
 
         try:
             self._rpc.query_alive(on_found)
         except zenoh.ZError:
             if not self._closed:  # closed between the check above and the query: nothing to ask
                 raise
+
+    # ----------------------------------------------------------------- versions
+
+    def _greeted(self) -> bool:
+        """With the lock held: the live driver's hello is settled, either way."""
+        return self._agreement is not None or self._refusal is not None
+
+    def _greet(self) -> None:
+        """Ask the driver that just appeared what it serves, and agree on a version."""
+        with self._lock:
+            if self._closed:
+                return
+            generation = self._liveliness_events
+            self._agreement = self._refusal = None
+        self.hello().add_done_callback(lambda answered: self._settle(generation, answered))
+
+    def _settle(self, generation: int, answered: Future[Hello]) -> None:
+        try:
+            served = answered.result()
+        except DriverError as exc:
+            # No hello (unknown_verb), no catch-all to say so (unavailable), or a
+            # hello that failed: the protocol as it was before hello, version 1.
+            if exc.code != UNKNOWN_VERB:
+                log.warning("driver %s did not answer hello (%s); assuming protocol version 1", self.robot, exc)
+            served = BEFORE_HELLO
+        try:
+            agreement, refusal = agree(served), None
+        except NoCommonVersion as exc:
+            agreement, refusal = None, f"robot {self.robot}: {exc}"
+        with self._lock:
+            if self._liveliness_events == generation and self._alive and not self._closed:
+                self._agreement, self._refusal = agreement, refusal
+                self._lock.notify_all()
 
     # --------------------------------------------------------------------- state
 
@@ -216,6 +285,10 @@ class ZenohDriver:
         """Round trip to the driver node without touching the robot (health, benchmark)."""
         return self._call("noop", EmptyRequest)
 
+    def hello(self) -> Future[Hello]:
+        """Which protocol versions and optional features the driver process serves."""
+        return self._call("hello", EmptyRequest)
+
     def _call(self, verb: str, build: Callable[[], Request]) -> Future[Any]:
         """Send ``verb``; ``build`` makes the request lazily so that a caller's bad
         argument (``tuple(None)``) lands in the future like every other failure."""
@@ -232,6 +305,8 @@ class ZenohDriver:
                 refusal = "the client is closed"
             elif not self._alive:
                 refusal = f"no driver serves {self.robot} (no token on {self._keys.alive})"
+            elif self._refusal is not None:
+                refusal = self._refusal
             else:
                 refusal = ""
                 self._pending.add(call)

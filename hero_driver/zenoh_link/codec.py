@@ -33,6 +33,7 @@ from hero_driver.interface import (
     CameraImage,
     DriverError,
     GraspResult,
+    Hello,
     MoveResult,
     Pose,
     RobotState,
@@ -95,9 +96,7 @@ def loads(data: bytes) -> Json:
         raise CodecError(f"message: expected a JSON object, got {_kind(message)}")
     if "v" not in message:
         raise CodecError("v: missing field (the protocol version)")
-    version = message["v"]
-    if isinstance(version, bool) or not isinstance(version, int):
-        raise CodecError(f"v: expected an integer, got {_kind(version)}")
+    version = _integer(message["v"], "v")
     if version != PROTOCOL_VERSION:
         raise CodecError(f"v: protocol version {version} not supported (speaks {PROTOCOL_VERSION})")
     return message
@@ -138,13 +137,20 @@ def _fields(obj: object, path: str, required: Sequence[str], optional: Sequence[
 def _real(value: object, path: str) -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise CodecError(f"{path}: expected a number, got {_kind(value)}")
-    number = float(value)
+    try:
+        number = float(value)
+    except OverflowError:  # an integer literal too long for a double
+        raise CodecError(f"{path}: expected a finite number, got an integer of {len(str(value))} digits") from None
     if not math.isfinite(number):
         raise CodecError(f"{path}: expected a finite number, got {number}")
     return number
 
 
 def _integer(value: object, path: str) -> int:
+    """An integer; ``3.0`` counts, as in JSON Schema, because JSON has one number type
+    and some writers (a C double, JavaScript) cannot tell ``3`` from ``3.0``."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise CodecError(f"{path}: expected an integer, got {_kind(value)}")
     return int(value)
@@ -464,6 +470,39 @@ def camera_in(message: Json) -> CameraImage:
         clock_s=_not_negative(_real(fields.get("clock_s", 0.0), "clock_s"), "clock_s"),
         meta=meta,
     )
+
+
+def hello_out(hello: object) -> Json:
+    if not isinstance(hello, Hello):
+        raise CodecError(f"message: expected a Hello, got {type(hello).__name__}")
+    return {"versions": _versions(hello.versions), "features": _features(hello.features)}
+
+
+def hello_in(message: Json) -> Hello:
+    fields = _fields(message, "", ("versions", "features"))
+    return Hello(tuple(_versions(fields["versions"])), tuple(_features(fields["features"])))
+
+
+def _versions(value: object) -> list[int]:
+    items = [_integer(item, f"versions[{i}]") for i, item in enumerate(_array(value, "versions"))]
+    if not items:
+        raise CodecError("versions: expected at least one version")
+    for i, version in enumerate(items):
+        if version < 1:
+            raise CodecError(f"versions[{i}]: expected an integer >= 1, got {version}")
+    return _distinct(items, "versions")
+
+
+def _features(value: object) -> list[str]:
+    names = [_name(item, f"features[{i}]") for i, item in enumerate(_array(value, "features"))]
+    return _distinct(names, "features")
+
+
+def _distinct(items: list[Any], path: str) -> list[Any]:
+    for i, item in enumerate(items):
+        if item in items[:i]:
+            raise CodecError(f"{path}[{i}]: {item!r} listed twice")
+    return items
 
 
 def noop_out(result: object) -> Json:

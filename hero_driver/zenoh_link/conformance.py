@@ -9,11 +9,13 @@ the check and the field named.
 
 The robot must start from its reset pose with nothing within contact range of the
 sonar; the suite only turns the robot in place, so it is safe to run on hardware.
+Against a robot nobody serves (no token, no answer) it stops after one line.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -25,21 +27,26 @@ import zenoh
 
 from hero_driver.interface import (
     BAD_REQUEST,
+    BUSY,
     NO_TARGET,
     OUT_OF_RANGE,
     PROTOCOL_VERSION,
     UNKNOWN_PROCEDURE,
     UNKNOWN_VERB,
     DriverError,
+    CameraImage,
     GraspResult,
     MoveResult,
+    Pose,
     RobotState,
     SenseResult,
 )
 from hero_driver.zenoh_link import codec
+from hero_driver.zenoh_link.camera_check import MappingError, check_robot_drawn
 from hero_driver.zenoh_link.codec import CodecError
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME
+from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import open_session
 from robot_profile import DEFAULT_PROFILE, load_profile
@@ -47,8 +54,11 @@ from robot_profile import DEFAULT_PROFILE, load_profile
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
 MIN_STATE_PUBLICATIONS = 2  # ... and expect at least this many (the node sends 5 Hz)
 TURN_DEG = 10.0  # the move check turns in place by this much
+FACE_AHEAD_IN = 100.0  # ... and then faces a point this far straight ahead
 POSE_TOLERANCE = 0.5  # inches or degrees between a move's reply and the next state
 NOT_HERE = (OUT_OF_RANGE, NO_TARGET)  # what sensing or grasping from the reset pose may answer
+BUSY_PROBE_S = 0.1  # while the busy check's turn runs, a release goes every this often
+BUSY_PROBES = 20  # ... at most this many
 
 
 @dataclass(frozen=True)
@@ -191,15 +201,19 @@ class _Suite:
         self.procedures = procedures
         self.last_state: RobotState | None = None
         self.moved: tuple[float, MoveResult] | None = None
+        self.image: CameraImage | None = None
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
         return [
             ("liveliness", self.liveliness),
             ("state-published", self.state_published),
             ("noop", self.noop),
+            ("hello", self.hello),
             ("camera", self.camera),
+            ("camera-mapping", self.camera_mapping),
             ("move", self.move),
             ("state-after-move", self.state_after_move),
+            ("busy", self.busy),
             ("reset", self.reset),
             ("sense", self.sense),
             ("grasp", self.grasp),
@@ -208,6 +222,9 @@ class _Suite:
             ("unknown-verb", self.unknown_verb),
             ("unknown-procedure", self.unknown_procedure),
             ("malformed-json", self.malformed_json),
+            ("not-utf8", self.not_utf8),
+            ("not-an-object", self.not_an_object),
+            ("wildcard-silence", self.wildcard_silence),
             ("wrong-types", self.wrong_types),
             ("missing-field", self.missing_field),
             ("unknown-field", self.unknown_field),
@@ -240,6 +257,19 @@ class _Suite:
         self.probe.result("noop", {})
         return "answered"
 
+    def hello(self) -> str:
+        outcome = self.probe.outcome("hello", {})
+        if isinstance(outcome, DriverError):
+            if outcome.code != UNKNOWN_VERB:
+                raise CheckFailed(f"expected a Hello or {UNKNOWN_VERB}, got {outcome.code}: {outcome.message}")
+            return "no hello: used as protocol version 1 with no optional features"
+        try:
+            agreement = agree(outcome)
+        except NoCommonVersion as exc:
+            raise CheckFailed(str(exc)) from None
+        features = ", ".join(outcome.features) or "none"
+        return f"serves versions {', '.join(map(str, outcome.versions))} (using {agreement.version}); features: {features}"
+
     def reset(self) -> str:
         state = self.probe.result("reset", {"world": None, "seed": None})
         if state.clock_s != 0:
@@ -248,18 +278,78 @@ class _Suite:
 
     def camera(self) -> str:
         image = self.probe.result("camera", {})
+        self.image = image
         height, width = image.pixels.shape
         return f"{width}x{height} px at {image.inches_per_pixel:g} in/px"
 
+    def camera_mapping(self) -> str:
+        if self.image is None or self.last_state is None:
+            raise CheckFailed("needs the camera and state-published checks to pass")
+        try:
+            return check_robot_drawn(self.image, self.last_state.pose)
+        except MappingError as exc:
+            raise CheckFailed(str(exc)) from None
+
+    def busy(self) -> str:
+        """A turn in place and, every 0.1 s while it runs, a release: a release that
+        arrives while the turn runs must be refused ``busy`` at once, never held until
+        the turn ends (a queue) nor run alongside it. One sent in the turn's last 0.1 s
+        may meet it finished, and the first may overtake the turn on the way: neither
+        counts against the driver."""
+        if self.moved is None:
+            raise CheckFailed("needs the move check to pass")
+        pose = self.moved[1].pose
+        turn = _message({"waypoints": [{"x_in": pose.x_in, "y_in": pose.y_in,
+                                        "heading_deg": pose.heading_deg - TURN_DEG}], "face": None})
+        first = _Timed()
+        self.probe.rpc.send("move", turn, self.probe.timeout_s, first.on_reply, first.on_done)
+        releases: list[_Timed] = []
+        while not first.finished.wait(BUSY_PROBE_S) and len(releases) < BUSY_PROBES:
+            release = _Timed()
+            self.probe.rpc.send("release", _message({}), self.probe.timeout_s, release.on_reply, release.on_done)
+            releases.append(release)
+        for call in (first, *releases):
+            if not call.finished.wait(self.probe.timeout_s + 1.0) or call.reply is None:
+                raise CheckFailed("no reply to the turn or to a release sent during it")
+        if first.reply.ok is None:
+            raise CheckFailed(f"the turn: {_describe(first.reply)}")
+        _decoded("move", first.reply.ok)
+        took_ms = (first.at - first.sent) * 1000
+        during = [r for r in releases if r.sent <= first.at - BUSY_PROBE_S]
+        refused, held, ran = 0, 0, 0
+        for release in during:
+            if release.reply.ok is not None:
+                _decoded("release", release.reply.ok)
+                held, ran = held + (release.at > first.at), ran + (release.at <= first.at)
+                continue
+            error = _error(release.reply)
+            if error.code != BUSY:
+                raise CheckFailed(f"release during a turn: expected busy, got {error.code}: {error.message}")
+            refused += 1
+        if held:
+            raise CheckFailed(f"{held} release(s) sent during a {took_ms:.0f} ms turn were held until it ended "
+                              "and then run: a verb arriving while one runs must be refused busy at once")
+        if ran and not refused:
+            raise CheckFailed(f"{ran} release(s) ran while a {took_ms:.0f} ms turn was running: refuse them busy")
+        if refused:
+            return f"{refused} release(s) refused busy during a {took_ms:.0f} ms turn"
+        return f"the turn took {took_ms:.0f} ms, too short to overlap: busy not exercised"
+
     def move(self) -> str:
+        """A turn in place, then a move that stays put facing a point ahead: both
+        forms of the request, each reply decoded strictly (no field more or less)."""
         if self.last_state is None:
             raise CheckFailed("needs a state publication to know where to turn in place")
         pose = self.last_state.pose
         goal = {"x_in": pose.x_in, "y_in": pose.y_in, "heading_deg": pose.heading_deg + TURN_DEG}
+        turned = self.probe.result("move", {"waypoints": [goal], "face": None})
+        here = turned.pose
+        ahead = math.radians(here.heading_deg)
+        face = [here.x_in + FACE_AHEAD_IN * math.cos(ahead), here.y_in + FACE_AHEAD_IN * math.sin(ahead)]
         sent = time.monotonic()
-        result = self.probe.result("move", {"waypoints": [goal], "face": None})
+        result = self.probe.result("move", {"waypoints": [_pose_json(here)], "face": face})
         self.moved = (sent, result)
-        return f"turned in place to {_pose_text(result)} in {result.duration_s:g} s"
+        return f"turned in place to {_pose_text(result)} in {turned.duration_s + result.duration_s:g} s"
 
     def state_after_move(self) -> str:
         if self.moved is None:
@@ -303,6 +393,38 @@ class _Suite:
     def malformed_json(self) -> str:
         return self.probe.refusal("sense", b'{"v": 1, "procedure": ', (BAD_REQUEST,))
 
+    def not_utf8(self) -> str:
+        return self.probe.refusal("sense", b'{"v": 1, "procedure": "H-Sweep-5\xb0"}', (BAD_REQUEST,))
+
+    def not_an_object(self) -> str:
+        detail = self.probe.refusal("sense", b'[1, "H-Sweep-5"]', (BAD_REQUEST,))
+        self.probe.refusal("noop", b'"noop"', (BAD_REQUEST,))
+        return detail
+
+    def wildcard_silence(self) -> str:
+        """A wildcard query reaches every verb's queryable: exactly one reply, an error,
+        and the robot does not turn."""
+        before = self._published_pose()
+        turn = {"waypoints": [{"x_in": before.x_in, "y_in": before.y_in,
+                               "heading_deg": before.heading_deg + 90.0}], "face": None}
+        detail = self.probe.refusal("*", _message(turn), (BAD_REQUEST,))
+        after = self._published_pose()
+        if abs((after.heading_deg - before.heading_deg + 180.0) % 360.0 - 180.0) > POSE_TOLERANCE:
+            raise CheckFailed(f"the robot turned from {before.heading_deg:.1f} to {after.heading_deg:.1f} deg "
+                              "on a wildcard query: a verb's queryable must answer only its exact key")
+        return detail
+
+    def _published_pose(self) -> Pose:
+        """The pose of the next state publication."""
+        start = time.monotonic()
+        deadline = start + 1.0
+        while time.monotonic() < deadline:
+            states = _valid_states(self.probe.states_since(start))
+            if states:
+                return states[-1].pose
+            time.sleep(0.05)
+        raise CheckFailed("no state publication within 1 s")
+
     def wrong_types(self) -> str:
         detail = self.probe.refusal("sense", _message({"procedure": 42}), (BAD_REQUEST,), "procedure")
         self.probe.refusal("move", _message({"waypoints": "north", "face": None}), (BAD_REQUEST,),
@@ -321,8 +443,10 @@ class _Suite:
                                   (BAD_REQUEST,), "speed")
 
     def non_finite(self) -> str:
-        payload = b'{"v": 1, "waypoints": [{"x_in": NaN, "y_in": 0, "heading_deg": 0}], "face": null}'
-        return self.probe.refusal("move", payload, (BAD_REQUEST,), "x_in")
+        details = [self.probe.refusal("move", b'{"v": 1, "waypoints": [{"x_in": %s, "y_in": 0, "heading_deg": 0}], '
+                                      b'"face": null}' % word, (BAD_REQUEST,), "x_in")
+                   for word in (b"NaN", b"Infinity", b"-Infinity")]
+        return details[0]
 
     def wrong_version(self) -> str:
         body = {"procedure": self.procedures.sense}
@@ -341,6 +465,27 @@ class _Suite:
                 raise CheckFailed("no state publication after the bad requests")
             time.sleep(0.05)
         return f"still answering at {_pose_text(state)}"
+
+
+class _Timed:
+    """One query sent without waiting: its first reply and when it came."""
+
+    def __init__(self) -> None:
+        self.sent = time.monotonic()
+        self.reply: Reply | None = None
+        self.at = 0.0
+        self.finished = threading.Event()
+
+    def on_reply(self, reply: Reply) -> None:
+        if self.reply is None:
+            self.reply, self.at = reply, time.monotonic()
+
+    def on_done(self, _late: bool) -> None:
+        self.finished.set()
+
+
+def _pose_json(pose: Pose) -> dict[str, float]:
+    return {"x_in": pose.x_in, "y_in": pose.y_in, "heading_deg": pose.heading_deg}
 
 
 def _pose_text(value: RobotState | MoveResult) -> str:
@@ -376,7 +521,10 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
     session = open_session(connect=connect)
     probe = _Probe(session, robot, timeout_s)
     try:
-        probe.rpc.wait_alive(timeout_s)  # time to connect; the liveliness check reports a missing token
+        if not probe.rpc.wait_alive(timeout_s) and probe.rpc.ask("noop", _message({}), timeout_s).first is None:
+            return [CheckResult("liveliness", False, f"nothing serves robot {robot} at {', '.join(connect)}: "
+                                f"no token on {probe.rpc.keys.alive} and no answer to noop within {timeout_s:g} s "
+                                "(is the driver running, under this robot name, at this endpoint?)")]
         results = []
         for name, check in _Suite(probe, chosen).checks():
             try:

@@ -10,8 +10,9 @@ dataclasses; the transport plumbing it shares with the learner service comes fro
 Verbs are serialised: the robot does one thing at a time, and a verb that arrives
 while another is still executing is refused at once with ``busy`` rather than queued
 (a queue would hide a second controller fighting over the robot and make the
-client's per-verb timeouts meaningless). ``noop`` touches no robot and is answered
-even while a verb runs, so it stays usable as a health ping.
+client's per-verb timeouts meaningless). ``noop`` and ``hello`` touch no robot and
+are answered even while a verb runs, so a health ping and a client's version
+handshake never wait on a move.
 """
 
 from __future__ import annotations
@@ -106,10 +107,8 @@ class DriverNode:
         future.add_done_callback(lambda done: self._finish(verb, query, done))
 
     def _start(self, verb: Verb, request: Request) -> Future[Any]:
-        if verb.call is None:
-            done: Future[None] = Future()
-            done.set_result(None)
-            return done
+        if not verb.touches_robot:
+            return verb.call(self.driver, request)
         with self._busy_lock:
             if self._busy_verb is not None:
                 raise DriverError(BUSY, f"{verb.name}: the robot is still executing {self._busy_verb}")

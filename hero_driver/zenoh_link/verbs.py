@@ -6,7 +6,8 @@ Here a row holds its name, its request type, the codecs of its request and reply
 its default timeout and how the node calls the driver; the node, the client and the
 conformance suite read the table, and ``tests/hero_driver/test_zenoh_verbs.py``
 holds ``docs/driver-protocol.md`` to it. A new verb is a row here plus its method on
-the ``Driver`` protocol (and on ``ZenohDriver``, which is one).
+the ``Driver`` protocol (and on ``ZenohDriver``, which is one); a verb the node
+answers itself (``noop``, ``hello``) has no ``Driver`` method.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 from hero_driver.interface import Driver
 from hero_driver.zenoh_link import codec
@@ -27,15 +28,18 @@ from hero_driver.zenoh_link.codec import (
     Request,
     ResetRequest,
 )
+from hero_driver.zenoh_link.versions import SERVED
+
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
 class Verb:
     """One verb: ``hero/<robot>/rpc/<name>``.
 
-    ``call`` starts the verb on a driver with the decoded request; ``None`` means the
-    verb touches no robot, so the node answers it at once and never refuses it as
-    ``busy``.
+    ``call`` starts the verb on a driver with the decoded request. A verb whose
+    ``touches_robot`` is false is the node's own (its call ignores the driver): the node
+    answers it at once, even while a robot verb runs, and never refuses it as ``busy``.
     """
 
     name: str
@@ -45,11 +49,8 @@ class Verb:
     result_out: Callable[[Any], Json]
     result_in: Callable[[Json], Any]
     timeout_s: float
-    call: Callable[[Driver, Any], Future[Any]] | None
-
-    @property
-    def touches_robot(self) -> bool:
-        return self.call is not None
+    call: Callable[[Driver, Any], Future[Any]]
+    touches_robot: bool = True
 
     def encode_request(self, request: Request) -> bytes:
         """The query payload (the verb is the key, not part of the body)."""
@@ -90,8 +91,17 @@ VERBS: tuple[Verb, ...] = (
          lambda driver, request: driver.reset(request.world, request.seed)),
     # The health ping and the round-trip benchmark.
     Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.noop_out, codec.noop_in, 5.0, None),
+         codec.noop_out, codec.noop_in, 5.0, lambda _driver, _request: _settled(None), touches_robot=False),
+    # Which protocol versions and optional features this node serves.
+    Verb("hello", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
+         codec.hello_out, codec.hello_in, 5.0, lambda _driver, _request: _settled(SERVED), touches_robot=False),
 )
+
+def _settled(value: T) -> Future[T]:
+    future: Future[T] = Future()
+    future.set_result(value)
+    return future
+
 
 BY_NAME: Mapping[str, Verb] = {verb.name: verb for verb in VERBS}
 NAMES: tuple[str, ...] = tuple(BY_NAME)

@@ -16,10 +16,10 @@ from zenoh_rpc.config import open_session
 pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
-    "liveliness", "state-published", "noop", "reset", "camera", "move", "state-after-move",
-    "sense", "grasp", "release", "out-of-range-target", "unknown-verb", "unknown-procedure",
-    "malformed-json", "wrong-types", "missing-field", "unknown-field", "non-finite-number",
-    "wrong-version", "keeps-serving",
+    "liveliness", "state-published", "noop", "hello", "reset", "camera", "camera-mapping", "move",
+    "state-after-move", "busy", "sense", "grasp", "release", "out-of-range-target", "unknown-verb",
+    "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "wildcard-silence", "wrong-types",
+    "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
 }
 
 
@@ -53,8 +53,9 @@ def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixtur
         process.ready()
         status, verdicts = run_check(endpoint, "broken", capsys)
     # Text feature values (from a sonar that never refuses, so nothing is out of
-    # range either), a crash on an unknown procedure, a clock that survives reset.
-    assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset"}
+    # range either), a crash on an unknown procedure, a clock that survives reset,
+    # and (as every FakeHero) an image without the robot in it.
+    assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset", "camera-mapping"}
     assert status == 1
 
 

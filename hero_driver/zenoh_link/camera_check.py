@@ -1,0 +1,106 @@
+"""Does a driver's overhead image show the robot where its published pose says, in the
+grey levels of docs/driver-protocol.md?
+
+A camera reply can decode perfectly and still ruin every episode: rows counted from
+the bottom put each object at its mirror-image place, and objects drawn at another
+grey level are no objects to the vision. Both are visible in the one thing the
+conformance suite knows the position of, the robot itself: its base (levels 140-194)
+must lie around the published pose with its heading marker (235-255) ahead of it, and
+nothing else in the image may be drawn in the robot's levels.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from hero_driver.interface import CameraImage, Pose
+
+ROBOT_BAND = (140, 194)
+MARKER_BAND = (235, 255)
+CENTRE_TOLERANCE_IN = 4.0  # base centroid vs published position (odometry, pixelisation)
+HEADING_TOLERANCE_DEG = 25.0  # marker bearing vs published heading (a small marker, few pixels)
+SEARCH_IN = 12.0  # how far from the published position a robot blob may start
+STRAY_PIXELS = 4  # robot-level pixels away from the robot tolerated (noise survivors)
+_OPEN = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
+
+
+class MappingError(ValueError):
+    """The image does not show the robot as the protocol requires; one line."""
+
+
+def undistorted(image: CameraImage) -> np.ndarray:
+    """The pixels with the fish-eye lens removed (nearest-neighbour, so no grey level is
+    invented along edges), or as they are when the image carries no lens."""
+    if image.fisheye is None or image.camera_matrix is None:
+        return image.pixels
+    k = np.asarray(image.camera_matrix, dtype=np.float64)
+    d = np.asarray(image.fisheye, dtype=np.float64).reshape(4, 1)
+    rows, cols = image.pixels.shape
+    map_x, map_y = cv2.fisheye.initUndistortRectifyMap(k, d, np.eye(3), k, (cols, rows), cv2.CV_32FC1)
+    return cv2.remap(image.pixels, map_x, map_y, interpolation=cv2.INTER_NEAREST,
+                     borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+
+
+def _band(pixels: np.ndarray, band: tuple[int, int]) -> np.ndarray:
+    return ((pixels >= band[0]) & (pixels <= band[1])).astype(np.uint8)
+
+
+def _world(image: CameraImage, rows: np.ndarray, cols: np.ndarray) -> tuple[float, float]:
+    """The world position of the mean of pixel centres (docs/driver-protocol.md)."""
+    s = image.inches_per_pixel
+    return (image.origin_x_in + (float(np.mean(cols)) + 0.5) * s,
+            image.origin_y_in - (float(np.mean(rows)) + 0.5) * s)
+
+
+def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
+    """A one-line account of where the robot was found; MappingError when the base is
+    not at ``pose``, the marker not ahead of it, or other things share its levels."""
+    pixels = undistorted(image)
+    robot = cv2.morphologyEx(_band(pixels, ROBOT_BAND) | _band(pixels, MARKER_BAND), cv2.MORPH_OPEN, _OPEN)
+    count, labels = cv2.connectedComponents(robot, connectivity=8)
+    s = image.inches_per_pixel
+    row = (image.origin_y_in - pose.y_in) / s - 0.5
+    col = (pose.x_in - image.origin_x_in) / s - 0.5
+    best, best_in = 0, math.inf
+    for label in range(1, count):
+        rows, cols = np.nonzero(labels == label)
+        gap_in = s * float(np.min(np.hypot(rows - row, cols - col)))
+        if gap_in < best_in:
+            best, best_in = label, gap_in
+    if best == 0 or best_in > SEARCH_IN:
+        mirrored = pixels.shape[0] - 1 - row
+        hint = (" (it is at the row-mirrored place: rows must count down from the high-y edge)"
+                if _blob_near(labels, count, mirrored, col, SEARCH_IN / s) else "")
+        raise MappingError(f"no robot (levels {ROBOT_BAND[0]}-{ROBOT_BAND[1]}) drawn within {SEARCH_IN:g} in "
+                           f"of the published position ({pose.x_in:.1f}, {pose.y_in:.1f}){hint}")
+    rows, cols = np.nonzero(labels == best)
+    x, y = _world(image, rows, cols)
+    off_in = math.hypot(x - pose.x_in, y - pose.y_in)
+    if off_in > CENTRE_TOLERANCE_IN:
+        raise MappingError(f"the robot's base is drawn at ({x:.1f}, {y:.1f}), {off_in:.1f} in from the published "
+                           f"position ({pose.x_in:.1f}, {pose.y_in:.1f}); at most {CENTRE_TOLERANCE_IN:g} in")
+    marker = (labels == best) & (_band(pixels, MARKER_BAND) > 0)
+    if not marker.any():
+        raise MappingError(f"no heading marker (levels {MARKER_BAND[0]}-{MARKER_BAND[1]}) on the robot's base")
+    mx, my = _world(image, *np.nonzero(marker))
+    bearing = math.degrees(math.atan2(my - y, mx - x))
+    turn = (bearing - pose.heading_deg + 180.0) % 360.0 - 180.0
+    if abs(turn) > HEADING_TOLERANCE_DEG:
+        raise MappingError(f"the heading marker points to {bearing:.0f} deg, the published heading is "
+                           f"{pose.heading_deg:.0f} deg (rows counted the wrong way flip it)")
+    stray = int(robot.sum()) - len(rows)
+    if stray > STRAY_PIXELS:
+        raise MappingError(f"{stray} pixels away from the robot are drawn in its levels "
+                           f"{ROBOT_BAND[0]}-{ROBOT_BAND[1]}: objects belong at 195-234, furniture at 70-139")
+    return (f"robot drawn at ({x:.1f}, {y:.1f}) heading {bearing:.0f} deg, {off_in:.1f} in from the published pose")
+
+
+def _blob_near(labels: np.ndarray, count: int, row: float, col: float, radius_px: float) -> bool:
+    for label in range(1, count):
+        rows, cols = np.nonzero(labels == label)
+        if float(np.min(np.hypot(rows - row, cols - col))) <= radius_px:
+            return True
+    return False

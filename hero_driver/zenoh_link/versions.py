@@ -1,0 +1,52 @@
+"""Protocol versions and optional features: what this code serves, and how a client
+and a driver agree on what to use.
+
+The policy (docs/driver-protocol.md, "Versioning"): an *addition* (a new verb, an
+optional field, a new error code a client may meet) is an optional **feature**, named
+in the driver's ``hello`` and used by a client only when the driver lists it, so old
+drivers keep working with new clients and the other way round. Only a change an old
+peer would misread (a field that changes meaning, a required field) is a new
+**version**. A client speaks every version it knows and uses the highest one both
+ends speak; a driver that predates ``hello`` is taken to serve version 1 and no
+features, because that is all there was before ``hello``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection
+from dataclasses import dataclass
+
+from hero_driver.interface import PROTOCOL_VERSION, Hello
+
+SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
+FEATURES: tuple[str, ...] = ()  # optional features this code serves and uses: none defined yet
+SERVED = Hello(SUPPORTED_VERSIONS, FEATURES)  # the node's answer to ``hello``
+BEFORE_HELLO = Hello((1,), ())  # what a driver without ``hello`` serves
+
+
+class NoCommonVersion(ValueError):
+    """The driver and this client share no protocol version; the text is one line."""
+
+
+@dataclass(frozen=True)
+class Agreement:
+    """What a client and one driver process use: a version and the features both know."""
+
+    version: int
+    features: frozenset[str]
+
+
+def agree(served: Hello, speaks: Collection[int] = SUPPORTED_VERSIONS,
+          knows: Collection[str] = FEATURES) -> Agreement:
+    """The highest version in both ``served.versions`` and ``speaks``, with the
+    features in both ``served.features`` and ``knows`` (a feature this side does not
+    know is ignored: it is optional by definition). NoCommonVersion when none is shared."""
+    common = set(served.versions) & set(speaks)
+    if not common:
+        raise NoCommonVersion(f"the driver serves protocol version {_listed(served.versions)}, "
+                              f"this client speaks {_listed(speaks)}: upgrade the older side")
+    return Agreement(max(common), frozenset(served.features) & frozenset(knows))
+
+
+def _listed(versions: Collection[int]) -> str:
+    return ", ".join(str(v) for v in sorted(versions))

@@ -1,0 +1,143 @@
+"""Drivers that decode perfectly and still ruin every episode must fail ``csl driver
+check``: each mutant here is the simulated HERO with one thing wrong (issue 11 §2),
+served in-process by the real node, and the suite must name the check it breaks."""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+import time
+from collections.abc import Iterator, Sequence
+from concurrent.futures import Future
+
+import pytest
+import zenoh
+
+from hero_driver.interface import CameraImage, MoveResult, Pose
+from hero_driver.sim_driver import SimulatedHero
+from hero_driver.zenoh_link import verbs
+from hero_driver.zenoh_link.conformance import CheckResult, Procedures, run_checks
+from hero_driver.zenoh_link.node import DriverNode
+from tests.zenoh_rpc.support import free_endpoint
+from zenoh_rpc.config import open_session
+from zenoh_rpc.server import RpcServer
+
+pytestmark = pytest.mark.zenoh
+
+SLOW_TURN_S = 0.5
+
+
+class RowsFromBottom(SimulatedHero):
+    """Sends the overhead image with row 0 at the room's low-y edge."""
+
+    def camera(self) -> Future[CameraImage]:
+        image = super().camera().result()
+        return _done(dataclasses.replace(image, pixels=image.pixels[::-1].copy()))
+
+
+class ObjectsAt180(SimulatedHero):
+    """Draws objects at grey level 180 (the robot's band) instead of 220."""
+
+    def camera(self) -> Future[CameraImage]:
+        image = super().camera().result()
+        pixels = image.pixels.copy()
+        objects = (pixels >= 195) & (pixels <= 234)
+        pixels[objects] -= 40
+        return _done(dataclasses.replace(image, pixels=pixels))
+
+
+class SlowTurns(SimulatedHero):
+    """Moves take real time, finishing on a timer as a hardware driver's would."""
+
+    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
+        done = super().move(waypoints, face)
+        later: Future[MoveResult] = Future()
+        threading.Timer(SLOW_TURN_S, lambda: later.set_result(done.result())).start()
+        return later
+
+
+def _done(value: CameraImage) -> Future[CameraImage]:
+    future: Future[CameraImage] = Future()
+    future.set_result(value)
+    return future
+
+
+@pytest.fixture
+def endpoint() -> str:
+    return free_endpoint()
+
+
+@pytest.fixture
+def server(endpoint: str) -> Iterator[zenoh.Session]:
+    with open_session(listen=[endpoint]) as session:
+        yield session
+
+
+def check(driver: SimulatedHero, server: zenoh.Session, endpoint: str) -> dict[str, CheckResult]:
+    with DriverNode(driver, server):
+        results = run_checks(driver.robot, [endpoint], timeout_s=5.0, procedures=Procedures.from_profile())
+    return {result.name: result for result in results}
+
+
+def failed(results: dict[str, CheckResult]) -> set[str]:
+    return {name for name, result in results.items() if not result.passed}
+
+
+def test_rows_counted_from_the_bottom_fail_the_camera_mapping(server: zenoh.Session, endpoint: str) -> None:
+    results = check(RowsFromBottom("flip"), server, endpoint)
+    assert failed(results) == {"camera-mapping"}
+    assert "row-mirrored place" in results["camera-mapping"].detail
+
+
+def test_objects_at_grey_180_fail_the_camera_mapping(server: zenoh.Session, endpoint: str) -> None:
+    results = check(ObjectsAt180("grey"), server, endpoint)
+    assert failed(results) == {"camera-mapping"}
+    assert "objects belong at 195-234" in results["camera-mapping"].detail
+
+
+@pytest.mark.parametrize("when", [lambda _result: True, lambda result: result.centred],
+                         ids=["every-move", "centred-moves-only"])
+def test_an_extra_field_in_move_replies_fails_the_move(server: zenoh.Session, endpoint: str,
+                                                      monkeypatch: pytest.MonkeyPatch, when) -> None:  # noqa: ANN001
+    move = verbs.BY_NAME["move"]
+
+    def chatty_out(result: MoveResult) -> dict[str, object]:
+        return {**move.result_out(result), **({"speed_in_s": 0.5} if when(result) else {})}
+
+    monkeypatch.setitem(verbs.BY_NAME, "move", dataclasses.replace(move, result_out=chatty_out))  # the node's wire
+    results = check(SimulatedHero("chatty"), server, endpoint)
+    assert {"move", "state-after-move", "busy"} <= failed(results)
+    assert "speed_in_s: unknown field" in results["move"].detail
+
+
+def test_verb_queryables_answering_wildcards_fail_wildcard_silence(server: zenoh.Session, endpoint: str,
+                                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    def answer_any_key(self: RpcServer, verb: str):  # type: ignore[no-untyped-def]
+        return lambda query: self._handle(verb, query)
+
+    monkeypatch.setattr(RpcServer, "_exact", answer_any_key)
+    results = check(SimulatedHero("greedy"), server, endpoint)
+    assert failed(results) == {"wildcard-silence"}
+    assert "replies to one query, expected exactly one" in results["wildcard-silence"].detail
+
+
+def test_a_slow_turn_makes_a_second_verb_busy(server: zenoh.Session, endpoint: str) -> None:
+    results = check(SlowTurns("slow"), server, endpoint)
+    assert failed(results) == set()
+    assert "refused busy during a" in results["busy"].detail
+
+
+def test_a_driver_that_queues_fails_busy(server: zenoh.Session, endpoint: str,
+                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """A node that waits for the running verb instead of refusing the next one."""
+    original = DriverNode._start
+
+    def queue(self: DriverNode, verb: verbs.Verb, request: object) -> Future[object]:
+        while verb.touches_robot and self._busy_verb is not None:
+            time.sleep(0.01)
+        return original(self, verb, request)
+
+    monkeypatch.setattr(DriverNode, "_start", queue)
+    results = check(SlowTurns("queue"), server, endpoint)
+    assert "busy" in failed(results)
+    assert "held until it ended" in results["busy"].detail
