@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, check_endpoint
 
@@ -45,6 +46,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "'training' (default: the lab)")
     sim.add_argument("--seed", type=int, default=0, metavar="N",
                      help="seed of the simulator's random stream (default 0)")
+    sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
+                     help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
+                          "(docs/simulator.md, Noise; default: the world file's noise table, else mild)")
     sim.add_argument("--listen", default=DRIVER_ENDPOINT, metavar="ENDPOINT",
                      help=f"zenoh endpoint to listen on (default {DRIVER_ENDPOINT})")
     sim.set_defaults(handler=_run_sim)
@@ -82,7 +86,8 @@ def _run_sim(args: argparse.Namespace) -> int:
     from hero_driver.zenoh_link.node import serve
     from zenoh_rpc.serving import stop_on_signals
 
-    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed)
+    noise = None if args.noise is None else NoiseConfig.preset(args.noise)
+    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, noise=noise)
 
     def on_ready() -> None:
         print(f"serving {keys.rpc('*')} on {args.listen} (Ctrl-C to stop)", flush=True)

@@ -1,6 +1,6 @@
 """The overhead camera: a top-down grayscale image of the room with the fixed
-intensity bands of docs/conventions.md, optionally seen through a fish-eye lens and
-with pixel noise.
+intensity bands of docs/conventions.md, optionally seen through a fish-eye lens, with
+pixel noise and with each object's orientation misjudged by a few degrees.
 
 A pixel takes a layer's intensity when the layer covers at least half of it (each
 layer is drawn SUPERSAMPLE times finer and area-averaged), so a region's pixel count
@@ -56,6 +56,28 @@ class Frame:
         cols = (pts[:, 0] - self.origin_x_in) / step - 0.5
         rows = (self.origin_y_in - pts[:, 1]) / step - 0.5
         return np.round(np.stack([cols, rows], axis=1) * (1 << SHIFT)).astype(np.int32)
+
+
+class YawErrors:
+    """Each object's orientation error in the overhead image, drawn once per object
+    and pose: the error comes from how the object looks from the ceiling (its height
+    in perspective, its shading), which does not change while it rests where it is."""
+
+    def __init__(self) -> None:
+        self._drawn: dict[int, tuple[tuple[float, float, float], float]] = {}
+
+    def error(self, index: int, pose: tuple[float, float, float], noise: NoiseConfig,
+              rng: np.random.Generator) -> float:
+        """The error in degrees for object ``index`` at ``pose`` (x, y, yaw): the one
+        drawn for this pose before, else a fresh N(0, camera_yaw_deg) draw (none at all
+        when the sigma is zero, so the random stream is unchanged)."""
+        if noise.camera_yaw_deg <= 0:
+            return 0.0
+        seen = self._drawn.get(index)
+        if seen is None or seen[0] != pose:
+            seen = (pose, float(rng.normal(0.0, noise.camera_yaw_deg)))
+            self._drawn[index] = seen
+        return seen[1]
 
 
 def _paint(img: np.ndarray, frame: Frame, polygons: Sequence[Sequence[tuple[float, float]]], value: int) -> None:

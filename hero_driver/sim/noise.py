@@ -1,32 +1,66 @@
-"""Sensor and actuator imperfections, all drawn from the world's seeded generator.
+"""How imperfect the simulated robot is: :class:`NoiseConfig` and its named presets.
 
-Sonar values stay within a procedure's *expected error* unless an outlier is drawn,
-because the learner merges values that agree within that error (docs/method.md §3): noise
-inside the band is what the learner is built to tolerate, outliers and dropouts are
-what reselection and backtracking are for.
+Every field is one physical effect with a rate, a probability or a sigma, so a whole
+configuration can be scaled to sweep the noise level (:meth:`NoiseConfig.scaled`), and
+named presets (``clean``, ``mild``, ``paper``, ``harsh``) let runs be compared under the
+same conditions. How a field turns an exact value into a reading is in
+:mod:`hero_driver.sim.readings` (sonar), :mod:`hero_driver.sim.odometry` (the base's
+pose) and :mod:`hero_driver.sim.camera` (the overhead image); docs/simulator.md lists
+every field with the presets' values and the reasoning behind ``paper``.
 """
 
 from __future__ import annotations
 
-import math
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
+from types import MappingProxyType
 
-import numpy as np
+# Fields that are probabilities: scaling caps them at 1, world files reject values above 1.
+PROBABILITIES = ("outlier_p", "dropout_p", "curved_depth_p", "specular_p", "multipath_p", "crosstalk_p")
+# Fields that are rates or sigmas: scaling multiplies them without a cap.
+SIGMAS = ("odometry_frac", "odometry_heading_deg", "odometry_drift", "camera_yaw_deg", "pixel_sigma")
+# On/off imperfections: kept by any positive scale factor, turned off by zero.
+SWITCHES = ("sonar", "fisheye")
+# ``specular_angle_deg`` is none of these: it is the transducer's geometry (half its
+# beam width), not a noise level, so scaling leaves it alone.
 
 
 @dataclass(frozen=True)
 class NoiseConfig:
-    """How imperfect the simulated robot is.
+    """How imperfect the simulated robot is (defaults: the ``mild`` preset).
+
+    Sonar readings (:mod:`hero_driver.sim.readings`):
 
     ``sonar``: Gaussian error with sigma = error/2, clipped to ±error.
     ``outlier_p``: chance a value is off by 2-5x the expected error (binary: flipped).
     ``dropout_p``: chance a value is missing (None).
     ``curved_depth_p``: chance that a round object lying end-on gives a Depth far too
     small (the paper's curved-surface sonar effect).
-    ``odometry_frac``: sigma of the end-position error per inch driven.
+    ``specular_p``: chance that a procedure whose beam meets a flat face more than
+    ``specular_angle_deg`` off its normal loses the face's echo (the beams read the far
+    wall), so its sizes come out at 0-50% of the true ones.
+    ``specular_angle_deg``: the incidence beyond which a flat face reflects the beam
+    away from the transducer (half the beam width).
+    ``multipath_p``: chance a value reads long, as an echo that came back by a second
+    bounce: 1.5-2.5x the true value and at least two expected errors over it.
+    ``crosstalk_p``: chance a value reads far too short (0-25% of the true value), as
+    when an earlier ping or another sonar's echo is taken for this one.
+
+    The base (:mod:`hero_driver.sim.odometry`):
+
+    ``odometry_frac``: sigma of the end-position error per inch driven (the robot sees
+    where it stopped).
     ``odometry_heading_deg``: sigma of the heading error after a move without centring.
-    ``pixel_sigma``: camera pixel noise sigma (clipped to ±12 levels).
+    ``odometry_drift``: dead-reckoning drift, in/√in: the reported position wanders
+    from the true one as a random walk whose sigma per axis after s inches of driving
+    is ``odometry_drift`` x √s, accumulating over the episode.
+
+    The overhead camera (:mod:`hero_driver.sim.camera`):
+
+    ``camera_yaw_deg``: sigma of the error in each object's drawn orientation, fixed
+    while the object stays put.
+    ``pixel_sigma``: pixel noise sigma (clipped to ±12 levels).
     ``fisheye``: render the overhead image through a fish-eye lens.
     """
 
@@ -34,60 +68,79 @@ class NoiseConfig:
     outlier_p: float = 0.02
     dropout_p: float = 0.01
     curved_depth_p: float = 0.3
+    specular_p: float = 0.0
+    specular_angle_deg: float = 15.0
+    multipath_p: float = 0.0
+    crosstalk_p: float = 0.0
     odometry_frac: float = 0.005
     odometry_heading_deg: float = 1.0
+    odometry_drift: float = 0.0
+    camera_yaw_deg: float = 0.0
     pixel_sigma: float = 4.0
     fisheye: bool = False
 
     @classmethod
     def off(cls) -> NoiseConfig:
-        """Exact values everywhere: for tests and for noise-free training probes."""
-        return cls(sonar=False, outlier_p=0.0, dropout_p=0.0, curved_depth_p=0.0,
-                   odometry_frac=0.0, odometry_heading_deg=0.0, pixel_sigma=0.0, fisheye=False)
+        """Exact values everywhere (the ``clean`` preset): for tests and for
+        noise-free training probes."""
+        return cls(**{name: False for name in SWITCHES}, **{name: 0.0 for name in PROBABILITIES + SIGMAS})
+
+    @classmethod
+    def preset(cls, name: str) -> NoiseConfig:
+        """A named preset (see :data:`NOISE_PRESETS`)."""
+        try:
+            return NOISE_PRESETS[name]
+        except KeyError:
+            raise ValueError(f"unknown noise preset '{name}' (valid: {', '.join(NOISE_PRESETS)})") from None
+
+    def scaled(self, factor: float) -> NoiseConfig:
+        """Every probability, rate and sigma multiplied by ``factor`` (probabilities
+        capped at 1), to sweep the noise level: ``scaled(0)`` is the clean preset,
+        ``scaled(1)`` this configuration. The on/off effects stay on for any positive
+        factor; the specular angle is geometry and is kept."""
+        if not factor >= 0:
+            raise ValueError(f"noise scale factor must be a number >= 0, got {factor!r}")
+        changes: dict[str, float | bool] = {name: min(1.0, getattr(self, name) * factor) for name in PROBABILITIES}
+        changes.update({name: getattr(self, name) * factor for name in SIGMAS})
+        changes.update({name: bool(getattr(self, name)) and factor > 0 for name in SWITCHES})
+        return dataclasses.replace(self, **changes)  # type: ignore[arg-type]
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, object], where: str) -> NoiseConfig:
-        """Build from a world file's ``noise`` table; unknown or mistyped fields fail."""
+        """Build from a world file's ``noise`` table: an optional ``preset`` name (else
+        the defaults) overridden field by field; unknown or mistyped fields fail."""
         known = {f.name: f for f in fields(cls)}
+        base = cls()
+        if "preset" in data:
+            name = data["preset"]
+            if not isinstance(name, str) or name not in NOISE_PRESETS:
+                raise ValueError(f"{where}: field 'preset' must be one of {', '.join(NOISE_PRESETS)}, got {name!r}")
+            base = NOISE_PRESETS[name]
         values: dict[str, object] = {}
         for key, value in data.items():
+            if key == "preset":
+                continue
             if key not in known:
-                raise ValueError(f"{where}: unknown field '{key}' (known: {', '.join(known)})")
+                raise ValueError(f"{where}: unknown field '{key}' (known: preset, {', '.join(known)})")
             if known[key].type == "bool":
                 if not isinstance(value, bool):
                     raise ValueError(f"{where}: field '{key}' must be true or false, got {value!r}")
-            elif isinstance(value, bool) or not isinstance(value, (int, float)) or value < 0:
+            elif isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
                 raise ValueError(f"{where}: field '{key}' must be a number >= 0, got {value!r}")
+            elif key in PROBABILITIES and value > 1.0:
+                raise ValueError(f"{where}: field '{key}' must be a probability <= 1, got {value!r}")
             values[key] = value
-        for key in ("outlier_p", "dropout_p", "curved_depth_p"):
-            if float(values.get(key, 0.0)) > 1.0:
-                raise ValueError(f"{where}: field '{key}' must be a probability <= 1")
-        return cls(**values)  # type: ignore[arg-type]
+        return dataclasses.replace(base, **values)  # type: ignore[arg-type]
 
 
-def perturb(ideal: float, error: float, step: float, rng: np.random.Generator,
-            noise: NoiseConfig) -> float | None:
-    """A measured value for a feature whose exact value is ``ideal``.
-
-    ``step`` is the procedure's quantum (1° or 5° for sweeps; 0 for values reported
-    unquantised). Sweep noise is drawn in whole steps so the value stays a multiple of
-    the step and within ±error of the exact quantised value.
-    """
-    if noise.dropout_p and rng.random() < noise.dropout_p:
-        return None
-    value = ideal
-    if noise.outlier_p and rng.random() < noise.outlier_p:
-        value += float(rng.choice((-1.0, 1.0))) * float(rng.uniform(2.0, 5.0)) * max(error, step)
-    elif noise.sonar and error > 0:
-        value += float(np.clip(rng.normal(0.0, error / 2.0), -error, error))
-    if step > 0:
-        value = step * math.floor(value / step + 0.5)
-    return max(0.0, round(value, 3))
-
-
-def perturb_flag(ideal: bool, rng: np.random.Generator, noise: NoiseConfig) -> float | None:
-    """A 0/1 hole feature: dropouts give None, outliers flip it."""
-    if noise.dropout_p and rng.random() < noise.dropout_p:
-        return None
-    flipped = bool(noise.outlier_p) and rng.random() < noise.outlier_p
-    return float(ideal != flipped)
+# The presets; docs/simulator.md gives the reasoning for every number of ``paper``.
+NOISE_PRESETS: Mapping[str, NoiseConfig] = MappingProxyType({
+    "clean": NoiseConfig.off(),
+    "mild": NoiseConfig(),
+    "paper": NoiseConfig(outlier_p=0.03, dropout_p=0.02, curved_depth_p=0.3, specular_p=0.7,
+                         multipath_p=0.03, crosstalk_p=0.01, odometry_frac=0.01, odometry_heading_deg=2.0,
+                         odometry_drift=0.03, camera_yaw_deg=3.0, pixel_sigma=6.0, fisheye=True),
+    "harsh": NoiseConfig(outlier_p=0.06, dropout_p=0.04, curved_depth_p=0.5, specular_p=1.0,
+                         multipath_p=0.08, crosstalk_p=0.04, odometry_frac=0.02, odometry_heading_deg=4.0,
+                         odometry_drift=0.08, camera_yaw_deg=8.0, pixel_sigma=10.0, fisheye=True),
+})

@@ -57,6 +57,21 @@ def approach_is_end_on(heading_deg: float, obj: SimObject) -> bool:
     return abs(math.cos(math.radians(heading_deg - obj.yaw_deg))) >= END_ON_COS
 
 
+def incidence_deg(aim: Aim) -> float | None:
+    """Angle between the heading and the normal of the target's face where the heading
+    ray meets it, for the specular effect; None for a round (circular) footprint, whose
+    curved side always has a patch square to the beam."""
+    if aim.target.entry.footprint.shape == "circle":
+        return None
+    ux, uy = aim.u
+    reach = aim.distance_in + 2.0 * aim.max_range_in
+    hit = aim.target.shape.segment_query(aim.sonar, (aim.sonar[0] + reach * ux, aim.sonar[1] + reach * uy), 0.0)
+    if hit.shape is None:
+        return None
+    cos = -(hit.normal.x * ux + hit.normal.y * uy)
+    return math.degrees(math.acos(max(-1.0, min(1.0, cos))))
+
+
 def _grid_count(lo_deg: float, hi_deg: float, step: float) -> int:
     """Beam directions k*step (k integer) within [lo, hi]."""
     return max(0, math.floor(hi_deg / step + 1e-9) - math.ceil(lo_deg / step - 1e-9) + 1)
@@ -148,6 +163,10 @@ def scan_height(aim: Aim) -> float:
     """Height: scan positions 0.3 in apart from the floor up that see the object."""
     return math.floor(aim.target.entry.height_in / SCAN_STEP_IN + 0.5) * SCAN_STEP_IN
 
+
+# Procedures whose beam meets the object's side (the S-Sweep looks down on its top), so
+# a flat side met at a grazing angle can reflect their echo away.
+SIDE_LOOKING = frozenset({"H-Sweep-1°", "H-Sweep-5°", "V-Sweep-1°", "V-Sweep-5°", "H-Scan-0.3", "D-Scan-0.3"})
 
 # Ideal feature values per procedure: feature name -> (value, quantum for noise).
 Ideal = dict[str, tuple[float, float]]

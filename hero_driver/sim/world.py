@@ -23,8 +23,10 @@ from hero_driver.interface import (
 )
 from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
-from hero_driver.sim.noise import NoiseConfig, perturb, perturb_flag
+from hero_driver.sim.noise import NoiseConfig
+from hero_driver.sim.odometry import Drift, slip
 from hero_driver.sim.physics import Physics, SimObject
+from hero_driver.sim.readings import perturb, perturb_flag, specular_miss, specular_value
 from hero_driver.sim.worldfile import WorldSpec, load_world
 from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile
 
@@ -75,7 +77,11 @@ def normalise_deg(angle: float) -> float:
 
 
 class SimWorld:
-    """The simulated robot and its world; see the module docstring."""
+    """The simulated robot and its world; see the module docstring.
+
+    ``pose`` is the true pose (what the sonar, the bumper and the camera see); the
+    verbs report ``reported_pose()``, the true pose less the dead-reckoning ``drift``.
+    """
 
     def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
                  profile: RobotProfile | None = None, noise: NoiseConfig | None = None) -> None:
@@ -93,6 +99,8 @@ class SimWorld:
         self.noise = next((n for n in (self._explicit_noise, spec.noise) if n is not None), NoiseConfig())
         self.rng = np.random.default_rng(seed)
         self.pose = Pose(x, y, normalise_deg(heading))
+        self.drift = Drift()
+        self.camera_yaw = camera.YawErrors()
         self.clock_s = 0.0
         self.held: SimObject | None = None
         self.last_effect = grasping.NOTHING
@@ -100,7 +108,11 @@ class SimWorld:
     # -- state -------------------------------------------------------------------
 
     def state(self) -> RobotState:
-        return RobotState(self.pose, self.clock_s, max(0.0, 1.0 - self.clock_s / BATTERY_LIFE_S))
+        return RobotState(self.reported_pose(), self.clock_s, max(0.0, 1.0 - self.clock_s / BATTERY_LIFE_S))
+
+    def reported_pose(self) -> Pose:
+        """Where the robot's dead reckoning says it is (docs/simulator.md, Moving)."""
+        return Pose(self.pose.x_in - self.drift.dx_in, self.pose.y_in - self.drift.dy_in, self.pose.heading_deg)
 
     def truth(self) -> list[ObjectTruth]:
         return [ObjectTruth(o.index, o.entry.id, o.entry.name, o.entry.pose, o.x_in, o.y_in, o.yaw_deg,
@@ -117,7 +129,11 @@ class SimWorld:
     def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None) -> MoveResult:
         """Drive straight segments through the waypoints (turning in place onto each),
         stop short of any contact, then turn to ``face`` and centre the sonar on the
-        object there, or else to the last waypoint's heading."""
+        object there, or else to the last waypoint's heading.
+
+        Waypoints and ``face`` are where the robot believes they are: it drives by dead
+        reckoning, so each lies off by the drift accumulated so far, which grows with
+        every inch driven."""
         if not waypoints or not all(isinstance(w, Pose) for w in waypoints):
             raise DriverError(BAD_REQUEST, "move: waypoints must be a non-empty list of Pose")
         motion, radius = self.profile.robot.motion, self.profile.robot.geometry.base_radius_in
@@ -125,24 +141,26 @@ class SimWorld:
         x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg
         collided = False
         for wp in waypoints:
-            dx, dy = wp.x_in - x, wp.y_in - y
+            towards = (wp.x_in + self.drift.dx_in, wp.y_in + self.drift.dy_in)
+            dx, dy = towards[0] - x, towards[1] - y
             length = math.hypot(dx, dy)
             if length < 1e-6:
                 continue
             course = math.degrees(math.atan2(dy, dx))
             duration += abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
             heading = course
-            alpha = self.physics.sweep_circle((x, y), (wp.x_in, wp.y_in), radius)
+            alpha = self.physics.sweep_circle((x, y), towards, radius)
             travel = length if alpha is None else max(0.0, alpha * length - COLLISION_BACKOFF_IN)
             collided = alpha is not None
             duration += travel / motion.speed_in_per_s
-            stop = (wp.x_in, wp.y_in) if alpha is None else (x + travel * dx / length, y + travel * dy / length)
-            x, y = self._odometry(stop, course, travel)
+            stop = towards if alpha is None else (x + travel * dx / length, y + travel * dy / length)
+            x, y = self._slip(self._odometry(stop, course, travel), travel)
             if collided:
                 break
         centred = False
         if not collided:
             if face is not None:
+                face = (face[0] + self.drift.dx_in, face[1] + self.drift.dy_in)
                 target = self._centring_target(x, y, face)
                 goal = (target.x_in, target.y_in) if target is not None else face
                 final = math.degrees(math.atan2(goal[1] - y, goal[0] - x))
@@ -155,7 +173,7 @@ class SimWorld:
                 heading = final + self._heading_error()
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
-        return MoveResult(self.pose, duration, collided, centred)
+        return MoveResult(self.reported_pose(), duration, collided, centred)
 
     def _odometry(self, stop: tuple[float, float], course_deg: float, travel: float) -> tuple[float, float]:
         """Where the base really ends when told to ``stop`` after driving ``travel``
@@ -170,6 +188,17 @@ class SimWorld:
         if self.physics.overlaps_disc((jx, jy), self.profile.robot.geometry.base_radius_in):
             return stop
         return float(jx), float(jy)
+
+    def _slip(self, at: tuple[float, float], travel: float) -> tuple[float, float]:
+        """Where the base really is after wheel slip it cannot sense: ``at`` moved by
+        the drift drawn for ``travel`` inches, which the reported pose never shows
+        (kept at ``at`` if the slip would put the base into something)."""
+        dx, dy = slip(travel, self.noise.odometry_drift, self.rng)
+        moved = (at[0] + dx, at[1] + dy)
+        if (dx, dy) == (0.0, 0.0) or self.physics.overlaps_disc(moved, self.profile.robot.geometry.base_radius_in):
+            return at
+        self.drift = self.drift.plus(dx, dy)
+        return moved
 
     def _heading_error(self) -> float:
         sigma = self.noise.odometry_heading_deg
@@ -205,6 +234,8 @@ class SimWorld:
             raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure '{procedure}'")
         aim = self._aim(procedure, spec.range_in)
         ideal = model(self.physics, aim)
+        missed = (self.noise.specular_p > 0 and procedure in sonar.SIDE_LOOKING
+                  and specular_miss(sonar.incidence_deg(aim), self.rng, self.noise))
         values: dict[str, float | None] = {}
         for feature in spec.features:
             if feature.name not in ideal:
@@ -213,7 +244,9 @@ class SimWorld:
             if feature.binary:
                 values[feature.name] = perturb_flag(value > 0.5, self.rng, self.noise)
                 continue
-            if feature.name == "Depth" and self._curved_end_on(aim):
+            if missed:
+                value = specular_value(value, self.rng)
+            elif feature.name == "Depth" and self._curved_end_on(aim):
                 value *= float(self.rng.uniform(0.25, 0.5))
             values[feature.name] = perturb(value, feature.error, step, self.rng, self.noise)
         self.clock_s += spec.time_s
@@ -287,7 +320,10 @@ class SimWorld:
     # -- camera ------------------------------------------------------------------
 
     def camera(self) -> CameraImage:
-        """The overhead image (vision time is charged to moves, not here)."""
-        floor = [(o.entry.footprint, o.x_in, o.y_in, o.yaw_deg) for o in self.physics.objects if o.status == "floor"]
+        """The overhead image (vision time is charged to moves, not here); each
+        object's orientation is drawn off by its camera error."""
+        floor = [(o.entry.footprint, o.x_in, o.y_in,
+                  o.yaw_deg + self.camera_yaw.error(o.index, (o.x_in, o.y_in, o.yaw_deg), self.noise, self.rng))
+                 for o in self.physics.objects if o.status == "floor"]
         return camera.render(self.spec, floor, self.pose, self.profile.robot.geometry.base_radius_in,
                              self.noise, self.rng, self.clock_s)
