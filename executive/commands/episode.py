@@ -28,6 +28,7 @@ from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary
 from executive.tables import print_table
 from executive.training_sources import SimulatorSource, catalogue_objects
 from hero_driver.interface import UNAVAILABLE, CameraImage, Driver, DriverError
+from hero_driver.sim.noise import NoiseConfig
 from learner.costs import ModelMoveCost
 from learner.criteria import Criterion
 from learner.knowledge import Knowledge
@@ -73,7 +74,8 @@ def run_demo(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
     from hero_driver.sim_driver import SimulatedHero
 
-    driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile)  # a bad world fails first
+    driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile,
+                           noise=_noise(args))  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
         source = SimulatorSource(args.seed, profile=setup.profile)
         result = train(catalogue_objects("training"), knowledge, source, ModelMoveCost(knowledge.move))
@@ -93,7 +95,7 @@ def run_run(args: argparse.Namespace) -> int:
     if args.driver == "sim":
         _only_with(args, "--driver", "zenoh", ("--connect",))
     else:
-        _only_with(args, "--driver", "sim", ("--world", "--seed"))
+        _only_with(args, "--driver", "sim", ("--world", "--seed", "--noise"))
     if args.learner == "local":
         _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect"))
     else:
@@ -106,6 +108,11 @@ def run_run(args: argparse.Namespace) -> int:
         learner.close()
         raise
     return _episode(args, driver, learner, setup, console)
+
+
+def _noise(args: argparse.Namespace) -> NoiseConfig | None:
+    """The chosen preset, or None to keep the world file's own noise table."""
+    return None if args.noise is None else NoiseConfig.preset(args.noise)
 
 
 def _learner(args: argparse.Namespace) -> LearnerService:
@@ -123,7 +130,8 @@ def _driver(args: argparse.Namespace, profile: RobotProfile) -> Driver:
     if args.driver == "sim":
         from hero_driver.sim_driver import SimulatedHero
 
-        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0, profile=profile)
+        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0, profile=profile,
+                             noise=_noise(args))
     from hero_driver.zenoh_link.client import ZenohDriver
 
     connect = args.connect or DRIVER_ENDPOINT

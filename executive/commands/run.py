@@ -9,6 +9,7 @@ from pathlib import Path
 
 from executive import defaults
 from executive.args import add_criterion_options, endpoint, non_negative_int, positive_int
+from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 
 
@@ -36,6 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                      "behaviour tree) to --out."))
     demo.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (default 0)")
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
+    _noise_option(demo, "")
     _executive_options(demo)
     demo.set_defaults(handler=_handler("run_demo"))
 
@@ -50,6 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                      help=f"zenoh endpoint of the driver node (with --driver zenoh; default {DRIVER_ENDPOINT})")
     run.add_argument("--world", default=None, help="world name or file (with --driver sim; default: the lab)")
     run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
+    _noise_option(run, "with --driver sim; ")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",
@@ -67,6 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     bt.set_defaults(handler=_handler("run_bt"))
 
 
+
+
+def _noise_option(p: argparse.ArgumentParser, when: str) -> None:
+    p.add_argument("--noise", choices=tuple(NOISE_PRESETS), default=None, metavar="PRESET",
+                   help=f"the simulator's sensor and odometry noise: {', '.join(NOISE_PRESETS)} ({when}default: "
+                        "the world file's noise table, else mild; docs/simulator.md)")
 
 
 def _handler(name: str):  # noqa: ANN202

@@ -90,3 +90,23 @@ def test_the_default_library_lives_under_csl_home(tmp_path: Path, capsys) -> Non
     assert home.is_relative_to(tmp_path.parent) and not (home / "library.sqlite").exists()
     assert main(["run", "--no-plots", "--out", str(tmp_path)]) == 0
     assert f"library: {home / 'library.sqlite'}" in capsys.readouterr().out
+
+
+def test_noise_presets_reach_the_simulator(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    from hero_driver.sim.noise import NOISE_PRESETS
+
+    assert main(["demo", "--help"]) == 0
+    text = capsys.readouterr().out
+    assert all(name in text for name in NOISE_PRESETS)
+    # harsh draws odometry drift: the robot's reported poses drift from the waypoints it
+    # was sent to, which clean never does (docs/simulator.md)
+    ends = {}
+    for preset in ("clean", "harsh"):
+        out = tmp_path / preset
+        assert main(["run", "--noise", preset, "--no-plots", "--out", str(out),
+                     "--library", str(tmp_path / f"{preset}.sqlite")]) in (0, 1)
+        events = [json.loads(x) for x in (out / "episode.jsonl").read_text().splitlines()]
+        ends[preset] = [tuple(e["pose"]) for e in events if e["event"] == "move"]
+    assert ends["clean"] != ends["harsh"]
+    assert main(["run", "--driver", "zenoh", "--noise", "harsh", "--out", str(tmp_path)]) == 2
+    assert "--noise goes with --driver sim" in capsys.readouterr().err
