@@ -10,12 +10,14 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Patch  # noqa: E402
+from matplotlib.patches import Patch, Rectangle  # noqa: E402
 import py_trees  # noqa: E402
 
-from behaviours.events import RECOVERIES  # noqa: E402
 from behaviours.records import ObjectRecord  # noqa: E402
+from executive.tree_figure import (BOX_PT, LABEL_H, LABEL_PT, LINE_H, PAD, Box, Link, TreeLayout,  # noqa: E402
+                                   layout, object_figure)
 from hero_driver.interface import CameraImage  # noqa: E402
 
 _COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
@@ -64,94 +66,80 @@ def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], ev
 
 
 def plot_object_tree(path: Path, record: ObjectRecord, label: str, events: Sequence[dict]) -> None:
-    """One object's run-time tree as it grew: each test a box (where, what it cost), each
-    edge the value measured and the branch followed; unreliable values and recoveries in
-    red; the grasp at the end."""
-    steps = _tree_steps(record.index, events)
-    fig_h = max(3.0, 0.62 * len(steps) + 1.2)
-    fig, ax = plt.subplots(figsize=(8.5, fig_h))
+    """One object's run-time decision tree as the paper's Fig. 5 draws it: the path the
+    robot followed (tests with position and cost, measured values on the branches
+    taken, recoveries in red, the grasp at the end) and, for the branches not taken,
+    what the learner would have grown there: each to its first test and two levels
+    below it, fewer when that would make the picture wider than about a screen."""
+    session = record.session
+    for levels in (2, 1, 0):
+        tree = layout(object_figure(events, record.index, session.ctx, orientation_free=session.orientation_free,
+                                    levels=levels))
+        if tree.width <= _MAX_TREE_WIDTH_IN:
+            break
+    title = f"object {record.index}: {label}  →  {record.grasp or '-'} ({record.outcome or 'unfinished'})"
+    plot_tree_layout(path, tree, title)
+
+
+_MAX_TREE_WIDTH_IN = 20.0  # about a screen at 100 dpi
+_MIN_TREE_WIDTH_IN = 6.0  # room for the title
+_TREE_MARGIN_IN = 0.3
+_LEGEND = ("blue: the path followed, the measured value on the branch taken",
+           "red: unreliable values, failed grasps, recoveries",
+           "grey: branches not taken, as the learner would grow them (… deeper tests elided)")
+_BOX_FACE = {("test", True): "#dbe9f6", ("test", False): "#f4f7fb", ("grasp", True): "#d8f0d2",
+             ("grasp", False): "#f0f7ee", ("ambiguous", True): "#fbeccc", ("ambiguous", False): "#fdf6e6"}
+_TONE = {"plain": "#1a1a1a", "failed": "#c0392b", "ok": "#1e7b34", "note": "#5f5f5f"}
+_LINK = {"taken": ("#1f4e9c", 2.0, "-"), "recovery": ("#c0392b", 2.0, "--"), "untaken": ("#a0a0a0", 0.8, "-")}
+
+
+def plot_tree_layout(path: Path, tree: TreeLayout, title: str) -> None:
+    """Draw a laid-out run-time tree (``executive.tree_figure.layout``) to a PNG, one data
+    unit an inch, so the boxes sized from their text fit it at any tree size."""
+    m = _TREE_MARGIN_IN
+    width = max(tree.width, _MIN_TREE_WIDTH_IN)
+    legend = ["  ·  ".join(_LEGEND)] if width >= 14.0 else list(_LEGEND)  # one line when it fits
+    head = 0.45 + 0.18 * len(legend)
+    fig = plt.figure(figsize=(width + 2 * m, tree.height + head + 2 * m))
+    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
     ax.axis("off")
-    ax.set_xlim(0, 1)
-    ax.set_ylim(-len(steps), 0.8)
-    ax.set_title(f"object {record.index}: {label}  ->  {record.grasp or '-'} ({record.outcome})", fontsize=10)
-    for i, (text, kind, edge) in enumerate(steps):
-        y = -i
-        face = {"test": "#dbe9f6", "grasp": "#d8f0d2", "fail": "#f7d4d4", "note": "#f4f4f4"}[kind]
-        ax.text(0.5, y, text, ha="center", va="center", fontsize=8, family="monospace",
-                bbox={"boxstyle": "round,pad=0.35", "facecolor": face, "edgecolor": "#555555"})
-        if i + 1 < len(steps):
-            ax.annotate("", xy=(0.5, y - 0.72), xytext=(0.5, y - 0.28),
-                        arrowprops={"arrowstyle": "->", "color": "#c0392b" if edge.startswith("!") else "#333333"})
-            if edge:
-                ax.text(0.53, y - 0.5, edge.lstrip("!"), fontsize=7, va="center",
-                        color="#c0392b" if edge.startswith("!") else "#333333")
-    fig.savefig(path, dpi=100, bbox_inches="tight")
+    ax.set_xlim(-m, width + m)
+    ax.set_ylim(tree.height + m, -head - m)
+    ax.text(0.0, -head - m / 2, title, fontsize=11, va="top", ha="left", weight="bold")
+    ax.text(0.0, -head - m / 2 + 0.3, "\n".join(legend), fontsize=7.5, va="top", ha="left", color="#444444",
+            linespacing=1.3)
+    for link in sorted(tree.links, key=lambda k: k.style != "untaken"):  # the path drawn over the rest
+        _draw_link(ax, tree.boxes[link.parent], tree.boxes[link.child], link)
+    for box in tree.boxes:
+        _draw_box(ax, box)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def _tree_steps(index: int, events: Sequence[dict]) -> list[tuple[str, str, str]]:
-    """(box text, kind, label of the edge below it) for each step of one object."""
-    steps: list[tuple[str, str, str]] = []
-
-    def edge(label: str) -> None:
-        if steps:
-            text, kind, _ = steps[-1]
-            steps[-1] = (text, kind, label)
-
-    for e in events:
-        if e.get("object") != index:
-            continue
-        kind = e.get("event")
-        if kind == "choose":
-            free = " (known: free)" if e["move_s"] == 0 and e["sense_s"] == 0 else \
-                f"  move {_s(e['move_s'])}, sense {_s(e['sense_s'])}"
-            tag = "" if e["how"] == "best" else f"{e['how']}: "
-            steps.append((f"{tag}{e['test']} at {_at(e['at'])}{free}", "test", ""))
-        elif kind == "branch":
-            edge(f"= {e['value']:g}  ->  [{e['range'][0]:g}, {e['range'][1]:g}]")
-        elif kind == "unreliable":
-            value = "no value" if e["value"] is None else f"= {e['value']:g}"
-            edge(f"!{value}: between the branches, unreliable")
-        elif kind == "grasp" and e.get("as_feature"):
-            edge(f"{'!' if not e['success'] else ''}grasp as a feature: {'holds' if e['success'] else 'failed'}")
-        elif kind == "choose_grasp":
-            steps.append((f"{'ambiguous: try ' if e['how'] == 'ambiguous' else ''}{e['grasp']} at {_at(e['at'])}",
-                          "grasp", ""))
-        elif kind == "grasp":
-            edge(f"{'' if e['success'] else '!'}{e['grasp']}: {'holds' if e['success'] else 'failed'}")
-        elif kind == "leave":
-            edge("left on the floor")
-        elif kind in RECOVERIES:
-            steps.append((_recovery(e), "fail", ""))
-        elif kind == "learn" and e.get("id"):
-            steps.append((f"learned {e['id']} ({e['features']} features)", "note", ""))
-    return steps
+def _draw_link(ax: Axes, parent: Box, child: Box, link: Link) -> None:
+    colour, width, dash = _LINK[link.style]
+    bus = child.top - LABEL_H - 0.12
+    ax.plot([parent.x, parent.x, child.x, child.x], [parent.top + parent.height, bus, bus, child.top],
+            color=colour, linewidth=width, linestyle=dash, zorder=1 if link.style == "untaken" else 2)
+    if link.label:
+        ax.text(child.x, child.top - LABEL_H / 2 - 0.02, link.label, fontsize=LABEL_PT, family="DejaVu Sans Mono",
+                ha="center", va="center", color=colour if link.style != "untaken" else "#555555", zorder=3,
+                weight="bold" if link.style != "untaken" else "normal",
+                bbox={"boxstyle": "square,pad=0.08", "facecolor": "white", "edgecolor": "none"})
 
 
-def _recovery(e: dict) -> str:
-    kind = e["event"]
-    if kind == "backtrack":
-        return f"backtrack to depth {e['depth']}"
-    if kind == "nearest":
-        return f"nearest neighbour: {e['value']:g} -> [{e['branch'][0]:g}, {e['branch'][1]:g}]"
-    if kind == "start_over":
-        return "start over: " + ("knocked over, all sensing void" if e["changed"] else "pushed, from where it lies")
-    if kind == "drop_grasp":
-        return f"drop {e['grasp']}, rebuild ({len(e['candidates'])} descriptions left)"
-    if kind == "discriminate":
-        return "discriminate: already told apart" if e.get("already") else \
-            f"discriminate: {e['procedure']} ({'told apart' if e.get('told_apart') else 'not yet'})"
-    if kind == "other_end":
-        return f"grasp from the other end {_at(e['to'])}"
-    return f"no path to {_at(e['to'])}"
-
-
-def _at(position: Sequence[object]) -> str:
-    return "(" + ",".join(str(p) for p in position) + ")"
-
-
-def _s(seconds: float | None) -> str:
-    return "no path" if seconds is None else f"{seconds:.0f}s"
+def _draw_box(ax: Axes, box: Box) -> None:
+    left = box.x - box.width / 2
+    if box.kind == "elided":
+        ax.text(box.x, box.top + box.height / 2, "…", fontsize=BOX_PT * 1.6, ha="center", va="center",
+                color=_TONE["note"], zorder=5)
+        return
+    ax.add_patch(Rectangle((left, box.top), box.width, box.height, facecolor=_BOX_FACE[(box.kind, box.taken)],
+                           edgecolor="#1f4e9c" if box.taken else "#9a9a9a", linewidth=1.4 if box.taken else 0.7,
+                           zorder=4))
+    for i, line in enumerate(box.lines):
+        ax.text(left + PAD, box.top + PAD + (i + 0.5) * LINE_H * BOX_PT, line.text, fontsize=BOX_PT,
+                family="DejaVu Sans Mono", ha="left", va="center", color=_TONE[line.tone], zorder=5)
 
 
 def plot_behaviour_tree(path: Path, root: py_trees.behaviour.Behaviour) -> None:
