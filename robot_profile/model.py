@@ -70,6 +70,7 @@ class RobotGeometry:
     base_radius_in: float = field(metadata=POSITIVE)
     sensor_offset_in: float
     sensor_height_in: float
+    raised_sensor_height_in: float = field(metadata=POSITIVE)
 
     def __post_init__(self) -> None:
         if not self.base_radius_in > 0 or not self.sensor_offset_in >= 0:

@@ -18,7 +18,6 @@ from hero_driver.sim.physics import Physics, SimObject
 
 SCAN_STEP_IN = 0.3
 SCAN_HALF_SPAN_IN = 30.0  # how far to each side an H-Scan translates the sonar
-S_SWEEP_HEIGHT_IN = 18.0  # the wrist raised above the floor to look down across the top
 FACE_NORMALS = {"+x": (1.0, 0.0), "-x": (-1.0, 0.0), "+y": (0.0, 1.0), "-y": (0.0, -1.0)}
 END_ON_COS = math.cos(math.radians(45.0))
 
@@ -33,6 +32,7 @@ class Aim:
     distance_in: float  # sonar to the target's footprint along the heading
     sensor_height_in: float
     max_range_in: float
+    raised_height_in: float  # the wrist raised to look down across the top (S-Sweep)
 
     @property
     def u(self) -> tuple[float, float]:
@@ -119,9 +119,9 @@ def vertical_sweep(aim: Aim, step_deg: float) -> float:
 
 
 def depth_sweep(aim: Aim, step_deg: float) -> float:
-    """Depth-Degree: from the wrist raised to S_SWEEP_HEIGHT_IN, the depression angles
+    """Depth-Degree: from the wrist raised to the profile's ``raised_sensor_height_in``, the depression angles
     between the near and the far edge of the object's top."""
-    drop = S_SWEEP_HEIGHT_IN - aim.target.entry.height_in
+    drop = aim.raised_height_in - aim.target.entry.height_in
     if drop <= 0:
         return 0.0
     near = math.degrees(math.atan2(drop, aim.distance_in))

@@ -224,8 +224,9 @@ class SimWorld:
         lo, hi = range_in
         if not lo - RANGE_TOLERANCE_IN <= distance <= hi + RANGE_TOLERANCE_IN:
             raise DriverError(OUT_OF_RANGE, f"{procedure}: object at {distance:.1f} in, range is {lo:g}-{hi:g} in")
-        return sonar.Aim(origin, self.pose.heading_deg, target, distance,
-                         self.profile.robot.geometry.sensor_height_in, hi + RANGE_TOLERANCE_IN)
+        geometry = self.profile.robot.geometry
+        return sonar.Aim(origin, self.pose.heading_deg, target, distance, geometry.sensor_height_in,
+                         hi + RANGE_TOLERANCE_IN, geometry.raised_sensor_height_in)
 
     def sense(self, procedure: str) -> SenseResult:
         spec = self.profile.sensing_procedure(procedure)

@@ -80,6 +80,26 @@ def test_depth_sweep_from_the_raised_wrist(entry: str, theta: float, depth: floa
     assert abs(value(entry, "S-Sweep-1°", 6, theta, "Depth-Degree-1°") - exact) <= 3.0
 
 
+def test_the_raised_wrist_height_comes_from_the_profile() -> None:
+    """``[robot] raised_sensor_height_in`` (docs/conventions.md, "Adding a robot
+    constant"): a robot that lifts its wrist to 30 in sees the 2x2x2 box's 2 in top
+    under a smaller angle than the HERO at 18 in."""
+    import dataclasses
+
+    from robot_profile import load_profile
+
+    hero = load_profile()
+    tall = dataclasses.replace(hero, robot=dataclasses.replace(hero.robot, geometry=dataclasses.replace(
+        hero.robot.geometry, raised_sensor_height_in=30.0)))
+    angle = {}
+    for name, profile, raised in (("hero", hero, S_SWEEP_HEIGHT), ("tall", tall, 30.0)):
+        drop = raised - 2.0
+        exact = math.degrees(math.atan(drop / 6.0) - math.atan(drop / 8.0))
+        angle[name] = probe("closed-box-2x2x2/upright", "S-Sweep-1°", 6, 0, profile=profile).values["Depth-Degree-1°"]
+        assert abs(angle[name] - exact) <= 1.0
+    assert angle["tall"] <= angle["hero"] - 2  # 3.9° against 6.0°: atan(d/6) - atan(d/8), d = raised - 2
+
+
 @pytest.mark.parametrize("entry, theta, width, depth, height, front, top", [
     ("closed-box-11x9x12/upright", 0, 9.0, 11.0, 12.0, 0, 0),
     ("closed-box-11x9x12/upright", 90, 11.0, 9.0, 12.0, 0, 0),

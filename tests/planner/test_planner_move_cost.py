@@ -13,7 +13,8 @@ from robot_profile import Robot, RobotGeometry, RobotMotion
 from tests.planner.drawing import WALL, Canvas
 
 MODEL = RobotMotion(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0)
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0)
+HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
+                      raised_sensor_height_in=18.0)
 
 
 def test_formula_by_hand():

@@ -13,7 +13,8 @@ from planner.geometry import angle_between
 from robot_profile import Robot, RobotGeometry, RobotMotion
 from tests.planner.drawing import WALL, Canvas
 
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0)
+HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
+                      raised_sensor_height_in=18.0)
 START = Pose(40.0, 40.0, 0.0)
 MODEL_FOR_TESTS = RobotMotion(0.5, 5.0, 5.0, 15.0)
 

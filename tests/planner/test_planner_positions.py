@@ -14,7 +14,8 @@ from robot_profile import RobotGeometry
 from planner.geometry import angle_between
 from tests.planner.drawing import Canvas, rect_corners
 
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0)
+HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
+                      raised_sensor_height_in=18.0)
 
 
 def box_region(x: float, y: float, length: float, width: float, yaw: float) -> Region:

@@ -18,7 +18,7 @@ def test_the_default_is_the_shipped_hero_profile() -> None:
     assert DEFAULT_PROFILE == HERO
     profile = load_profile()
     assert profile.source == str(HERO)
-    assert profile.robot == Robot(RobotGeometry(9.0, 11.0, 4.0), RobotMotion(0.5, 5.0, 5.0, 15.0))
+    assert profile.robot == Robot(RobotGeometry(9.0, 11.0, 4.0, 18.0), RobotMotion(0.5, 5.0, 5.0, 15.0))
     assert profile.move == MoveModel(2.0, 0.0, 0.0)
     assert len(profile.sensing) == 7 and profile.grasp_names == (
         "Front-Pinch", "Front-Wrap", "Top-Pinch", "Top-Vert-Grip", "Top-Hor-Grip", "No-Grab")
@@ -100,4 +100,4 @@ def test_motion_built_by_hand_refuses_impossible_constants(bad) -> None:  # noqa
 
 def test_geometry_built_by_hand_refuses_a_body_without_size() -> None:
     with pytest.raises(ValueError, match="base_radius_in > 0"):
-        RobotGeometry(base_radius_in=0.0, sensor_offset_in=11.0, sensor_height_in=4.0)
+        RobotGeometry(base_radius_in=0.0, sensor_offset_in=11.0, sensor_height_in=4.0, raised_sensor_height_in=18.0)
