@@ -23,6 +23,7 @@ from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import other_end, overhead, relative_position
 from behaviours.choosing import Choose
 from behaviours.events import Event
+from behaviours.records import ObjectRecord
 from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
 from learner.matrix import Test
 from learner.runtime import Exhausted
@@ -255,17 +256,23 @@ class Discriminate(DriverAction):
     predicted grasp's descriptions (docs/method.md §5, "discriminating features added"):
     the cheapest feature they have and this object lacks, here where the robot stands,
     then the next, until a value falls outside theirs or nothing is left to measure here.
-    Each procedure is one driver verb; the behaviour stays RUNNING between them."""
+    Each procedure is one driver verb; the behaviour stays RUNNING between them. A test
+    is tried once per object, not once per wrong prediction, and a procedure that gave
+    nothing on this object is not asked again from another side: a deaf sonar must not
+    cost one more sweep after every failed grasp."""
 
     def __init__(self, robot: str, name: str = "Discriminate") -> None:
         super().__init__(name, robot)
         self._test: ScoredTest | None = None
         self._wrong: str | None = None
         self._tried: set[Test] = set()
+        self._silent: set[str] = set()  # procedures that gave no value on this object
+        self._tried_on: ObjectRecord | None = None
 
     def start(self) -> Future[SenseResult] | Status:
         obj, attempt = self.obj, self.step.attempt
-        self._tried = set()
+        if self._tried_on is not obj:
+            self._tried, self._silent, self._tried_on = set(), set(), obj
         if attempt is None or attempt.as_feature is not None or obj.done:
             return Status.SUCCESS
         if self.timed(lambda: obj.session.told_apart(attempt.grasp)):
@@ -277,8 +284,13 @@ class Discriminate(DriverAction):
     def _next(self) -> Future[SenseResult] | Status:
         obj = self.obj
         assert self._wrong is not None
-        wrong, tried = self._wrong, frozenset(self._tried)
-        self._test = self.timed(lambda: obj.session.discriminating_test(wrong, tried))
+        wrong = self._wrong
+        while True:
+            tried = frozenset(self._tried)
+            self._test = self.timed(lambda: obj.session.discriminating_test(wrong, tried))
+            if self._test is None or self._test.test.procedure not in self._silent:
+                break
+            self._tried.add(self._test.test)
         if self._test is None or self._test.move_cost > 0:
             return Status.SUCCESS  # nothing left to add from here; moving for it is not worth it
         self._tried.add(self._test.test)  # each test once: a dropout is not retried forever
@@ -292,8 +304,11 @@ class Discriminate(DriverAction):
         told_apart = obj.session.discriminates(self._test, self._wrong)
         self.note(Event.DISCRIMINATE, procedure=result.procedure, values=dict(result.values.items()),
                   seconds=round(result.duration_s, 1), told_apart=told_apart)
-        if told_apart or result.values.get(self._test.test.feature) is None:
-            return Status.SUCCESS  # told apart, or the sonar gave nothing: leave it there
+        if result.values.get(self._test.test.feature) is None:
+            self._silent.add(result.procedure)
+            return Status.SUCCESS  # the sonar gave nothing: leave it there
+        if told_apart:
+            return Status.SUCCESS
         nxt = self._next()
         if isinstance(nxt, Status):
             return nxt

@@ -3,18 +3,27 @@
 The learner defines what a measurement source is; this module adapts the simulated
 HERO to it (one object alone, the robot placed at the training position, as a team
 would stage it on the lab floor) and records what any source answered into a replay
-file, so a training run can be repeated without the robot.
+file, so a training run can be repeated without the robot. The training objects
+themselves come from what the overhead camera sees of each (:func:`camera_objects`),
+as in the paper, or from the catalogue's true footprints (:func:`catalogue_objects`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 
+from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
+from hero_driver.sim.catalogue import CatalogueEntry
+from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import probe
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.worldfile import one_object_world
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
+from planner.vision import Region, look
 from robot_profile import RobotProfile
 
 GRASP_DISTANCE_IN = 6.0
@@ -23,16 +32,25 @@ _APPROACH_ORIENTATION = {"any": None, "end": 0.0, "side": 90.0}
 
 class SimulatorSource:
     """Senses catalogue objects in the simulator (exact values unless ``noise``), as the
-    robot of ``profile`` would (default: the shipped HERO 2000)."""
+    robot of ``profile`` would (default: the shipped HERO 2000).
 
-    def __init__(self, seed: int = 0, noise: bool = False, profile: RobotProfile | None = None) -> None:
+    Orientations are relative to each object's reference axis. The simulator stages the
+    robot from the catalogue's axis; ``axis_offsets_deg[object]`` is where the axis the
+    training positions were chosen from (the camera's, see :func:`camera_objects`) lies
+    relative to it, so the robot stands where the training position means.
+    """
+
+    def __init__(self, seed: int = 0, noise: bool = False, profile: RobotProfile | None = None,
+                 axis_offsets_deg: Mapping[str, float] | None = None) -> None:
         self.seed, self.noise, self.profile = seed, noise, profile
+        self.axis_offsets_deg = dict(axis_offsets_deg or {})
 
     def measure(self, object_id: str, procedure: str, position: Position) -> Mapping[str, float | None]:
         if position.distance_in is None or position.orientation_deg is None:
             raise ValueError(f"training position {position} must be concrete to stage the robot")
+        orientation = (position.orientation_deg + self.axis_offsets_deg.get(object_id, 0.0)) % 360.0
         try:
-            result = probe(object_id, procedure, position.distance_in, position.orientation_deg,
+            result = probe(object_id, procedure, position.distance_in, orientation,
                            seed=self.seed, noise=self.noise, profile=self.profile)
         except DriverError as exc:
             raise ValueError(f"simulator: {procedure} of {object_id!r} at {position}: {exc.message}") from None
@@ -76,3 +94,59 @@ def catalogue_objects(object_set: str = "training") -> list[TrainingObject]:
     if not objects:
         raise ValueError(f"the simulator catalogue has no objects in set {object_set!r}")
     return objects
+
+
+@dataclass(frozen=True)
+class SeenObjects:
+    """Training objects as the overhead camera sees them, and for each the angle of the
+    camera's reference axis from the catalogue's (what :class:`SimulatorSource` needs to
+    stage the robot at the training positions chosen on the camera's polygons)."""
+
+    objects: tuple[TrainingObject, ...]
+    axis_offsets_deg: Mapping[str, float]
+
+
+def camera_objects(object_set: str = "training", profile: RobotProfile | None = None, seed: int = 0,
+                   noise: bool = False) -> SeenObjects:
+    """The catalogue's objects of one set, each placed alone on the floor (aligned with
+    the room, as a team stages training objects) and seen by the overhead camera.
+
+    As in the paper, the footprint polygon, its reference axis and whether it is round
+    are the vision's (``planner/vision.py``), not the catalogue's: training orientations
+    come from what the robot can see. So a small object whose pixels look isotropic
+    (the lying 16 oz tumbler at 0.8 in per pixel) trains as round, as the robot would
+    treat it at run time. Only the grasp label (and where it is made) is the teacher's,
+    taken from the catalogue as :func:`catalogue_objects` does.
+    """
+    _, catalogue = profile_and_catalogue(profile)
+    labelled = {o.object_id: o for o in catalogue_objects(object_set)}
+    objects, offsets = [], {}
+    for object_id, labels in labelled.items():
+        region = _seen(object_id, catalogue, profile, seed, noise)
+        offset = region.reference_axis_deg  # the object lies at yaw 0: the catalogue's axis is world +x
+        offsets[object_id] = offset
+        grasp_orientation = labels.grasp_position.orientation_deg
+        if grasp_orientation is not None:
+            grasp_orientation = float(round(grasp_orientation - offset) % 360)
+        objects.append(TrainingObject(object_id, labels.grasp, Position(labels.grasp_position.distance_in,
+                                                                        grasp_orientation),
+                                      () if region.round else _object_frame(region), region.round))
+    return SeenObjects(tuple(objects), offsets)
+
+
+def _seen(object_id: str, catalogue: Mapping[str, CatalogueEntry], profile: RobotProfile | None, seed: int,
+          noise: bool) -> Region:
+    sim = SimWorld(one_object_world(object_id, catalogue), seed, profile, None if noise else NoiseConfig.off())
+    regions = look(overhead(sim.camera())).regions
+    if len(regions) != 1:
+        raise ValueError(f"camera: {object_id!r} alone on the floor shows {len(regions)} regions, not 1")
+    return regions[0]
+
+
+def _object_frame(region: Region) -> tuple[tuple[float, float], ...]:
+    """The region's polygon about its centroid, +x along its reference axis, to 0.001 in
+    (what a training-objects file keeps, so a replay sees the same footprint)."""
+    a = math.radians(region.reference_axis_deg)
+    cx, cy = region.centroid
+    return tuple((round((x - cx) * math.cos(a) + (y - cy) * math.sin(a), 3),
+                  round(-(x - cx) * math.sin(a) + (y - cy) * math.cos(a), 3)) for x, y in region.polygon)

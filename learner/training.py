@@ -4,8 +4,8 @@ Phase 1 picks a few positions worth sensing from: orientations perpendicular to 
 objects' faces (sonar works best there), and distances as far as a sweep still tells
 apart objects of similar size but different grasp. Phase 2 at each position measures
 only what is needed to classify every object (familiarize, discriminate, reorganize);
-the descriptions of all positions are then merged, generalising values that do not
-depend on orientation (or distance) to ``*``.
+the descriptions of all positions are then merged, generalising to ``*`` a value that
+agrees at every training orientation (or distance), i.e. does not depend on it.
 """
 
 from __future__ import annotations
@@ -223,7 +223,7 @@ def _predict(tree: TreeNode, obj: TrainingObject, at: Position, recorder: _Recor
     while isinstance(node, TestNode):
         feature = node.test.test.feature
         proc = recorder.knowledge.procedure_for(feature)
-        recorder.apply(obj, proc, _sense_at(obj, at), at, f"familiarize: tree tests {feature}")
+        recorder.apply(obj, proc, sensed_at(obj, at), at, f"familiarize: tree tests {feature}")
         value = recorder.values[obj.object_id].get((feature, at))
         if value is None:
             return None
@@ -236,8 +236,11 @@ def _predict(tree: TreeNode, obj: TrainingObject, at: Position, recorder: _Recor
     return None
 
 
-def _sense_at(obj: TrainingObject, at: Position) -> Position:
-    """Round objects have no orientation: they are sensed at 0° and recorded at ``*``."""
+def sensed_at(obj: TrainingObject, at: Position) -> Position:
+    """Where the robot is staged to measure ``obj`` for training position ``at``.
+
+    Round objects have no orientation: they are sensed at 0° and recorded at ``*``.
+    """
     return Position(at.distance_in, 0.0) if obj.round else at
 
 
@@ -271,7 +274,7 @@ def train_position(
             wrong.append(obj)
             remaining = [p for p in procs if p.name not in recorder.applied[(obj.object_id, where)]]
             if remaining:  # reorganize: the next object's tree is built from all descriptions
-                recorder.apply(obj, remaining[0], _sense_at(obj, at), where, "discriminate: cheapest not yet applied")
+                recorder.apply(obj, remaining[0], sensed_at(obj, at), where, "discriminate: cheapest not yet applied")
         if progress:
             progress(f"position {at}: {len(objects) - len(wrong)}/{len(objects)} classified")
         if recorder.count == before:  # a pass that measured nothing new: done
@@ -286,15 +289,33 @@ def _tree(descriptions: Sequence[ObjectDescription], knowledge: Knowledge) -> Tr
 
 
 # -- Merging ------------------------------------------------------------------------------
-def generalise(observations: Iterable[Observation], knowledge: Knowledge) -> list[Observation]:
-    """Replace a feature's values that agree within its error across orientations (at one
-    distance) by one value at ``(d,*)``, then across distances by ``(*,θ)``."""
+def generalise(observations: Iterable[Observation], knowledge: Knowledge,
+               orientations: Sequence[float], distances: Sequence[float]) -> list[Observation]:
+    """Replace a feature's values that agree within its error at *every* training
+    orientation (at one distance) by one value at ``(d,*)``, then at every training
+    distance its procedure reaches by ``(*,θ)``.
+
+    Agreement at the orientations that happened to be measured is not enough: a lying
+    tumbler's width agrees at 0° and 180° and differs at 90°, and ``(d,*)`` would claim
+    it holds there too. The paper generalises only when all training positions of the
+    slot agree, so a value missing at one of them keeps its concrete positions.
+    """
     obs = list(observations)
-    obs = _generalise_slot(obs, knowledge, keep="distance")
-    return _generalise_slot(obs, knowledge, keep="orientation")
+    obs = _generalise_slot(obs, knowledge, keep="distance", required=lambda _feature: set(orientations))
+    return _generalise_slot(obs, knowledge, keep="orientation",
+                            required=lambda feature: _reachable(feature, distances, knowledge))
 
 
-def _generalise_slot(obs: list[Observation], knowledge: Knowledge, keep: str) -> list[Observation]:
+def _reachable(feature: str, distances: Sequence[float], knowledge: Knowledge) -> set[float]:
+    """The training distances at which the feature's procedure can be applied."""
+    if not knowledge.has_feature(feature):
+        return set(distances)
+    proc = knowledge.procedure_for(feature)
+    return {d for d in distances if proc.applicable_at(d)}
+
+
+def _generalise_slot(obs: list[Observation], knowledge: Knowledge, keep: str,
+                     required: Callable[[str], set[float]]) -> list[Observation]:
     out: list[Observation] = []
     groups: dict[tuple[str, float], list[Observation]] = defaultdict(list)
     for o in obs:
@@ -306,12 +327,14 @@ def _generalise_slot(obs: list[Observation], knowledge: Knowledge, keep: str) ->
             groups[(o.feature, fixed)].append(o)
     for (feature, fixed), members in groups.items():
         values = [m.value for m in members]
+        measured_at = {m.position.orientation_deg if keep == "distance" else m.position.distance_in for m in members}
         spec = knowledge.feature(feature) if knowledge.has_feature(feature) else None
         error = spec.error if spec else 0.0
         # an angular size shrinks with distance: agreeing values at two distances are a
         # coincidence of quantisation, not a value that holds at any distance
         angular_over_distance = keep == "orientation" and spec is not None and spec.angular_of is not None
-        if len(members) >= 2 and max(values) - min(values) <= error + 1e-9 and not angular_over_distance:
+        if (len(members) >= 2 and measured_at >= required(feature) and not angular_over_distance
+                and max(values) - min(values) <= error + 1e-9):
             position = Position(fixed, None) if keep == "distance" else Position(None, fixed)
             out.append(Observation(feature, position, round(sum(values) / len(values), 3)))
         else:
@@ -346,7 +369,7 @@ def train(
                 yielded = {f.name for f in proc.features} & linear
                 if yielded and proc.range_in[0] == proc.range_in[1]:
                     at = Position(proc.range_in[0], orientation)
-                    values = recorder.measure(obj, proc, _sense_at(obj, at), "phase 1: size for distances",
+                    values = recorder.measure(obj, proc, sensed_at(obj, at), "phase 1: size for distances",
                                               _record_at(obj, at))
                     sizes.update({(obj.object_id, n): float(values[n]) for n in yielded if values.get(n) is not None})
         log.distance_reasons += candidate_distances(objects, sizes, knowledge)
@@ -358,7 +381,8 @@ def train(
     for obj in objects:
         d = recorder.description(obj)
         merged.append(ObjectDescription(d.object_id, d.grasp, d.grasp_position,
-                                        tuple(generalise(d.observations, knowledge))))
+                                        tuple(generalise(d.observations, knowledge, log.orientations,
+                                                         log.distances))))
     return TrainingResult(tuple(merged), log)
 
 
@@ -366,7 +390,7 @@ def _moving_cost(objects: Sequence[TrainingObject], recorder: _Recorder, estimat
     """Robot time to visit, per object, the positions it was sensed at, far to near."""
     total = 0.0
     for obj in objects:
-        visited = sorted({_sense_at(obj, p) for (oid, p) in recorder.applied if oid == obj.object_id
+        visited = sorted({sensed_at(obj, p) for (oid, p) in recorder.applied if oid == obj.object_id
                           and p.distance_in is not None},
                          key=lambda p: (-(p.distance_in or 0.0), p.orientation_deg or 0.0))
         for a, b in zip(visited, visited[1:]):

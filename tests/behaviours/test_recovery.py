@@ -540,6 +540,25 @@ def test_discriminate_keeps_measuring_until_told_apart(services, driver, log) ->
     assert record.session.measurements[("Top-Hole?", P(6, 0))] == 0.0
 
 
+def test_discriminate_does_not_ask_a_silent_procedure_again_on_the_object(services, driver, log) -> None:  # noqa: ANN001
+    """Nothing measured yet, Front-Pinch (the box) fails: its Height(6,*) is asked of the
+    D-Scan here, which gives nothing. Top-Pinch (the tumbler) fails next: the tumbler's
+    Height(6,*) and Depth would come from the same D-Scan, which is not asked again on
+    this object: one sense in all, not one per failed grasp."""
+    record, step = start_object(services)
+    record.session.position = P(6, 0)
+    record.session.grasp_failed("Front-Pinch", side_effects=False)
+    step.attempt = GraspAttempt("Front-Pinch", P(6, 0), success=False)
+    driver.script("sense", SenseResult("D-Scan-0.3", {"Height": None, "Depth": None, "Top-Hole?": None}, 84.0, 6.0))
+    behaviour = setup(Discriminate(ROBOT), services)
+    assert tick(behaviour) == Status.SUCCESS
+    record.session.grasp_failed("Top-Pinch", side_effects=False)
+    step.attempt = GraspAttempt("Top-Pinch", P(6, 0), success=False)
+    assert tick(behaviour) == Status.SUCCESS
+    assert driver.verbs() == ["sense"] and record.ledger.sensing_s == 84.0
+    assert [e.get("procedure") for e in log.of("discriminate")] == ["D-Scan-0.3"]
+
+
 def test_discriminate_does_not_move_for_a_feature(services, driver, log) -> None:  # noqa: ANN001
     record, step = _wrongly_predicted(services, at=P(24, 0))  # the height is at (6,0): 36 s away
     assert run(Discriminate(ROBOT), services) == Status.SUCCESS
