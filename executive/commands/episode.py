@@ -26,16 +26,14 @@ from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from executive.profile import knowledge_of
 from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
 from executive.tables import print_table
-from executive.training_sources import SimulatorSource, catalogue_objects
+from executive.sim_training import train_in_simulator
 from hero_driver.interface import UNAVAILABLE, CameraImage, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
-from learner.costs import ModelMoveCost
 from learner.criteria import Criterion
 from learner.knowledge import Knowledge
 from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
-from learner.training import train
 from robot_profile import RobotProfile, load_profile
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 
@@ -77,12 +75,12 @@ def run_demo(args: argparse.Namespace) -> int:
     driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile,
                            noise=_noise(args))  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
-        source = SimulatorSource(args.seed, profile=setup.profile)
-        result = train(catalogue_objects("training"), knowledge, source, ModelMoveCost(knowledge.move))
-    log = result.log
-    console.print(f"trained: {len(result.descriptions)} descriptions at distances "
-                  f"{', '.join(f'{d:g}' for d in log.distances)} in and orientations "
-                  f"{', '.join(f'{o:g}' for o in log.orientations)}°; {log.total_s / 3600:.1f} h of robot time")
+        trained = train_in_simulator(knowledge, setup.profile, args.seed)
+    summary = trained.summary
+    console.print(f"trained: {summary.descriptions} descriptions at distances "
+                  f"{', '.join(f'{d:g}' for d in summary.distances_in)} in and orientations "
+                  f"{', '.join(f'{o:g}' for o in summary.orientations_deg)}°; {summary.robot_hours:.1f} h of robot time")
+    result = trained.result
     store = args.out / "library.sqlite"
     store.unlink(missing_ok=True)
     learner = LocalLearner(store, seed_library=list(result.descriptions))
