@@ -1,16 +1,25 @@
 """Evaluation functions: how a test's information gain trades against its cost.
 
 ``cs-id3`` is CSL's ``I^2 / C``. The others are the usual baselines, so runs can be
-compared side by side: ``id3`` ignores cost, ``idx`` is ``I / C`` (Norton 1989), and
-``eg2`` is Nunez's ``(2^I - 1) / (C + 1)^w``.
+compared side by side: ``id3`` is truly cost-blind (gain only; ties and ``*`` positions
+left to chance), ``id3-cost-ties`` is gain with ties settled by cost, ``idx`` is
+``I / C`` (Norton 1989), and ``eg2`` is Nunez's ``(2^I - 1) / (C + 1)^w``.
+
+Each cost-sensitive entry also comes in two refined forms (docs/method.md §3.5):
+``-joint`` scores a procedure application by the joint gain of every feature it yields,
+and ``-lookahead`` adds a one-step lookahead (with joint gain): the formula is applied
+to the gain and the cost expected over the test and the best test after it.
 
 :data:`CRITERIA` is the one registry of them: command-line help, the benches and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
-its help line and its parameters, without anyone re-typing them.
+its help line and its parameters, without anyone re-typing them. How a criterion
+chooses besides its formula (ties, ``*`` slots, joint gain, lookahead) is part of the
+entry too, so the learner asks the criterion, never its name.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable, Mapping
@@ -20,11 +29,24 @@ from types import MappingProxyType
 
 @dataclass(frozen=True)
 class Criterion:
-    """A named evaluation function of (gain in bits, cost in seconds); higher is better."""
+    """A named evaluation function of (gain in bits, cost in seconds); higher is better.
+
+    ``cost_blind_choices``: what the score leaves open is left to chance, not to cost:
+    equal scores are ordered at random and a ``*`` slot of a test's position is filled
+    at random within the procedure's range (any orientation). Without it, ties go to the
+    nearer, then the cheaper test, and a ``*`` slot stays where the robot is.
+    ``joint_gain``: a test is scored with the gain of all the features its procedure
+    yields at that position (one application, one cost, several values).
+    ``lookahead``: a test is scored on the gain and cost expected over two steps, itself
+    and the best test after it in each branch.
+    """
 
     name: str
     score: Callable[[float, float], float]
     cost_sensitive: bool
+    cost_blind_choices: bool = False
+    joint_gain: bool = False
+    lookahead: bool = False
 
 
 @dataclass(frozen=True)
@@ -60,6 +82,9 @@ class CriterionSpec:
     cost_sensitive: bool
     score: Callable[..., float]
     parameters: tuple[Parameter, ...] = ()
+    cost_blind_choices: bool = False
+    joint_gain: bool = False
+    lookahead: bool = False
 
     def build(self, *values: float, **given: float) -> Criterion:
         """The criterion with parameters given by position (in declared order) or by
@@ -76,7 +101,8 @@ class CriterionSpec:
             raise ValueError(f"{self.name} has no parameter {', '.join(unknown)} "
                              f"(its parameters: {', '.join(names) or 'none'})")
         bound = {p.name: p.check(given.get(p.name, p.default)) for p in self.parameters}
-        return Criterion(self.name, functools.partial(self.score, **bound), self.cost_sensitive)
+        return Criterion(self.name, functools.partial(self.score, **bound), self.cost_sensitive,
+                         self.cost_blind_choices, self.joint_gain, self.lookahead)
 
 
 def _ratio(numerator: float, cost: float) -> float:
@@ -102,19 +128,35 @@ def _eg2(gain: float, cost: float, *, w: float) -> float:
     return (2.0**gain - 1.0) / (cost + 1.0) ** w
 
 
+def _refined(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
+    """``base`` scored by joint gain, and by joint gain with a one-step lookahead. (Help
+    lines stay short: ``--help`` lists every entry on one line.)"""
+    joint = dataclasses.replace(base, name=f"{base.name}-joint", formula=f"{base.formula}, joint I",
+                                help="I of every feature one procedure run yields", joint_gain=True)
+    ahead = dataclasses.replace(joint, name=f"{base.name}-lookahead", formula=f"{base.formula}, joint I, 2 steps",
+                                help="I and C over the test and the best next one", lookahead=True)
+    return joint, ahead
+
+
+_BASES = (
+    CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3),
+    CriterionSpec("id3", "I", "cost-blind ID3, Quinlan 1986: ties and * slots at random", False, _id3,
+                  cost_blind_choices=True),
+    CriterionSpec("id3-cost-ties", "I", "ID3, ties to the nearer test, * slots where the robot is", False, _id3),
+    CriterionSpec("idx", "I / C", "Norton 1989", True, _idx),
+    CriterionSpec("eg2", "(2^I - 1) / (C + 1)^w", "Nunez 1991, w weighs the cost", True, _eg2,
+                  (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
+)
+
 DEFAULT_CRITERION = "cs-id3"
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
-        CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3),
-        CriterionSpec("id3", "I", "cost-blind ID3, Quinlan 1986", False, _id3),
-        CriterionSpec("idx", "I / C", "Norton 1989", True, _idx),
-        CriterionSpec("eg2", "(2^I - 1) / (C + 1)^w", "Nunez 1991, w weighs the cost", True, _eg2,
-                      (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
-    )
+        *_BASES, *(refined for base in _BASES if base.cost_sensitive for refined in _refined(base)))
 })
-"""Every criterion by name, in the order help and benches list them. Iterating it gives
-the names, so it also serves as argparse ``choices``."""
+"""Every criterion by name, in the order help and benches list them (the bases, then
+the refined forms of the cost-sensitive ones). Iterating it gives the names, so it also
+serves as argparse ``choices``."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:

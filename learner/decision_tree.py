@@ -9,13 +9,13 @@ grasps the executive tries one by one as binary features.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from learner.matrix import Test
 from learner.partition import Range, match
 from learner.position import Position
-from learner.selection import Context, Measurements, Node, ScoredTest, deciding_rows, leaf_classes, rank, split, target_for
+from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_rows, leaf_classes, rank, split,
+                               target_for, yielded)
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,9 @@ def grow(
     Each test moves the robot, so a subtree is grown from its parent test's position.
     A procedure yields all its features at once, so below a test its siblings at the
     same position are free; their values are unknown here (NaN), only that they are
-    measured matters.
+    measured matters. The rule is the session's (``rank``), chance included: a
+    cost-blind criterion draws from ``ctx.rng`` as the tree grows, so it repeats from
+    its seed.
     """
     measurements = measurements or {}
     leaf = leaf_at(node, current, ctx)
@@ -120,16 +122,9 @@ def grow(
             sub: TreeNode = GraspLeaf(best.test.feature, best.target, 0.0, 0.0, object_ids(child, ctx), grasped=True,
                                       library_position=best.test.position)
         else:
-            sub = grow(child, best.target, ctx, {**measurements, **_yielded(best, ctx)}, exclude | {best.test})
+            sub = grow(child, best.target, ctx, {**measurements, **yielded(best, ctx)}, exclude | {best.test})
         children.append((rng, sub))
     return TestNode(best, tuple(ranked[1:]), tuple(children))
-
-
-def _yielded(test: ScoredTest, ctx: Context) -> dict[tuple[str, Position], float]:
-    if test.test.is_grasp:
-        return {}
-    proc = ctx.knowledge.procedure_for(test.test.feature)
-    return {(f.name, test.target): math.nan for f in proc.features}
 
 
 def classify(tree: TreeNode, values: dict[Test, float]) -> list[str]:

@@ -6,14 +6,14 @@ descriptions at the node: the learner can only test what some object was measure
 Each is scored with the criterion on its gain and its cost *from the current position*;
 the ranked list is kept so the executive can reselect the next-best test.
 
-Gains for all columns are computed at once on the :class:`DescriptionMatrix`
-(docs/method.md §3): values within the feature's error chain into one range; descriptions
-lacking the value are spread evenly over the ranges (plus an "unknown" subset when the
-ranges, widened by the error, leave part of the feature's domain uncovered).
+Gains come from ``learner.gain`` (docs/method.md §3); what a criterion does besides its
+formula (cost-blind ties and ``*`` slots, joint gain, lookahead) it declares in its
+registry entry, and the ranking here follows it.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Mapping, Sequence
@@ -23,12 +23,17 @@ import numpy as np
 
 from learner.costs import MoveCostEstimator
 from learner.criteria import Criterion
+from learner.gain import Split, joint_gain, partition_columns
 from learner.knowledge import Knowledge
 from learner.matrix import DescriptionMatrix, Test
 from learner.partition import Range
 from learner.position import Position
 
 _MIN_GAIN = 1e-12
+LOOKAHEAD_WIDTH = 8
+"""How many of the best tests by one step a lookahead criterion scores again over two:
+each costs a ranking per branch, and a test far down the one-step order is rarely the
+best over two steps."""
 _EPS = 1e-9
 
 
@@ -60,6 +65,9 @@ class ScoredTest:
     score: float
     ranges: tuple[Range, ...]
     error: float  # the feature's expected error, for matching a measurement
+    # the (gain, cost) the score was computed from when not (gain, cost): a procedure's
+    # joint gain, or the two steps of a lookahead
+    scored_on: tuple[float, float] | None = None
 
     @property
     def cost(self) -> float:
@@ -119,78 +127,6 @@ def target_for(test: Test, current: Position, ctx: Context) -> Position:
     return Position(distance, orientation)
 
 
-@dataclass(frozen=True)
-class _Split:
-    """Per-column partition of a node's rows: the ranges and the information gain."""
-
-    ranges: list[list[Range]]
-    gains: np.ndarray
-    n_ranges: np.ndarray
-
-
-def _partition_node(node: Node, matrix: DescriptionMatrix, columns: np.ndarray) -> _Split:
-    """Chain-merged ranges and information gain of every column at once."""
-    n, k, m = len(node.rows), len(matrix.classes), len(columns)
-    order, vals = matrix.order[columns], matrix.sorted_values[columns]
-    if n < len(matrix.descriptions):  # keep the node's rows, still sorted by value, NaN last
-        member = np.zeros(len(matrix.descriptions), dtype=bool)
-        member[list(node.rows)] = True
-        keep = member[order]
-        order, vals = order[keep].reshape(m, n), vals[keep].reshape(m, n)
-    vcls = matrix.class_of[order]
-    known = ~np.isnan(vals)
-    n_known = known.sum(axis=1)
-    err = matrix.errors[columns][:, None]
-    step = np.zeros_like(vals)
-    step[:, 1:] = vals[:, 1:] - vals[:, :-1]
-    breaks = known & (step > err + _EPS)
-    starts = breaks.copy()
-    starts[:, 0] = known[:, 0]
-    range_id = np.cumsum(starts, axis=1, dtype=np.int32) - 1
-    n_ranges = starts.sum(axis=1)
-
-    # the "unknown" subset: the ranges widened by the error leave part of the domain open
-    last = np.take_along_axis(vals, np.maximum(n_known - 1, 0)[:, None], axis=1)[:, 0]
-    widest_gap = np.where(breaks, step, 0.0).max(axis=1) if n > 1 else np.zeros(m)
-    e = err[:, 0]
-    numeric_covered = ((vals[:, 0] - e <= matrix.span_lo[columns] + _EPS)
-                       & (last + e >= matrix.span_hi[columns] - _EPS) & (widest_gap <= 2 * e + _EPS))
-    unknown = np.where(matrix.binary[columns], n_ranges < 2, ~numeric_covered) & ~matrix.is_grasp[columns]
-
-    subsets = n_ranges + unknown
-    max_r = int(n_ranges.max()) + 1 if m else 1
-    col = np.arange(m, dtype=np.int32)[:, None]
-    counts = np.bincount(((col * max_r + range_id) * k + vcls)[known],
-                         minlength=m * max_r * k).astype(float).reshape(m, max_r, k)
-    missing = np.bincount((col * k + vcls)[~known], minlength=m * k).astype(float).reshape(m, k)
-    share = missing / np.maximum(subsets, 1)[:, None]
-    in_range = np.arange(max_r)[None, :] < n_ranges[:, None]
-    counts += np.where(in_range[:, :, None], share[:, None, :], 0.0)
-    weights = np.concatenate([counts, np.where(unknown[:, None], share, 0.0)[:, None, :]], axis=1)
-    totals = np.bincount(matrix.class_of[list(node.rows)], minlength=k).astype(float)
-    h_total = _entropy(totals[None, :])[0]
-    remainder = (weights.sum(axis=2) / max(n, 1) * _entropy(weights)).sum(axis=1)
-    gains = np.where(n_ranges >= 2, np.maximum(h_total - remainder, 0.0), 0.0)
-
-    ends = starts.copy()
-    ends[:, :-1] = starts[:, 1:]
-    ends[:, -1] = False
-    ends |= known & (np.arange(n)[None, :] == (n_known - 1)[:, None])
-    los, his = vals[starts].tolist(), vals[ends].tolist()
-    bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
-    ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in range(m)]
-    return _Split(ranges, gains, n_ranges)
-
-
-def _entropy(counts: np.ndarray) -> np.ndarray:
-    """Entropy in bits along the last axis of (fractional) class counts."""
-    total = counts.sum(axis=-1, keepdims=True)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        p = np.where(total > 0, counts / total, 0.0)
-        terms = np.where(p > 0, p * np.log2(np.where(p > 0, p, 1.0)), 0.0)
-    return -terms.sum(axis=-1)
-
-
 def rank(
     node: Node,
     current: Position,
@@ -198,11 +134,16 @@ def rank(
     measurements: Measurements,
     exclude: frozenset[Test] = frozenset(),
 ) -> list[ScoredTest]:
-    """All usable tests at a node, best first (ties: the nearer, then the cheaper).
+    """All usable tests at a node, best first.
 
     A test is usable when it splits the node into two or more branches with positive
     gain (or, when none gains anything, any test that splits); grasp tests only while
-    the node holds more than one grasp.
+    the node holds more than one grasp. Each is scored by the criterion on its gain (the
+    joint gain of its procedure application, for a ``joint_gain`` criterion) and its
+    cost from ``current``; a ``lookahead`` criterion then rescores the paid ones over two
+    steps (of the best :data:`LOOKAHEAD_WIDTH` by one step; the rest follow them). Ties go
+    to the nearer, then the cheaper test, or, for a criterion with
+    ``cost_blind_choices``, are ordered at random from ``ctx.rng``.
     """
     matrix = ctx.matrix
     several_classes = len(np.unique(matrix.class_of[list(node.rows)])) > 1
@@ -210,21 +151,22 @@ def rank(
                         if t not in exclude and (several_classes or not t.is_grasp)], dtype=np.int64)
     if len(columns) == 0 or not node.rows:
         return []
-    split = _partition_node(node, matrix, columns)
-    usable = split.gains > _MIN_GAIN
+    found = partition_columns(node.rows, matrix, columns)
+    usable = found.gains > _MIN_GAIN
     if not usable.any():
         # No single test gains anything (XOR-like data), yet a split may separate the
-        # classes one level down: take splitting tests anyway, cheapest first.
-        usable = split.n_ranges >= 2
+        # classes one level down: take splitting tests anyway, ties settled as ever.
+        usable = found.n_ranges >= 2
+    joint = _JointGains(node, ctx, columns, found, measurements) if ctx.criterion.joint_gain else None
     move_costs: dict[Position, float] = {}  # many tests share a position: price each once
     scored: list[ScoredTest] = []
     for j in np.flatnonzero(usable):
         test = matrix.tests[columns[j]]
-        gain = float(split.gains[j])
+        gain = float(found.gains[j])
         if not test.is_grasp and measured_value(test, measurements) is not None:
             target, move, sense = current, 0.0, 0.0
         else:
-            target = target_for(test, current, ctx)
+            target = (_anywhere(test, ctx) if ctx.criterion.cost_blind_choices else target_for(test, current, ctx))
             if target not in move_costs:
                 move_costs[target] = ctx.estimator.move_cost(current, target)
             move = move_costs[target]
@@ -232,19 +174,138 @@ def rank(
                      else ctx.knowledge.procedure_for(test.feature).time_s)
         if not math.isfinite(move):
             continue  # no path to the test's position: the learner cannot use it
-        score = ctx.criterion.score(gain, move + sense)
-        scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(split.ranges[j]),
-                                 float(matrix.errors[columns[j]])))
-    return sorted(scored, key=functools.cmp_to_key(_better))
+        scored_on = None
+        if joint is not None and move + sense > 0 and not test.is_grasp:
+            scored_on = (joint.of(test, target), move + sense)
+        score = ctx.criterion.score(gain if scored_on is None else scored_on[0], move + sense)
+        scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(found.ranges[j]),
+                                 float(matrix.errors[columns[j]]), scored_on))
+    ranked = _ordered(scored, ctx)
+    if ctx.criterion.lookahead:
+        # the few best by one step are looked at again over two; the rest follow them,
+        # in their one-step order, for reselection
+        shortlist = [_two_steps(node, s, ctx, measurements, exclude) for s in ranked[:LOOKAHEAD_WIDTH]]
+        ranked = _ordered(shortlist, ctx) + ranked[LOOKAHEAD_WIDTH:]
+    return ranked
+
+
+class _JointGains:
+    """The joint gain of each procedure application at a node, computed once per
+    (procedure, position): every test of that application shares it."""
+
+    def __init__(self, node: Node, ctx: Context, columns: np.ndarray, found: Split,
+                 measurements: Measurements) -> None:
+        self._node, self._ctx, self._found = node, ctx, found
+        # a feature already measured is free anyway: it adds nothing to a new application
+        self._members = [(i, ctx.matrix.tests[c]) for i, c in enumerate(columns)
+                         if not ctx.matrix.tests[c].is_grasp and found.n_ranges[i] >= 2
+                         and measured_value(ctx.matrix.tests[c], measurements) is None]
+        self._columns = columns
+        self._cache: dict[tuple[str, Position], float] = {}
+
+    def of(self, test: Test, target: Position) -> float:
+        key = (test.procedure, target)
+        if key not in self._cache:
+            yields = [i for i, t in self._members if t.procedure == test.procedure and t.position.covers(target)]
+            self._cache[key] = joint_gain(self._node.rows, self._ctx.matrix, [int(self._columns[i]) for i in yields],
+                                          [self._found.ranges[i] for i in yields],
+                                          [bool(self._found.unknown[i]) for i in yields])
+        return self._cache[key]
+
+
+def _two_steps(node: Node, first: ScoredTest, ctx: Context, measurements: Measurements,
+               exclude: frozenset[Test]) -> ScoredTest:
+    """``first`` rescored on what two steps are expected to gain and cost: itself, then in
+    each branch (weighted by its share of the node) the best next paid test from
+    ``first``'s position, ranked without lookahead; free tests on the way (the siblings
+    ``first``'s procedure yielded) are followed, their gain counted at no cost. A leaf
+    adds nothing. ``first`` counts its own gain here, not its application's joint gain:
+    the free siblings that follow it carry the rest, and must not be counted twice.
+
+    Why: a greedy ratio favours the test that settles everything at once (a 90 s grasp
+    over a 42 s sweep that leaves two of five objects to a 63 s follow-up, 67 s
+    expected); over two steps the cheaper route shows its worth. A free test needs no
+    lookahead: it outscores every paid one anyway.
+    """
+    if first.cost <= 0:
+        return first
+    one_step = dataclasses.replace(ctx, criterion=dataclasses.replace(ctx.criterion, lookahead=False))
+    gain, cost = _after(node, first, one_step, {**measurements, **yielded(first, ctx)}, exclude | {first.test})
+    gain, cost = first.gain + gain, first.cost + cost
+    return dataclasses.replace(first, score=ctx.criterion.score(gain, cost), scored_on=(gain, cost))
+
+
+def _after(node: Node, taken: ScoredTest, ctx: Context, measurements: Measurements,
+           exclude: frozenset[Test]) -> tuple[float, float]:
+    """Expected (gain, cost), over ``taken``'s branches, of the next paid test in each,
+    free tests before it followed."""
+    shares = partition_columns(node.rows, ctx.matrix, np.array([ctx.matrix.column[taken.test]])).mass[0]
+    gain = cost = 0.0
+    for share, child in zip(shares.tolist(), split(node, taken, ctx.matrix)):
+        if share <= 0 or len(leaf_classes(child, ctx.matrix)) == 1:
+            continue
+        following = rank(child, taken.target, ctx, measurements, exclude)
+        if not following:
+            continue
+        best = following[0]
+        if best.cost > 0:
+            gain += share * (best.scored_on[0] if best.scored_on is not None else best.gain)
+            cost += share * best.cost
+        else:
+            more_gain, more_cost = _after(child, best, ctx, measurements, exclude | {best.test})
+            gain += share * (best.gain + more_gain)
+            cost += share * more_cost
+    return gain, cost
+
+
+def yielded(test: ScoredTest, ctx: Context) -> dict[tuple[str, Position], float]:
+    """What applying ``test`` makes known, without the values (NaN): every feature of its
+    procedure at its position, so the siblings of the tested feature come free after it."""
+    if test.test.is_grasp:
+        return {}
+    proc = ctx.knowledge.procedure_for(test.test.feature)
+    return {(f.name, test.target): math.nan for f in proc.features}
+
+
+def _anywhere(test: Test, ctx: Context) -> Position:
+    """A cost-blind position for a test: each ``*`` slot drawn uniformly, a distance
+    within the procedure's range, an orientation anywhere around the object."""
+    lo, hi = (ctx.knowledge.grasp(test.procedure).range_in if test.is_grasp
+              else ctx.knowledge.procedure_for(test.feature).range_in)
+    distance, orientation = test.position.distance_in, test.position.orientation_deg
+    if distance is None:
+        distance = float(ctx.rng.uniform(lo, hi))
+    if orientation is None:
+        orientation = float(ctx.rng.uniform(0.0, 360.0))
+    return Position(distance, orientation)
+
+
+def _ordered(scored: list[ScoredTest], ctx: Context) -> list[ScoredTest]:
+    """Best first: by score, then (cost-blind) at random, or else by cost."""
+    if not ctx.criterion.cost_blind_choices:
+        return sorted(scored, key=functools.cmp_to_key(lambda a, b: _better(a, b) or _cheaper(a, b)))
+    chance = ctx.rng.random(len(scored)).tolist()
+    drawn = sorted(zip(scored, chance), key=functools.cmp_to_key(
+        lambda a, b: _better(a[0], b[0]) or (-1 if a[1] < b[1] else (1 if a[1] > b[1] else 0))))
+    return [s for s, _ in drawn]
 
 
 def _better(a: ScoredTest, b: ScoredTest) -> int:
-    """Order two scored tests; scores within 1e-9 relative are a tie."""
+    """Order two scored tests by score (within 1e-9 relative is a tie, 0); free tests by
+    their gain; tests scored on a shared basis (one procedure application) by their own gain."""
     if math.isinf(a.score) and math.isinf(b.score):
         if not math.isclose(a.gain, b.gain, rel_tol=1e-9, abs_tol=1e-12):
             return -1 if a.gain > b.gain else 1
     elif not math.isclose(a.score, b.score, rel_tol=1e-9, abs_tol=1e-12):
         return -1 if a.score > b.score else 1
+    elif a.scored_on is not None and b.scored_on is not None and not math.isclose(
+            a.gain, b.gain, rel_tol=1e-9, abs_tol=1e-12):
+        return -1 if a.gain > b.gain else 1
+    return 0
+
+
+def _cheaper(a: ScoredTest, b: ScoredTest) -> int:
+    """Ties: the nearer, then the cheaper to apply, then the test's name (repeatable)."""
     for x, y in ((a.move_cost, b.move_cost), (a.sense_cost, b.sense_cost)):
         if not math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-9):
             return -1 if x < y else 1

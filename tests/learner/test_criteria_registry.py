@@ -14,10 +14,18 @@ HAND_WORKED = [
     ("cs-id3", 1.0, 10.0, 0.1),  # 1^2 / 10
     ("cs-id3", 2.0, 8.0, 0.5),  # 2^2 / 8
     ("id3", 0.7, 100.0, 0.7),  # the gain, whatever the cost
+    ("id3-cost-ties", 0.7, 100.0, 0.7),  # the same formula; only its ties differ
     ("idx", 1.0, 10.0, 0.1),  # 1 / 10
     ("idx", 2.0, 8.0, 0.25),  # 2 / 8
     ("eg2", 1.0, 10.0, 1 / 11),  # (2^1 - 1) / (10 + 1)^1, the default w = 1
     ("eg2", 2.0, 3.0, 3 / 4),  # (2^2 - 1) / (3 + 1)^1
+    # the refined forms keep their base's formula; what changes is the (I, C) it is given
+    ("cs-id3-joint", 2.0, 8.0, 0.5),
+    ("cs-id3-lookahead", 2.0, 8.0, 0.5),
+    ("idx-joint", 2.0, 8.0, 0.25),
+    ("idx-lookahead", 2.0, 8.0, 0.25),
+    ("eg2-joint", 2.0, 3.0, 3 / 4),
+    ("eg2-lookahead", 2.0, 3.0, 3 / 4),
 ]
 
 
@@ -36,8 +44,25 @@ def test_scores_match_the_formula(name: str, gain: float, cost: float, expected:
 
 
 def test_cost_sensitivity_flags() -> None:
-    assert {n for n, s in CRITERIA.items() if not s.cost_sensitive} == {"id3"}
+    assert {n for n, s in CRITERIA.items() if not s.cost_sensitive} == {"id3", "id3-cost-ties"}
     assert criterion("id3").cost_sensitive is False and criterion("cs-id3").cost_sensitive is True
+
+
+def test_how_each_entry_chooses_besides_its_formula() -> None:
+    """Only id3 leaves ties and * slots to chance; every cost-sensitive base has a joint
+    and a lookahead form (the lookahead one scores by joint gain too); the default is
+    the plain I^2 / C."""
+    chance = {n for n, s in CRITERIA.items() if s.cost_blind_choices}
+    joint = {n for n, s in CRITERIA.items() if s.joint_gain}
+    ahead = {n for n, s in CRITERIA.items() if s.lookahead}
+    assert chance == {"id3"}
+    assert joint == {"cs-id3-joint", "cs-id3-lookahead", "idx-joint", "idx-lookahead", "eg2-joint", "eg2-lookahead"}
+    assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
+    built = criterion("eg2-lookahead", w=2.0)
+    assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
+    assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
+    default = criterion(DEFAULT_CRITERION)
+    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:
@@ -72,5 +97,6 @@ def test_parameters_are_checked_by_name() -> None:
         criterion("eg2", 1.0, w=1.0)
     with pytest.raises(ValueError, match="takes 1 parameter"):
         criterion("eg2", 1.0, 2.0)
-    with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, idx, eg2\)"):
+    with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
+                       r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead\)"):
         criterion("c4.5")

@@ -1,0 +1,136 @@
+"""Information gain over noise-tolerant partitions: one feature's, and a procedure's joint.
+
+Gains for all columns of a node are computed at once on the :class:`DescriptionMatrix`
+(docs/method.md §3): values within the feature's error chain into one range; descriptions
+lacking the value are spread evenly over the ranges (plus an "unknown" subset when the
+ranges, widened by the error, leave part of the feature's domain uncovered).
+
+One application of a sensing procedure yields all of its features for one cost (a D-Scan
+gives Height, Depth and Top-Hole?), so :func:`joint_gain` measures what the application
+as a whole tells: the gain of the product of its features' partitions, each description
+lacking a value spread over that feature's subsets as above, independently per feature.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from learner.matrix import DescriptionMatrix
+from learner.partition import Range
+
+_EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class Split:
+    """Per-column partition of a node's rows: the ranges, whether an "unknown" subset
+    joins them, the information gain, and each range's share of the node's weight."""
+
+    ranges: list[list[Range]]
+    unknown: np.ndarray
+    gains: np.ndarray
+    n_ranges: np.ndarray
+    mass: np.ndarray  # (columns, max ranges): weight of each range / rows, missing rows spread
+
+
+def partition_columns(rows: Sequence[int], matrix: DescriptionMatrix, columns: np.ndarray) -> Split:
+    """Chain-merged ranges and information gain of every column at once."""
+    n, k, m = len(rows), len(matrix.classes), len(columns)
+    order, vals = matrix.order[columns], matrix.sorted_values[columns]
+    if n < len(matrix.descriptions):  # keep the node's rows, still sorted by value, NaN last
+        member = np.zeros(len(matrix.descriptions), dtype=bool)
+        member[list(rows)] = True
+        keep = member[order]
+        order, vals = order[keep].reshape(m, n), vals[keep].reshape(m, n)
+    vcls = matrix.class_of[order]
+    known = ~np.isnan(vals)
+    n_known = known.sum(axis=1)
+    err = matrix.errors[columns][:, None]
+    step = np.zeros_like(vals)
+    step[:, 1:] = vals[:, 1:] - vals[:, :-1]
+    breaks = known & (step > err + _EPS)
+    starts = breaks.copy()
+    starts[:, 0] = known[:, 0]
+    range_id = np.cumsum(starts, axis=1, dtype=np.int32) - 1
+    n_ranges = starts.sum(axis=1)
+
+    # the "unknown" subset: the ranges widened by the error leave part of the domain open
+    last = np.take_along_axis(vals, np.maximum(n_known - 1, 0)[:, None], axis=1)[:, 0]
+    widest_gap = np.where(breaks, step, 0.0).max(axis=1) if n > 1 else np.zeros(m)
+    e = err[:, 0]
+    numeric_covered = ((vals[:, 0] - e <= matrix.span_lo[columns] + _EPS)
+                       & (last + e >= matrix.span_hi[columns] - _EPS) & (widest_gap <= 2 * e + _EPS))
+    unknown = np.where(matrix.binary[columns], n_ranges < 2, ~numeric_covered) & ~matrix.is_grasp[columns]
+
+    subsets = n_ranges + unknown
+    max_r = int(n_ranges.max()) + 1 if m else 1
+    col = np.arange(m, dtype=np.int32)[:, None]
+    counts = np.bincount(((col * max_r + range_id) * k + vcls)[known],
+                         minlength=m * max_r * k).astype(float).reshape(m, max_r, k)
+    missing = np.bincount((col * k + vcls)[~known], minlength=m * k).astype(float).reshape(m, k)
+    share = missing / np.maximum(subsets, 1)[:, None]
+    in_range = np.arange(max_r)[None, :] < n_ranges[:, None]
+    counts += np.where(in_range[:, :, None], share[:, None, :], 0.0)
+    weights = np.concatenate([counts, np.where(unknown[:, None], share, 0.0)[:, None, :]], axis=1)
+    totals = np.bincount(matrix.class_of[list(rows)], minlength=k).astype(float)
+    h_total = entropy(totals[None, :])[0]
+    remainder = (weights.sum(axis=2) / max(n, 1) * entropy(weights)).sum(axis=1)
+    gains = np.where(n_ranges >= 2, np.maximum(h_total - remainder, 0.0), 0.0)
+
+    ends = starts.copy()
+    ends[:, :-1] = starts[:, 1:]
+    ends[:, -1] = False
+    ends |= known & (np.arange(n)[None, :] == (n_known - 1)[:, None])
+    los, his = vals[starts].tolist(), vals[ends].tolist()
+    bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
+    ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in range(m)]
+    return Split(ranges, unknown, gains, n_ranges, counts.sum(axis=2) / max(n, 1))
+
+
+def joint_gain(rows: Sequence[int], matrix: DescriptionMatrix, columns: Sequence[int],
+               ranges: Sequence[Sequence[Range]], unknown: Sequence[bool]) -> float:
+    """The gain of testing ``columns`` together (one procedure application): the gain of
+    the product of their partitions (``ranges`` and ``unknown`` per column, as
+    :func:`partition_columns` found them at this node).
+
+    For one column it is that column's gain; a column that cannot make two branches
+    adds nothing (its lone range and unknown subset would only spread missing rows).
+    """
+    n, k = len(rows), len(matrix.classes)
+    idx = np.asarray(rows, dtype=np.int64)
+    cells = np.eye(k)[matrix.class_of[idx]]  # (rows, classes x cells so far)
+    for j, col_ranges, col_unknown in zip(columns, ranges, unknown):
+        if len(col_ranges) < 2:
+            continue
+        cells = (cells[:, :, None] * _subset_weights(matrix.values[idx, j], col_ranges, col_unknown)[:, None, :]
+                 ).reshape(n, -1)
+    counts = cells.sum(axis=0).reshape(k, -1).T  # (cells, classes)
+    totals = counts.sum(axis=0)
+    remainder = float((counts.sum(axis=1) / max(n, 1) * entropy(counts)).sum())
+    return max(float(entropy(totals[None, :])[0]) - remainder, 0.0)
+
+
+def _subset_weights(values: np.ndarray, ranges: Sequence[Range], unknown: bool) -> np.ndarray:
+    """Each row's weight in each subset of one column: 1 in the range holding its value,
+    or spread evenly over every subset (the unknown one too) when the value is missing."""
+    lo = np.array([r[0] for r in ranges])[None, :]
+    hi = np.array([r[1] for r in ranges])[None, :]
+    v = values[:, None]
+    inside = ((v >= lo - _EPS) & (v <= hi + _EPS)).astype(float)
+    if unknown:
+        inside = np.concatenate([inside, np.zeros((len(values), 1))], axis=1)
+    missing = np.isnan(values)
+    inside[missing] = 1.0 / inside.shape[1]
+    return inside
+
+
+def entropy(counts: np.ndarray) -> np.ndarray:
+    """Entropy in bits along the last axis of (fractional) class counts."""
+    total = counts.sum(axis=-1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(total > 0, counts / total, 0.0)
+        terms = np.where(p > 0, p * np.log2(np.where(p > 0, p, 1.0)), 0.0)
+    return -terms.sum(axis=-1)
