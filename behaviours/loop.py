@@ -59,7 +59,8 @@ class StartObject(CslBehaviour):
         estimator = PlannerMoveCost(services.navigator, region)
         session = RecognitionSession(services.library.current(), services.criterion, estimator, start,
                                      max_alternatives=services.params.max_alternatives,
-                                     orientation_free=region.round)
+                                     orientation_free=region.round,
+                                     seed=services.params.seed + len(self.bb.results))
         record = ObjectRecord(len(self.bb.results), region, region.pixel_count, session, estimator,
                               first_region=region)
         record.ledger.computing_s += services.clock() - began

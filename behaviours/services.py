@@ -38,6 +38,7 @@ class Params:
     max_steps: int = 40  # recognition steps per object before giving up
     changed_ratio: float = 0.25  # pixel-count change after a failed grasp meaning "changed"
     pushed_in: float = 1.0  # centroid shift meaning "pushed"
+    seed: int = 0  # for choices the criterion leaves to chance; object i draws from seed + i
 
 
 class EventSink(Protocol):

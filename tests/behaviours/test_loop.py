@@ -61,6 +61,24 @@ def test_start_object_numbers_objects_in_turn(services) -> None:  # noqa: ANN001
     assert first.session.matrix is second.session.matrix  # one library matrix per episode
 
 
+def test_each_object_draws_its_chances_from_the_episode_seed_plus_its_index() -> None:
+    """A cost-blind criterion breaks ties at random: object i of an episode with seed s
+    draws from seed s + i, so objects differ and a rerun repeats."""
+    import numpy as np
+
+    from behaviours.services import Params
+    from tests.behaviours.conftest import make_services
+
+    fresh_board()
+    put("objects", [REGION, region(30, 40)])
+    behaviour = setup(StartObject(ROBOT), make_services(params=Params(seed=7)))
+    states = []
+    for _ in range(2):
+        assert tick(behaviour) == Status.SUCCESS
+        states.append(get("object").session.ctx.rng.bit_generator.state)
+    assert states == [np.random.default_rng(7).bit_generator.state, np.random.default_rng(8).bit_generator.state]
+
+
 def test_start_object_fails_when_no_object_is_left(services, log) -> None:  # noqa: ANN001
     fresh_board()
     assert run(StartObject(ROBOT), services) == Status.FAILURE
