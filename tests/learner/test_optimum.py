@@ -1,0 +1,174 @@
+"""The exact optimum against hand-worked libraries, and never above the learner's policy."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from learner.costs import ModelMoveCost
+from learner.criteria import CRITERIA, criterion
+from learner.description import ObjectDescription, Observation
+from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
+from learner.matrix import DescriptionMatrix
+from learner.optimum import optimal_cost, policy_cost, policy_walk
+from learner.position import Position
+from tests.learner.fixtures import ANY, P
+
+PER_INCH = MoveModel(seconds_per_inch=2.0, seconds_per_degree=0.0, overhead_s=0.0)
+
+
+def knowledge(move: MoveModel = PER_INCH) -> Knowledge:
+    """Scan: 40 s at 6 in, yields H and D. Sweep: 10 s from 6 to 30 in, yields W.
+    Grasps A and B: 20 s + 10 s penalty as features; C cannot be confirmed."""
+    return Knowledge(
+        sensing=(SensingProcedure("Scan", 40.0, (6.0, 6.0), (FeatureSpec("H", 0.5, "in", False, (0.0, 20.0)),
+                                                               FeatureSpec("D", 0.5, "in", False, (0.0, 20.0)))),
+                 SensingProcedure("Sweep", 10.0, (6.0, 30.0), (FeatureSpec("W", 1.0, "deg", False, (0.0, 90.0)),))),
+        grasping=(GraspingProcedure("A", 20.0, (6.0, 6.0), 10.0, True),
+                  GraspingProcedure("B", 20.0, (6.0, 6.0), 10.0, True),
+                  GraspingProcedure("C", 0.0, (6.0, 999.0), 0.0, False)),
+        move=move)
+
+
+def d(oid: str, grasp: str, *obs: tuple[str, Position, float], at: Position = P(6, 0)) -> ObjectDescription:
+    return ObjectDescription(oid, grasp, at, tuple(sorted(Observation(f, p, v) for f, p, v in obs)))
+
+
+def matrix(library: list[ObjectDescription], grasps: bool = True, move: MoveModel = PER_INCH) -> DescriptionMatrix:
+    return DescriptionMatrix(library, knowledge(move), grasps)
+
+
+EST = ModelMoveCost(PER_INCH)
+
+
+def test_grasps_as_features_worked_by_hand() -> None:
+    # From (20,0): W(20,0) costs 10 and splits {a,b} | {c}; H(6,0) costs 14 in * 2 + 40 =
+    # 68; grasp A or B tried as a feature 28 + 30 = 58, each splitting one off.
+    #   W first: 10 + 2/3 * 58 (then grasp A from (20,0))        = 48.667
+    #   H first: 68 + 2/3 * 30 (grasp B where the robot stands)   = 88
+    #   A first: 58 + 2/3 * 30 (then B at (6,0))                  = 78, B first alike
+    lib = [d("a", "A", ("W", P(20, 0), 10), ("H", P(6, 0), 3)),
+           d("b", "B", ("W", P(20, 0), 10), ("H", P(6, 0), 5)),
+           d("c", "C", ("W", P(20, 0), 30), ("H", P(6, 0), 5))]
+    m = matrix(lib)
+    assert optimal_cost(m, EST, P(20, 0)) == pytest.approx(10 + 2 / 3 * 58)
+    # I^2/C takes the cheap sweep first, then grasp A: here it is optimal
+    assert policy_cost(m, criterion("cs-id3"), EST, P(20, 0)) == pytest.approx(10 + 2 / 3 * 58)
+
+
+def test_a_missing_value_spreads_its_description_over_the_branches() -> None:
+    # c lacks H, b lacks W: each is carried down every branch of that test and, as the
+    # object at hand, follows each branch with probability 1/2. From (6,0), no grasps:
+    #   H(6,0), 40 s: H=3 -> {a, e, c*}, mass (1 + 1 + 1/2)/4 = 5/8, not a leaf (A, B);
+    #     then W(20,0), 14 in * 2 + 10 = 38: {a} | {e, c} (c carried: e decides)
+    #     H=5 -> {b, c*}: leaf B.                          40 + 5/8 * 38 = 63.75
+    #   W(20,0), 38 s: W=30 -> {e, c, b*}, mass 5/8, genuine e and c disagree;
+    #     then H from (20,0): 28 + 40 = 68, after which nothing splits {b*, c*}.
+    #                                                      38 + 5/8 * 68 = 80.5
+    lib = [d("a", "A", ("H", P(6, 0), 3), ("W", P(20, 0), 10)),
+           d("e", "B", ("H", P(6, 0), 3), ("W", P(20, 0), 30)),
+           d("b", "B", ("H", P(6, 0), 5)),
+           d("c", "C", ("W", P(20, 0), 30))]
+    m = matrix(lib, grasps=False)
+    assert optimal_cost(m, EST, P(6, 0)) == pytest.approx(40 + 5 / 8 * 38)
+    # I^2/C takes the 38 s sweep first (2 s cheaper), the walk follows it object by object:
+    # a: 38; e and c: 38 + 68; b lacks W, so half the time W=10 (38) and half W=30 (106)
+    walk = policy_walk(m, criterion("cs-id3"), EST, P(6, 0))
+    costs = {o.object_id: o.cost_s for o in walk.outcomes}
+    assert costs == pytest.approx({"a": 38, "e": 106, "b": (38 + 106) / 2, "c": 106})
+    assert walk.expected_cost == pytest.approx(38 + 5 / 8 * 68)
+    # b and c, carried, never decide a leaf: b ends at A or where nothing splits {b*, c*},
+    # c at e's B or there
+    assert {o.object_id: o.right for o in walk.outcomes} == {"a": 1.0, "e": 1.0, "b": 0.0, "c": 0.0}
+
+
+def test_a_procedure_yields_all_its_features_for_one_cost() -> None:
+    # H splits {a,b} | {c} and D {a} | {b,c}: one Scan (40 s, no move) measures both, the
+    # second test is free, so every object costs 40 s, not 40 + 2/3 * 40.
+    lib = [d("a", "A", ("H", P(6, ANY), 3), ("D", P(6, ANY), 1)),
+           d("b", "B", ("H", P(6, ANY), 3), ("D", P(6, ANY), 9)),
+           d("c", "C", ("H", P(6, ANY), 5), ("D", P(6, ANY), 9))]
+    m = matrix(lib, grasps=False)
+    assert optimal_cost(m, EST, P(6, 90)) == pytest.approx(40)
+    # from (20,90) the Scan is made at (6,90), where the robot's bearing already is: 28 s
+    assert optimal_cost(m, EST, P(20, 90)) == pytest.approx(28 + 40)
+
+
+def test_the_optimum_is_zero_when_the_library_is_already_a_leaf() -> None:
+    lib = [d("a", "A", ("H", P(6, 0), 3)), d("b", "A", ("H", P(6, 0), 9))]
+    assert optimal_cost(matrix(lib), EST, P(40, 0)) == 0.0
+    assert policy_cost(matrix(lib), criterion("cs-id3"), EST, P(40, 0)) == 0.0
+
+
+def test_a_start_with_a_star_slot_is_refused() -> None:
+    with pytest.raises(ValueError, match="concrete"):
+        optimal_cost(matrix([d("a", "A", ("H", P(6, 0), 3))]), EST, P(6, None))
+
+
+# -- never above the learner's own policy ----------------------------------------------
+SLOTS = {"H": [P(6, 0), P(6, 90), P(6, ANY)], "D": [P(6, 0), P(6, ANY)],
+         "W": [P(20, 0), P(12, 90), P(20, ANY), P(ANY, 90)]}
+CONCRETE = {f: [p for p in ps if p.distance_in is not None and p.orientation_deg is not None]
+            for f, ps in SLOTS.items()}
+
+
+@st.composite
+def libraries(draw: st.DrawFn, slots: dict[str, list[Position]]) -> list[ObjectDescription]:
+    """3-5 descriptions, each with 1-4 values from a few coarse levels (so they collide,
+    chain and go missing as learned ones do)."""
+    n = draw(st.integers(3, 5))
+    grasp_places = [P(6, 0), P(6, 90)] if slots is CONCRETE else [P(6, 0), P(6, ANY)]
+    out = []
+    for i in range(n):
+        tests = draw(st.lists(st.sampled_from([(f, p) for f, ps in slots.items() for p in ps]),
+                              min_size=1, max_size=4, unique=True))
+        obs = [(f, p, float(draw(st.sampled_from([1, 3, 5, 9] if f != "W" else [10, 12, 30, 50]))))
+               for f, p in tests]
+        out.append(d(f"o{i}", draw(st.sampled_from("ABC")), *obs, at=draw(st.sampled_from(grasp_places))))
+    return out
+
+
+STARTS = [P(6, 0), P(16, 90), P(40, 180), P(24, 270)]
+SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@SETTINGS
+@given(libraries(SLOTS), st.sampled_from(STARTS), st.booleans())
+def test_the_optimum_is_never_above_a_cost_sensitive_policy(library: list[ObjectDescription], start: Position,
+                                                             grasps: bool) -> None:
+    """Every criterion that fills a ``*`` slot where the robot stands takes, at each step,
+    an action the search also considers, so its walk can only cost more."""
+    move = MoveModel(2.0, 0.1, 0.0)
+    m, est = matrix(library, grasps, move), ModelMoveCost(move)
+    best = optimal_cost(m, est, start)
+    for name, spec in CRITERIA.items():
+        if not spec.cost_blind_choices:
+            assert best <= policy_cost(m, criterion(name), est, start) + 1e-9, name
+
+
+@SETTINGS
+@given(libraries(CONCRETE), st.sampled_from(STARTS), st.booleans(), st.integers(0, 3))
+def test_the_optimum_is_never_above_any_policy_on_concrete_positions(library: list[ObjectDescription],
+                                                                     start: Position, grasps: bool, seed: int) -> None:
+    """With no ``*`` slot, even a cost-blind criterion's random choices stay among the
+    search's actions."""
+    move = MoveModel(2.0, 0.1, 0.0)
+    m, est = matrix(library, grasps, move), ModelMoveCost(move)
+    best = optimal_cost(m, est, start)
+    for name in CRITERIA:
+        assert best <= policy_cost(m, criterion(name), est, start, seed=seed) + 1e-9, name
+
+
+@SETTINGS
+@given(libraries(SLOTS), st.sampled_from(STARTS), st.booleans(), st.integers(0, 3))
+def test_the_optimum_is_never_above_a_random_fill_when_any_move_costs_the_same(
+        library: list[ObjectDescription], start: Position, grasps: bool, seed: int) -> None:
+    """A cost-blind criterion fills ``*`` at random, off the search's positions. When every
+    move costs the same 15 s, staying where the robot stands is never dearer than a random
+    place and frees at least the same tests, so the bound holds for it too."""
+    move = MoveModel(0.0, 0.0, 15.0)
+    m, est = matrix(library, grasps, move), ModelMoveCost(move)
+    best = optimal_cost(m, est, start)
+    for name in CRITERIA:
+        assert best <= policy_cost(m, criterion(name), est, start, seed=seed) + 1e-9, name
