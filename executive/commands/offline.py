@@ -6,12 +6,12 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from executive import defaults
 from executive.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
 from executive.profile import knowledge_of, load_knowledge
 from executive.tables import print_table
-from executive.sim_training import SimTraining, ground_truth, train_in_simulator
 from learner.costs import ModelMoveCost
 from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
 from learner.matrix import DescriptionMatrix
@@ -23,6 +23,9 @@ from learner.training_data import TrainingObject, objects_document, read_objects
 from learner.training_summary import TrainingSummary, summarise
 from robot_profile import load_profile
 from learner.decision_tree import grow
+
+if TYPE_CHECKING:  # the simulator stack is imported only when --sim is used
+    from executive.sim_training import SimTraining
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -108,6 +111,8 @@ def run_train(args: argparse.Namespace) -> int:
     if args.sim:
         if args.objects or args.measurements:
             raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
+        from executive.sim_training import train_in_simulator
+
         sim = train_in_simulator(knowledge, profile, args.seed, args.noise)
         objects, result, summary = list(sim.seen.objects), sim.result, sim.summary
     else:
@@ -123,6 +128,8 @@ def run_train(args: argparse.Namespace) -> int:
         summary = summarise(result, objects, knowledge)
     _print_training(objects, result, summary)
     if sim is not None:
+        from executive.sim_training import ground_truth
+
         truth = ground_truth(result.descriptions, sim.seen, knowledge, summary, profile)
         print(f"against the simulator's exact values: {len(truth.misfits)} of {truth.checked} library values "
               "(each at every training position it stands for) off by more than the expected error")
