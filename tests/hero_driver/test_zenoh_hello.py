@@ -4,7 +4,6 @@ that predates ``hello`` is served as version 1, and the conformance suite checks
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 
 import pytest
 import zenoh
@@ -20,7 +19,7 @@ from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.versions import Agreement, NoCommonVersion, agree
 from tests.hero_driver.test_zenoh_node import error_of
 from tests.hero_driver.test_zenoh_support import FakeHero, SlowHero
-from tests.zenoh_rpc.support import free_endpoint, wait_until
+from tests.zenoh_rpc.support import wait_until
 from zenoh_rpc.config import open_session
 from zenoh_rpc.server import RpcServer, reply
 
@@ -55,17 +54,6 @@ def test_no_common_version_is_one_line_naming_both_sides() -> None:
 
 
 # ----------------------------------------------------------- zenoh, in process
-
-
-@pytest.fixture
-def endpoint() -> str:
-    return free_endpoint()
-
-
-@pytest.fixture
-def server(endpoint: str) -> Iterator[zenoh.Session]:
-    with open_session(listen=[endpoint]) as session:
-        yield session
 
 
 def hand_written(session: zenoh.Session, robot: str, hello: bytes | None) -> RpcServer:

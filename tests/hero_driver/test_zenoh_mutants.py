@@ -7,7 +7,7 @@ from __future__ import annotations
 import dataclasses
 import threading
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from concurrent.futures import Future
 
 import pytest
@@ -18,8 +18,6 @@ from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link import verbs
 from hero_driver.zenoh_link.conformance import CheckResult, Procedures, run_checks
 from hero_driver.zenoh_link.node import DriverNode
-from tests.zenoh_rpc.support import free_endpoint
-from zenoh_rpc.config import open_session
 from zenoh_rpc.server import RpcServer
 
 pytestmark = pytest.mark.zenoh
@@ -60,17 +58,6 @@ def _done(value: CameraImage) -> Future[CameraImage]:
     future: Future[CameraImage] = Future()
     future.set_result(value)
     return future
-
-
-@pytest.fixture
-def endpoint() -> str:
-    return free_endpoint()
-
-
-@pytest.fixture
-def server(endpoint: str) -> Iterator[zenoh.Session]:
-    with open_session(listen=[endpoint]) as session:
-        yield session
 
 
 def check(driver: SimulatedHero, server: zenoh.Session, endpoint: str) -> dict[str, CheckResult]:

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import threading
-from collections.abc import Iterator
 from concurrent.futures import Future
 
 import pytest
@@ -31,23 +30,12 @@ from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.verbs import BY_NAME
 from tests.hero_driver.test_zenoh_support import BrokenHero, FakeHero, SlowHero
-from tests.zenoh_rpc.support import free_endpoint, wait_until
+from tests.zenoh_rpc.support import wait_until
 from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
 REPLY_S = 5.0
-
-
-@pytest.fixture
-def endpoint() -> str:
-    return free_endpoint()
-
-
-@pytest.fixture
-def server(endpoint: str) -> Iterator[zenoh.Session]:
-    with open_session(listen=[endpoint]) as session:
-        yield session
 
 
 def served(driver: Driver, server: zenoh.Session, endpoint: str,
