@@ -1,10 +1,11 @@
 """Distance to the optimum: every criterion's expected cost as a ratio to the exact optimum.
 
 Noise-free, uniform prior over the library's descriptions, the learner's default move
-model (2 s/in in the shipped profile), tests counted until the learner's own leaf rule
-(docs/optimum.md). The shipped library and a synthetic one perturbed from it, from
-several start poses; each cell is ``policy_cost / optimal_cost`` and, in brackets, the
-share of descriptions the policy ends at their own grasp.
+model (2 s/in in the shipped profile), every object charged until its own grasp is
+executed, failed grasps included (docs/optimum.md). The shipped library and a synthetic
+one perturbed from it, from several start poses; each cell is ``policy_cost /
+optimal_cost`` and, in brackets, the share of descriptions whose first executed grasp
+is their own (and the share left behind by a wrong No-Grab, if any).
 
     python bench/bench_optimum.py [--synthetic 12] [--seed 0]
 """
@@ -44,7 +45,8 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
         for name in CRITERIA:
             walk = policy_walk(matrix, criterion(name), estimator, start, seed=seed)
             ratio = walk.expected_cost / best if best > 0 else float("nan")
-            cells.append(f"{ratio:.3f} ({walk.right:.0%})")
+            left = f", {walk.missed:.0%} left" if walk.missed else ""
+            cells.append(f"{ratio:.3f} ({walk.right:.0%}{left})")
         print(f"| {start} | {best:.1f} | {took:.1f} | " + " | ".join(cells) + " |")
 
 
