@@ -1,0 +1,18 @@
+"""``csl experiment paper``: the paper's experiment, its baselines and the distance to
+the optimum, measured in the simulator in one run.
+
+One module, one idea:
+
+- :mod:`~executive.experiment.figures`: the paper's numbers we compare against;
+- :mod:`~executive.experiment.worlds`: floors with objects at random poses;
+- :mod:`~executive.experiment.episodes`: one episode (or a chain of them) in a worker
+  process, and the per-object rows it yields;
+- :mod:`~executive.experiment.runner`: independent jobs in parallel processes, with
+  progress bars;
+- :mod:`~executive.experiment.table`: result rows (paper, ours, ratio) and the markdown;
+- :mod:`~executive.experiment.csvfile`: the raw per-episode CSV;
+- :mod:`~executive.experiment.plots`: the PNG figures;
+- ``study_*``: one study each (training, execution and baselines, cost trends,
+  incremental learning, noise, optimum);
+- :mod:`~executive.experiment.paper`: the whole run, end to end.
+"""

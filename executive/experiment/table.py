@@ -1,0 +1,93 @@
+"""Result rows (what is measured, the paper's figure, ours, the ratio) and each study's
+section of ``results.md``.
+
+Every number in a row is formatted here, so the table reads the same from study to
+study; ratios are ours divided by the paper's, left as ``-`` where the paper gave a
+direction rather than a number.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+HEADERS = ("measured", "paper", "ours", "ours / paper")
+
+
+@dataclass(frozen=True)
+class ResultRow:
+    """One line of the results table."""
+
+    measured: str
+    paper: str
+    ours: str
+    ratio: str = "-"
+
+    def cells(self) -> tuple[str, str, str, str]:
+        return (self.measured, self.paper, self.ours, self.ratio)
+
+
+@dataclass(frozen=True)
+class StudyResult:
+    """What a study reports: its rows, notes that say how to read them, its plots (file
+    names beside ``results.md``)."""
+
+    title: str
+    rows: tuple[ResultRow, ...] = ()
+    notes: tuple[str, ...] = ()
+    plots: tuple[str, ...] = ()
+    details: tuple[tuple[tuple[str, ...], tuple[tuple[str, ...], ...]], ...] = field(default=())
+    # extra tables: (headers, rows) each
+
+
+
+
+def ratio(ours: float | None, paper: float) -> str:
+    if ours is None or not math.isfinite(ours) or paper == 0:
+        return "-"
+    return f"{ours / paper:.2f}"
+
+
+def mean(values: Iterable[float]) -> float:
+    """The mean, NaN for no values (shown as ``-``): a study with nothing to average
+    says so instead of failing."""
+    data = list(values)
+    return statistics.fmean(data) if data else math.nan
+
+
+def num(value: float | None, digits: int = 1, unit: str = "") -> str:
+    if value is None or not math.isfinite(value):
+        return "-"
+    return f"{value:.{digits}f}{unit}"
+
+
+def percent(value: float | None) -> str:
+    if value is None or not math.isfinite(value):
+        return "-"
+    return f"{100 * value:.0f}%"
+
+
+def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[str]]) -> list[str]:
+    """A GitHub markdown table; pipes inside cells are escaped."""
+    def line(cells: Sequence[str]) -> str:
+        return "| " + " | ".join(str(c).replace("|", "\\|") for c in cells) + " |"
+
+    return [line(headers), line(["---"] * len(headers)), *(line(r) for r in rows)]
+
+
+def section(result: StudyResult, number: int) -> list[str]:
+    """The markdown of one study: heading, table, notes, plots."""
+    lines = [f"## {number}. {result.title}", ""]
+    lines += markdown_table(HEADERS, (r.cells() for r in result.rows))
+    lines.append("")
+    for headers, rows in result.details:
+        lines += [*markdown_table(headers, rows), ""]
+    lines += [f"- {note}" for note in result.notes]
+    if result.notes:
+        lines.append("")
+    lines += [f"![{name}](results/{name})" for name in result.plots]
+    if result.plots:
+        lines.append("")
+    return lines
