@@ -5,7 +5,9 @@ model (2 s/in in the shipped profile), every object charged until its own grasp 
 executed, failed grasps included (docs/optimum.md). The shipped library and a synthetic
 one perturbed from it, from several start poses; each cell is ``policy_cost /
 optimal_cost`` and, in brackets, the share of descriptions whose first executed grasp
-is their own (and the share left behind by a wrong No-Grab, if any).
+is their own (and the share left behind by a wrong No-Grab, if any). Under each table,
+what one root decision takes per criterion (the slowest over the start poses): the
+rollouts' price.
 
     python bench/bench_optimum.py [--synthetic 12] [--seed 0]
 """
@@ -28,6 +30,7 @@ from learner.library import read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.optimum import optimal_cost, policy_walk  # noqa: E402
 from learner.position import Position  # noqa: E402
+from learner.runtime import RecognitionSession  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
 
 STARTS = [Position(d, o) for d, o in ((6, 0), (16, 90), (24, 180), (40, 270), (40, 0), (16, 180))]
@@ -37,7 +40,12 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
     print(f"\n{title}: {len(matrix.descriptions)} descriptions, {len(matrix.tests)} tests")
     print("| start | optimum s | search s | " + " | ".join(CRITERIA) + " |")
     print("|---" * (3 + len(CRITERIA)) + "|")
+    root_ms = dict.fromkeys(CRITERIA, 0.0)
     for start in STARTS:
+        for name in CRITERIA:
+            began = time.perf_counter()
+            RecognitionSession(matrix, criterion(name), estimator, start, seed=seed).decide()
+            root_ms[name] = max(root_ms[name], (time.perf_counter() - began) * 1000)
         began = time.perf_counter()
         best = optimal_cost(matrix, estimator, start)
         took = time.perf_counter() - began
@@ -48,6 +56,7 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
             left = f", {walk.missed:.0%} left" if walk.missed else ""
             cells.append(f"{ratio:.3f} ({walk.right:.0%}{left})")
         print(f"| {start} | {best:.1f} | {took:.1f} | " + " | ".join(cells) + " |")
+    print("root decision, ms: " + ", ".join(f"{name} {ms:.0f}" for name, ms in root_ms.items()))
 
 
 def main() -> None:

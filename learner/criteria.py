@@ -9,6 +9,9 @@ Each cost-sensitive entry also comes in two refined forms (docs/method.md §3.5)
 ``-joint`` scores a procedure application by the joint gain of every feature it yields,
 and ``-lookahead`` adds a one-step lookahead (with joint gain): the formula is applied
 to the gain and the cost expected over the test and the best test after it.
+``cs-id3-rollout`` and ``idx-rollout`` rank their rule's best few tests by the expected
+cost of taking the test and then finishing the object with the rule itself
+(learner/rollout.py).
 
 :data:`CRITERIA` is the one registry of them: command-line help, the benches and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
@@ -39,6 +42,8 @@ class Criterion:
     yields at that position (one application, one cost, several values).
     ``lookahead``: a test is scored on the gain and cost expected over two steps, itself
     and the best test after it in each branch.
+    ``rollout``: the best few tests by this formula are ranked by expected cost: the
+    test's, plus finishing the object with the formula alone (learner/rollout.py).
     """
 
     name: str
@@ -47,6 +52,7 @@ class Criterion:
     cost_blind_choices: bool = False
     joint_gain: bool = False
     lookahead: bool = False
+    rollout: bool = False
 
 
 @dataclass(frozen=True)
@@ -85,6 +91,7 @@ class CriterionSpec:
     cost_blind_choices: bool = False
     joint_gain: bool = False
     lookahead: bool = False
+    rollout: bool = False
 
     def build(self, *values: float, **given: float) -> Criterion:
         """The criterion with parameters given by position (in declared order) or by
@@ -102,7 +109,7 @@ class CriterionSpec:
                              f"(its parameters: {', '.join(names) or 'none'})")
         bound = {p.name: p.check(given.get(p.name, p.default)) for p in self.parameters}
         return Criterion(self.name, functools.partial(self.score, **bound), self.cost_sensitive,
-                         self.cost_blind_choices, self.joint_gain, self.lookahead)
+                         self.cost_blind_choices, self.joint_gain, self.lookahead, self.rollout)
 
 
 def _ratio(numerator: float, cost: float) -> float:
@@ -134,8 +141,14 @@ def _refined(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
     joint = dataclasses.replace(base, name=f"{base.name}-joint", formula=f"{base.formula}, joint I",
                                 help="I of every feature one procedure run yields", joint_gain=True)
     ahead = dataclasses.replace(joint, name=f"{base.name}-lookahead", formula=f"{base.formula}, joint I, 2 steps",
-                                help="I and C over the test and the best next one", lookahead=True)
+                                help="I and C with the best next test", lookahead=True)
     return joint, ahead
+
+
+def _rolled_out(base: CriterionSpec) -> CriterionSpec:
+    """``base`` rolled out, on its own gain: the rule it finishes with is ``base`` itself."""
+    return dataclasses.replace(base, name=f"{base.name}-rollout", formula=f"{base.formula}, rollout",
+                               help="least expected cost", rollout=True)
 
 
 _BASES = (
@@ -152,11 +165,13 @@ DEFAULT_CRITERION = "cs-id3"
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
-        *_BASES, *(refined for base in _BASES if base.cost_sensitive for refined in _refined(base)))
+        *_BASES, *(refined for base in _BASES if base.cost_sensitive for refined in _refined(base)),
+        *(_rolled_out(base) for base in _BASES if base.name in ("cs-id3", "idx")))
 })
-"""Every criterion by name, in the order help and benches list them (the bases, then
-the refined forms of the cost-sensitive ones). Iterating it gives the names, so it also
-serves as argparse ``choices``."""
+"""Every criterion by name, in the order help and benches list them (the bases, the
+refined forms of the cost-sensitive ones, then the rollouts of CSL's rule and Norton's;
+eg2's would not fit the one help line). Iterating it gives the names, so it also serves
+as argparse ``choices``."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:

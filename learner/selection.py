@@ -141,7 +141,8 @@ def rank(
     the node holds more than one grasp. Each is scored by the criterion on its gain (the
     joint gain of its procedure application, for a ``joint_gain`` criterion) and its
     cost from ``current``; a ``lookahead`` criterion then rescores the paid ones over two
-    steps (of the best :data:`LOOKAHEAD_WIDTH` by one step; the rest follow them). Ties go
+    steps (of the best :data:`LOOKAHEAD_WIDTH` by one step; the rest follow them), and a
+    ``rollout`` one ranks its best few by expected cost to the end (learner/rollout.py). Ties go
     to the nearer, then the cheaper test, or, for a criterion with
     ``cost_blind_choices``, are ordered at random from ``ctx.rng``.
     """
@@ -186,6 +187,10 @@ def rank(
         # in their one-step order, for reselection
         shortlist = [_two_steps(node, s, ctx, measurements, exclude) for s in ranked[:LOOKAHEAD_WIDTH]]
         ranked = _ordered(shortlist, ctx) + ranked[LOOKAHEAD_WIDTH:]
+    if ctx.criterion.rollout:
+        # imported here: the rollout finishes by the leaf rule (decision_tree), built on this module
+        from learner.rollout import rolled_out
+        ranked = rolled_out(node, ranked, current, ctx, measurements, exclude)
     return ranked
 
 

@@ -1,5 +1,6 @@
 """How a criterion chooses besides its formula: a truly cost-blind id3 (random ties, `*`
-slots anywhere), joint gain of a procedure application, and a one-step lookahead.
+slots anywhere), joint gain of a procedure application, a one-step lookahead, and a
+rollout of the one-step rule.
 
 Every library here is hand-built so each gain, cost and expected cost is worked out in
 the comments; the robot's profile is the HERO's (2 s per inch, no turning cost).
@@ -19,10 +20,15 @@ from learner.criteria import criterion
 from learner import decision_tree
 from learner.decision_tree import GraspLeaf, grow
 from learner.gain import joint_gain, partition_columns
+from learner.knowledge import MoveModel
 from learner.matrix import DescriptionMatrix
+from learner.optimum import optimal_cost, policy_walk
+from learner.rollout import branch_shares, finishing_cost
 from learner.runtime import RecognitionSession
 from learner.selection import Context, Node, ScoredTest, rank
 from tests.learner.fixtures import ANY, P, context, desc, hero
+from tests.learner.test_optimum import SLOTS, STARTS, libraries
+from tests.learner.test_optimum import matrix as optimum_matrix
 
 
 def H(*p: float) -> float:  # noqa: N802 - entropy in bits, as the paper writes it
@@ -274,3 +280,104 @@ def test_the_default_criterion_is_unchanged_by_the_refined_forms() -> None:
     lib = _five_round_upright()
     first = rank(Node.root(5), P(6, 0), context(lib, name="cs-id3"), {})[0]
     assert first.scored_on is None and first.test.feature == "Front-Wrap"
+
+
+# -- rollout: the test, then finishing with the one-step rule ---------------------------
+
+def _three_wraps_and_a_tumbler() -> list:
+    """Three Front-Wrap objects and one Top-Pinch one; a 5° vertical sweep tells all four
+    apart (heights 30, 40, 70, 60, each its own range with the 5° error)."""
+    return [
+        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
+        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
+        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
+        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
+    ]
+
+
+def test_the_rollout_tries_the_grasp_the_ratio_finds_too_dear() -> None:
+    # Robot at (6,0), every test at 6 in: no move. H(C) = H(3/4, 1/4) = 0.811 bits, and
+    # each of the three tests gains all of it.
+    # V-Sweep-5° (6,*): 42 s. Front-Wrap tried as a feature: 60 + 30 s penalty = 90 s.
+    # Top-Pinch tried as a feature: 63 + 40 = 103 s.
+    # cs-id3: 0.811^2 / 42 = 0.0157 > 0.811^2 / 90: the sweep, 42 s for every object.
+    # Rollout, expected cost of the test and then finishing by cs-id3 (every branch is a
+    # leaf whose grasp is right, so finishing is free):
+    #   sweep: 42 s;
+    #   Front-Wrap: paid only when it fails (the tumbler, 1/4): 1/4 x 90 = 22.5 s;
+    #   Top-Pinch: fails for the three wraps: 3/4 x 103 = 77.25 s.
+    lib = _three_wraps_and_a_tumbler()
+    h = H(0.75, 0.25)
+    greedy = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3"), {})
+    assert str(greedy[0].test) == "Height-Degree-5°(6,*)" and greedy[0].score == pytest.approx(h**2 / 42)
+    ranked = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3-rollout"), {})
+    totals = {str(s.test): s.scored_on[1] for s in ranked}
+    assert totals == pytest.approx({"Front-Wrap(6,*)": 22.5, "Height-Degree-5°(6,*)": 42.0,
+                                    "Top-Pinch(6,*)": 77.25})
+    assert str(ranked[0].test) == "Front-Wrap(6,*)" and ranked[0].score == pytest.approx(-22.5)
+    assert ranked[0].gain == pytest.approx(h) and ranked[0].cost == 90
+
+
+def test_the_rollout_walk_costs_the_optimum_where_the_ratio_pays_twice_as_much() -> None:
+    # Walked per object: cs-id3 sweeps every time, 42 s. The rollout tries Front-Wrap:
+    # it holds for the three wraps (nothing counted) and fails on the tumbler (90 s), whose
+    # branch is its Top-Pinch leaf: (0 + 0 + 0 + 90) / 4 = 22.5 s. No policy does better:
+    # the optimum is that same blind Front-Wrap.
+    k = hero()
+    m, est = DescriptionMatrix(_three_wraps_and_a_tumbler(), k), ModelMoveCost(k.move)
+    assert policy_walk(m, criterion("cs-id3"), est, P(6, 0)).expected_cost == pytest.approx(42.0)
+    for name in ("cs-id3-rollout", "idx-rollout"):
+        walk = policy_walk(m, criterion(name), est, P(6, 0))
+        # (the failed Front-Wrap was a test, not a leaf: every leaf's grasp is right)
+        assert [o.cost_s for o in walk.outcomes] == pytest.approx([0, 0, 0, 90]) and walk.right == 1.0
+    assert optimal_cost(m, est, P(6, 0)) == pytest.approx(22.5)
+
+
+def test_a_wrong_leaf_is_a_failed_attempt_in_the_rollout() -> None:
+    # The soda can lacks the 5° vertical sweep, so after it the cup's branch holds
+    # the cup and the carried soda can, both Front-Wrap (right either way), and the
+    # tumbler's branch holds the tumbler and the soda can: a Top-Pinch leaf, wrong for the
+    # soda can. Shares: cup's range 1/3 + 1/3 x 1/2 = 1/2, the tumbler's the same.
+    # Finishing after the sweep: 1/2 x 0 + 1/2 x (1/2 wrong x (Top-Pinch 63 + 40 s) + 0,
+    # the soda can then a Front-Wrap leaf) = 25.75 s; with the sweep's 42 s, 67.75 s.
+    lib = [
+        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
+        desc("soda-can", "Front-Wrap", ("Width-Degree-5°", P(15, ANY), 5)),
+        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
+    ]
+    # (The sweep is cs-id3's only choice: the soda can's width alone makes no split.)
+    ctx = context(lib, name="cs-id3", grasps=False)
+    [sweep] = rank(Node.root(3), P(6, 0), ctx, {})
+    assert str(sweep.test) == "Height-Degree-5°(6,*)"
+    assert branch_shares(Node.root(3), sweep, ctx) == pytest.approx([0.5, 0.5])
+    assert finishing_cost(Node.root(3), P(6, 0), ctx, {}) == pytest.approx(42 + 0.5 * 0.5 * 103)
+
+
+def test_the_rollout_keeps_the_grasp_the_lookahead_avoids() -> None:
+    # The five round upright objects (test above): the lookahead's 67.2 s V-Sweep route
+    # charges the Front-Wrap grasp its full 90 s. Executed, that grasp costs only when it
+    # fails: on the two tumblers (2/5), whose branch is then a Top-Pinch leaf: 2/5 x 90 =
+    # 36 s. The V-Sweep then cs-id3: 42 + 2/5 x 63 (the 5° sweep at (15,*)) = 67.2 s.
+    ranked = rank(Node.root(5), P(6, 0), context(_five_round_upright(), name="cs-id3-rollout"), {})
+    totals = {str(s.test): s.scored_on[1] for s in ranked}
+    assert ranked[0].test.feature == "Front-Wrap" and totals["Front-Wrap(6,*)"] == pytest.approx(36.0)
+    assert totals["Height-Degree-5°(6,*)"] == pytest.approx(67.2)
+
+
+@settings(max_examples=25, deadline=None)
+@given(libraries(SLOTS), st.sampled_from(STARTS), st.booleans(), st.sampled_from(["cs-id3-rollout", "idx-rollout"]))
+def test_the_rollout_is_never_worse_than_its_rule_on_its_own_estimate_nor_below_the_optimum(
+        library: list, start: object, grasps: bool, name: str) -> None:
+    # the rule's own first choice is a candidate, so the chosen total is at most its total;
+    # and the walk is an adaptive policy under the optimum's accounting, so never below it
+    move = MoveModel(2.0, 0.1, 0.0)  # test_optimum's knowledge: features H, D, W; grasps A, B, C (unconfirmable)
+    m, est = optimum_matrix(library, grasps, move), ModelMoveCost(move)
+    ctx = Context(m, criterion(name), est)
+    ranked = rank(Node.root(len(library)), start, ctx, {})
+    if ranked:
+        base = rank(Node.root(len(library)), start, Context(m, criterion(name.removesuffix("-rollout")), est), {})[0]
+        own = next(s for s in ranked if s.test == base.test and s.target == base.target)
+        assert ranked[0].scored_on[1] <= own.scored_on[1] + 1e-9
+    walk = policy_walk(m, criterion(name), est, start)
+    if walk.missed == 0:
+        assert optimal_cost(m, est, start) <= walk.expected_cost + 1e-9

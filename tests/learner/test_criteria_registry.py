@@ -26,6 +26,9 @@ HAND_WORKED = [
     ("idx-lookahead", 2.0, 8.0, 0.25),
     ("eg2-joint", 2.0, 3.0, 3 / 4),
     ("eg2-lookahead", 2.0, 3.0, 3 / 4),
+    # a rollout ranks its rule's best few by expected cost; the formula is its rule's
+    ("cs-id3-rollout", 2.0, 8.0, 0.5),
+    ("idx-rollout", 2.0, 8.0, 0.25),
 ]
 
 
@@ -50,19 +53,23 @@ def test_cost_sensitivity_flags() -> None:
 
 def test_how_each_entry_chooses_besides_its_formula() -> None:
     """Only id3 leaves ties and * slots to chance; every cost-sensitive base has a joint
-    and a lookahead form (the lookahead one scores by joint gain too); the default is
-    the plain I^2 / C."""
+    and a lookahead form (the lookahead one scores by joint gain too); cs-id3 and idx
+    also have a rollout; the default is the plain I^2 / C."""
     chance = {n for n, s in CRITERIA.items() if s.cost_blind_choices}
     joint = {n for n, s in CRITERIA.items() if s.joint_gain}
     ahead = {n for n, s in CRITERIA.items() if s.lookahead}
     assert chance == {"id3"}
     assert joint == {"cs-id3-joint", "cs-id3-lookahead", "idx-joint", "idx-lookahead", "eg2-joint", "eg2-lookahead"}
     assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
+    # a rollout finishes with its base rule itself: plain gain, no lookahead inside
+    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout"}
+    rolled = criterion("idx-rollout")
+    assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices)
     built = criterion("eg2-lookahead", w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
     default = criterion(DEFAULT_CRITERION)
-    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead)
+    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:
@@ -98,5 +105,6 @@ def test_parameters_are_checked_by_name() -> None:
     with pytest.raises(ValueError, match="takes 1 parameter"):
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
-                       r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead\)"):
+                       r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead, "
+                       r"cs-id3-rollout, idx-rollout\)"):
         criterion("c4.5")
