@@ -14,6 +14,7 @@ from typing import Any
 import py_trees
 from py_trees.common import Access, Status
 
+from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, receive_services
 from behaviours.bridge import PlannerMoveCost, relative_position
 from behaviours.events import Event
@@ -42,7 +43,8 @@ class ForEachObject(py_trees.decorators.Decorator):
 
 class StartObject(CslBehaviour):
     """Start on the next object: remember its appearance (pixel count, for the side-effect
-    check) and open its run-time tree from where the robot stands."""
+    check) and open its run-time tree from where the robot stands, handing the learner
+    what the camera measured (round, area, elongation) to rule candidates out for free."""
 
     def __init__(self, robot: str, name: str = "RememberAppearance") -> None:
         super().__init__(name, robot)
@@ -57,17 +59,23 @@ class StartObject(CslBehaviour):
         began = services.clock()
         start = relative_position(services.navigator, region, self.robot_pose())
         estimator = PlannerMoveCost(services.navigator, region)
+        appearance = appearance_of(region)
+        use_appearance = services.params.use_appearance
         session = RecognitionSession(services.library.current(), services.criterion, estimator, start,
                                      max_alternatives=services.params.max_alternatives,
                                      orientation_free=region.round,
-                                     seed=services.params.seed + len(self.bb.results))
+                                     seed=services.params.seed + len(self.bb.results),
+                                     appearance=appearance, use_appearance=use_appearance)
         record = ObjectRecord(len(self.bb.results), region, region.pixel_count, session, estimator,
                               first_region=region)
         record.ledger.computing_s += services.clock() - began
         self.bb.object, self.bb.step = record, Step()
         self.bb.results.append(record)
+        seen = {} if appearance is None or not use_appearance else {
+            "appearance": appearance.to_json(), "ruled_out": len(session.unlike_rows()),
+            **({"appearance_ignored": True} if session.appearance_ignored else {})}
         self.note(Event.OBJECT, centroid=[round(c, 1) for c in region.centroid], pixels=region.pixel_count,
-                  start=start.to_json())
+                  start=start.to_json(), **seen)
         return Status.SUCCESS
 
 

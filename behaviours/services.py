@@ -39,6 +39,7 @@ class Params:
     changed_ratio: float = 0.25  # pixel-count change after a failed grasp meaning "changed"
     pushed_in: float = 1.0  # centroid shift meaning "pushed"
     seed: int = 0  # for choices the criterion leaves to chance; object i draws from seed + i
+    use_appearance: bool = False  # rule candidates out by the camera's area and elongation, free
 
 
 class EventSink(Protocol):

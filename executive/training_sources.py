@@ -14,6 +14,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from behaviours.appearance import appearance_of
 from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
 from hero_driver.sim.catalogue import CatalogueEntry
@@ -116,7 +117,8 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
     come from what the robot can see. So a small object whose pixels look isotropic
     (the lying 16 oz tumbler at 0.8 in per pixel) trains as round, as the robot would
     treat it at run time. Only the grasp label (and where it is made) is the teacher's,
-    taken from the catalogue as :func:`catalogue_objects` does.
+    taken from the catalogue as :func:`catalogue_objects` does. Each object's appearance
+    (area, elongation, round) is recorded as the camera saw it here, for its description.
     """
     _, catalogue = profile_and_catalogue(profile)
     labelled = {o.object_id: o for o in catalogue_objects(object_set)}
@@ -130,7 +132,8 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
             grasp_orientation = float(round(grasp_orientation - offset) % 360)
         objects.append(TrainingObject(object_id, labels.grasp, Position(labels.grasp_position.distance_in,
                                                                         grasp_orientation),
-                                      () if region.round else _object_frame(region), region.round))
+                                      () if region.round else _object_frame(region), region.round,
+                                      appearance_of(region)))
     return SeenObjects(tuple(objects), offsets)
 
 

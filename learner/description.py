@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from learner.appearance import Appearance
 from learner.position import Position
 
 
@@ -27,12 +28,15 @@ class Observation:
 
 @dataclass(frozen=True)
 class ObjectDescription:
-    """One object's grasp and the features measured on it."""
+    """One object's grasp and the features measured on it, with the appearance the
+    overhead camera saw it with (None: not recorded, as in libraries of format version 1;
+    such a description is never ruled out by appearance)."""
 
     object_id: str
     grasp: str
     grasp_position: Position
     observations: tuple[Observation, ...] = ()
+    appearance: Appearance | None = None
 
     def value_at(self, feature: str, position: Position) -> float | None:
         """The value of ``feature`` valid at ``position``, or None when it is missing.
@@ -52,7 +56,8 @@ class ObjectDescription:
         merged = {(o.feature, o.position): o for o in self.observations}
         for obs in extra:
             merged[(obs.feature, obs.position)] = obs
-        return ObjectDescription(self.object_id, self.grasp, self.grasp_position, tuple(sorted(merged.values())))
+        return ObjectDescription(self.object_id, self.grasp, self.grasp_position, tuple(sorted(merged.values())),
+                                 self.appearance)
 
     def __str__(self) -> str:
         obs = ", ".join(str(o) for o in self.observations)

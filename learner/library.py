@@ -14,12 +14,14 @@ import sqlite3
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
+from learner.appearance import Appearance, appearance_from_json
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge
 from learner.position import Position, position_from_json
 
 FORMAT = "csl-library"
-VERSION = 1
+VERSION = 2  # 2: descriptions may carry the camera's appearance of their object
+READS = (1, 2)  # a version-1 library loads with no appearances
 
 
 # -- JSON ---------------------------------------------------------------------------
@@ -37,6 +39,7 @@ def descriptions_to_json(descriptions: Iterable[ObjectDescription]) -> dict[str,
                     {"feature": o.feature, "position": o.position.to_json(), "value": _json_num(o.value)}
                     for o in d.observations
                 ],
+                **({} if d.appearance is None else {"appearance": d.appearance.to_json()}),
             }
             for d in descriptions
         ],
@@ -49,15 +52,17 @@ def descriptions_from_json(data: object, source: str = "<library>") -> list[Obje
         raise ValueError(f"{source}: a library is a JSON object with 'format' and 'descriptions'")
     if data.get("format") != FORMAT:
         raise ValueError(f"{source}: 'format' must be {FORMAT!r}, got {data.get('format')!r}")
-    if data.get("version") != VERSION:
-        raise ValueError(f"{source}: unsupported 'version' {data.get('version')!r} (this csl reads {VERSION})")
+    version = data.get("version")
+    if isinstance(version, bool) or version not in READS:
+        raise ValueError(f"{source}: unsupported 'version' {version!r} (this csl reads "
+                         f"{', '.join(map(str, READS))})")
     unknown = sorted(set(data) - {"format", "version", "descriptions"})
     if unknown:
         raise ValueError(f"{source}: unknown key {unknown[0]!r}")
     entries = data.get("descriptions")
     if not isinstance(entries, list):
         raise ValueError(f"{source}: 'descriptions' must be a list")
-    out = [_description(e, f"{source}: descriptions[{i}]") for i, e in enumerate(entries)]
+    out = [_description(e, f"{source}: descriptions[{i}]", version) for i, e in enumerate(entries)]
     seen: set[str] = set()
     for d in out:
         if d.object_id in seen:
@@ -66,10 +71,11 @@ def descriptions_from_json(data: object, source: str = "<library>") -> list[Obje
     return out
 
 
-def _description(entry: object, where: str) -> ObjectDescription:
+def _description(entry: object, where: str, version: int = VERSION) -> ObjectDescription:
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: must be an object")
-    unknown = sorted(set(entry) - {"id", "grasp", "grasp_position", "features"})
+    keys = {"id", "grasp", "grasp_position", "features"} | ({"appearance"} if version >= 2 else set())
+    unknown = sorted(set(entry) - keys)
     if unknown:
         raise ValueError(f"{where}: unknown key {unknown[0]!r}")
     for key in ("id", "grasp"):
@@ -98,7 +104,9 @@ def _description(entry: object, where: str) -> ObjectDescription:
         if "position" not in f:
             raise ValueError(f"{fw}: missing field 'position'")
         observations.append(Observation(f["feature"], position_from_json(f["position"], f"{fw}: position"), float(value)))
-    return ObjectDescription(entry["id"], entry["grasp"], grasp_position, tuple(sorted(observations)))
+    appearance = (appearance_from_json(entry["appearance"], f"{where}: appearance")
+                  if "appearance" in entry else None)
+    return ObjectDescription(entry["id"], entry["grasp"], grasp_position, tuple(sorted(observations)), appearance)
 
 
 def check_library(descriptions: Iterable[ObjectDescription], knowledge: Knowledge, source: str) -> None:
@@ -165,7 +173,10 @@ CREATE TABLE IF NOT EXISTS descriptions (
     id TEXT NOT NULL UNIQUE,
     grasp TEXT NOT NULL,
     grasp_distance_in REAL,
-    grasp_orientation_deg REAL
+    grasp_orientation_deg REAL,
+    appearance_round INTEGER,
+    appearance_area_in2 REAL,
+    appearance_elongation REAL
 );
 CREATE TABLE IF NOT EXISTS observations (
     description_seq INTEGER NOT NULL REFERENCES descriptions(seq) ON DELETE CASCADE,
@@ -190,11 +201,23 @@ class LibraryStore:
             with self._db:
                 self._db.executescript(_SCHEMA)
                 self._db.execute("INSERT OR IGNORE INTO meta VALUES ('format', ?)", (f"{FORMAT}/{VERSION}",))
-            fmt = self._db.execute("SELECT value FROM meta WHERE key='format'").fetchone()[0]
+                fmt = self._db.execute("SELECT value FROM meta WHERE key='format'").fetchone()[0]
+                if fmt == f"{FORMAT}/1":
+                    self._upgrade_from_1()
+                    fmt = f"{FORMAT}/{VERSION}"
         except sqlite3.DatabaseError as exc:
             raise ValueError(f"{self.path}: not a csl library database: {exc}") from None
         if fmt != f"{FORMAT}/{VERSION}":
-            raise ValueError(f"{self.path}: library format {fmt!r}, this csl reads {FORMAT}/{VERSION}")
+            raise ValueError(f"{self.path}: library format {fmt!r}, this csl reads "
+                             f"{', '.join(f'{FORMAT}/{v}' for v in READS)}")
+
+    def _upgrade_from_1(self) -> None:
+        """A version-1 store gains the appearance columns (NULL: not recorded), in the
+        opening transaction: its descriptions load as before, new ones keep theirs."""
+        for column, kind in (("appearance_round", "INTEGER"), ("appearance_area_in2", "REAL"),
+                             ("appearance_elongation", "REAL")):
+            self._db.execute(f"ALTER TABLE descriptions ADD COLUMN {column} {kind}")
+        self._db.execute("UPDATE meta SET value = ? WHERE key = 'format'", (f"{FORMAT}/{VERSION}",))
 
     def close(self) -> None:
         self._db.close()
@@ -208,15 +231,17 @@ class LibraryStore:
     def descriptions(self) -> list[ObjectDescription]:
         """Every description, in the order they were added."""
         rows = self._db.execute(
-            "SELECT seq, id, grasp, grasp_distance_in, grasp_orientation_deg FROM descriptions ORDER BY seq"
+            "SELECT seq, id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round, appearance_area_in2,"
+            " appearance_elongation FROM descriptions ORDER BY seq"
         ).fetchall()
         obs: dict[int, list[Observation]] = {}
         for seq, feature, d, o, v in self._db.execute(
             "SELECT description_seq, feature, distance_in, orientation_deg, value FROM observations"
         ):
             obs.setdefault(seq, []).append(Observation(feature, Position(d, o), v))
-        return [ObjectDescription(i, g, Position(d, o), tuple(sorted(obs.get(seq, []))))
-                for seq, i, g, d, o in rows]
+        return [ObjectDescription(i, g, Position(d, o), tuple(sorted(obs.get(seq, []))),
+                                  None if r is None else Appearance(bool(r), a, e))
+                for seq, i, g, d, o, r, a, e in rows]
 
     def add(self, descriptions: Sequence[ObjectDescription], *, replace: bool = False) -> int:
         """Add descriptions in one transaction; an existing id is an error unless ``replace``.
@@ -231,9 +256,13 @@ class LibraryStore:
                                      "(use --replace to overwrite)")
                 if exists:
                     self._db.execute("DELETE FROM descriptions WHERE seq = ?", exists)
+                look = d.appearance
                 seq = self._db.execute(
-                    "INSERT INTO descriptions (id, grasp, grasp_distance_in, grasp_orientation_deg) VALUES (?,?,?,?)",
-                    (d.object_id, d.grasp, d.grasp_position.distance_in, d.grasp_position.orientation_deg),
+                    "INSERT INTO descriptions (id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round,"
+                    " appearance_area_in2, appearance_elongation) VALUES (?,?,?,?,?,?,?)",
+                    (d.object_id, d.grasp, d.grasp_position.distance_in, d.grasp_position.orientation_deg,
+                     None if look is None else int(look.round), None if look is None else look.area_in2,
+                     None if look is None else look.elongation),
                 ).lastrowid
                 self._db.executemany(
                     "INSERT INTO observations VALUES (?,?,?,?,?)",

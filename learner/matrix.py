@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from learner.appearance import AXIS_TOLERANCE_IN, Appearance
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.position import Position
@@ -62,6 +63,17 @@ class DescriptionMatrix:
         self.order = np.argsort(self.values_by_test, axis=1, kind="stable")
         self.sorted_values = np.take_along_axis(self.values_by_test, self.order, axis=1)
         self.class_of = self.class_of.astype(np.int32)
+        # each description's appearance as equivalent-ellipse axes (NaN: not recorded), so
+        # ruling candidates out by what the camera saw is two comparisons per row
+        axes = [d.appearance.axes_in if d.appearance is not None else (np.nan, np.nan) for d in self.descriptions]
+        self.appearance_axes = np.array(axes, dtype=float).reshape(len(self.descriptions), 2)
+
+    def unlike(self, appearance: Appearance, tolerance_in: float = AXIS_TOLERANCE_IN) -> np.ndarray:
+        """Rows whose recorded appearance disagrees with ``appearance`` (an axis off by more
+        than ``tolerance_in``); a description without one is never unlike anything."""
+        seen = np.array(appearance.axes_in)
+        off = np.abs(self.appearance_axes - seen) > tolerance_in + 1e-9  # NaN compares False
+        return off.any(axis=1)
 
     def _sense_tests(self) -> list[Test]:
         tests = {

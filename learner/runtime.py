@@ -12,6 +12,11 @@ method, so the behaviour tree can show each recovery as its own branch:
 - an ``AmbiguousLeaf`` decision: try its grasps as binary features;
 - ``grasp_failed``: drop the failed grasp's descriptions and rebuild from here, or, after
   side effects, restore them all and start over.
+
+What the overhead camera saw of the object (its :class:`Appearance`) is a feature measured
+before the session starts, at no cost: descriptions recorded with a different appearance
+are not candidates at the root (unless that would leave none: an unseen object, and the
+appearance is ignored, ``appearance_ignored``).
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from learner.appearance import AXIS_TOLERANCE_IN, Appearance
 from learner.costs import MoveCostEstimator
 from learner.criteria import Criterion
 from learner.description import ObjectDescription, Observation
@@ -86,6 +92,9 @@ class RecognitionSession:
         max_alternatives: int = 3,
         orientation_free: bool = False,
         seed: int = 0,
+        appearance: Appearance | None = None,
+        use_appearance: bool = True,
+        appearance_tolerance_in: float = AXIS_TOLERANCE_IN,
     ) -> None:
         """Start recognizing one object from ``start``; ``matrix`` is the library, built
         once and shared by every object until the library changes.
@@ -93,6 +102,10 @@ class RecognitionSession:
         ``orientation_free``: the object has no orientation (a round footprint), so its
         values hold from every side and are recorded at ``(d,*)``, as training does.
         ``seed``: for the choices the criterion leaves to chance (ties of a cost-blind one).
+        ``appearance``: what the overhead camera saw of the object; with ``use_appearance``
+        descriptions whose recorded appearance differs by more than
+        ``appearance_tolerance_in`` on an axis are ruled out for free. It is kept either
+        way, for the description learned from this object.
         """
         if not matrix.descriptions:
             raise ValueError("the library holds no object descriptions to recognize with")
@@ -102,6 +115,10 @@ class RecognitionSession:
         self.ctx = Context(matrix, criterion, estimator, np.random.default_rng(seed))
         self.orientation_free = orientation_free
         self.max_alternatives = max_alternatives
+        self.appearance = appearance
+        self.use_appearance = use_appearance
+        self.appearance_tolerance_in = appearance_tolerance_in
+        self.appearance_ignored = False  # every candidate was unlike the object: appearance not used
         self._changes = 0  # bumped by every change that can alter decide()'s answer
         self._decided: tuple[int, Decision] | None = None
         self._position = start
@@ -115,10 +132,10 @@ class RecognitionSession:
     @classmethod
     def for_library(cls, library: Sequence[ObjectDescription], knowledge: Knowledge, criterion: Criterion,
                     estimator: MoveCostEstimator, start: Position, *, grasps_as_features: bool = True,
-                    max_alternatives: int = 3) -> RecognitionSession:
+                    max_alternatives: int = 3, appearance: Appearance | None = None) -> RecognitionSession:
         """A session over a library not yet built into a matrix."""
         return cls(DescriptionMatrix(library, knowledge, grasps_as_features), criterion, estimator, start,
-                   max_alternatives=max_alternatives)
+                   max_alternatives=max_alternatives, appearance=appearance)
 
     # -- where we are -------------------------------------------------------------
     @property
@@ -308,6 +325,7 @@ class RecognitionSession:
             self.wrong_predictions.append(grasp)
         if side_effects and changed:
             self.unreliable_count = 0  # a new object as far as sensing goes
+            self.appearance = None  # and it no longer looks as the camera saw it
             self.dropped_grasps.clear()
             self.measurements.clear()
             self.pushes.clear()
@@ -326,7 +344,17 @@ class RecognitionSession:
         node = Node.root(len(self.matrix.descriptions), dropped)
         if not node.rows:
             raise ValueError("every grasp in the library has failed on this object")
-        return node
+        unlike = self.unlike_rows()
+        narrowed = Node.root(len(self.matrix.descriptions), sorted({*dropped, *unlike}))
+        self.appearance_ignored = bool(unlike) and not narrowed.rows
+        return node if self.appearance_ignored else narrowed
+
+    def unlike_rows(self) -> list[int]:
+        """Descriptions the camera's appearance of this object rules out (none when the
+        appearance is unknown or not used)."""
+        if self.appearance is None or not self.use_appearance:
+            return []
+        return [int(i) for i in np.flatnonzero(self.matrix.unlike(self.appearance, self.appearance_tolerance_in))]
 
     # -- learning -------------------------------------------------------------------
     def discriminating_test(self, wrong_grasp: str, exclude: frozenset[Test] = frozenset()) -> ScoredTest | None:
@@ -378,7 +406,7 @@ class RecognitionSession:
     def description(self, object_id: str, grasp: str, grasp_position: Position) -> ObjectDescription:
         """The new object description to save after a successful grasp (docs/method.md §5.3)."""
         observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
-        return ObjectDescription(object_id, grasp, grasp_position, observations)
+        return ObjectDescription(object_id, grasp, grasp_position, observations, self.appearance)
 
 
 def _serves(measured_at: Position, test_at: Position) -> bool:

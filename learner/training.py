@@ -382,7 +382,7 @@ def train(
         d = recorder.description(obj)
         merged.append(ObjectDescription(d.object_id, d.grasp, d.grasp_position,
                                         tuple(generalise(d.observations, knowledge, log.orientations,
-                                                         log.distances))))
+                                                         log.distances)), obj.appearance))
     return TrainingResult(tuple(merged), log)
 
 

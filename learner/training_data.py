@@ -15,7 +15,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
+from learner.appearance import Appearance, appearance_from_json
 from learner.position import Position, position_from_json
+
+
+OBJECTS_READS = (1, 2)  # version 2: an object may carry its camera appearance
 
 
 @dataclass(frozen=True)
@@ -23,7 +27,8 @@ class TrainingObject:
     """A training object: its correct grasp and its footprint in its own frame.
 
     The footprint polygon is in inches with +x along the object's reference axis (the
-    overhead region's major axis); a round footprint has no orientation.
+    overhead region's major axis); a round footprint has no orientation. ``appearance``
+    is what the camera measured of it (None: not recorded), kept in its description.
     """
 
     object_id: str
@@ -31,6 +36,7 @@ class TrainingObject:
     grasp_position: Position
     polygon: tuple[tuple[float, float], ...]
     round: bool
+    appearance: Appearance | None = None
 
 
 @runtime_checkable
@@ -56,7 +62,7 @@ class ReplaySource:
 
 def read_objects(path: str | Path) -> list[TrainingObject]:
     """Read a training-objects JSON file (``format: csl-training-objects``)."""
-    data, source = _read_json(path, "csl-training-objects")
+    data, source = _read_json(path, "csl-training-objects", OBJECTS_READS)
     entries = data.get("objects")
     if not isinstance(entries, list) or not entries:
         raise ValueError(f"{source}: 'objects' must be a non-empty list")
@@ -71,7 +77,7 @@ def read_objects(path: str | Path) -> list[TrainingObject]:
 def _object(entry: object, where: str) -> TrainingObject:
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: must be an object")
-    _only(entry, {"id", "grasp", "grasp_position", "polygon", "round"}, where)
+    _only(entry, {"id", "grasp", "grasp_position", "polygon", "round", "appearance"}, where)
     for key in ("id", "grasp"):
         if not isinstance(entry.get(key), str) or not entry[key]:
             raise ValueError(f"{where}: missing or empty string field '{key}'")
@@ -86,13 +92,14 @@ def _object(entry: object, where: str) -> TrainingObject:
     if not round_ and len(polygon) < 3:
         raise ValueError(f"{where}: a footprint that is not round needs a 'polygon' of 3 or more points")
     grasp_position = position_from_json(entry.get("grasp_position", [6, "*"]), f"{where}: grasp_position")
+    appearance = appearance_from_json(entry["appearance"], f"{where}: appearance") if "appearance" in entry else None
     return TrainingObject(entry["id"], entry["grasp"], grasp_position,
-                          tuple((float(x), float(y)) for x, y in polygon), round_)
+                          tuple((float(x), float(y)) for x, y in polygon), round_, appearance)
 
 
 def read_replay(path: str | Path) -> ReplaySource:
     """Read a replay measurements JSON file (``format: csl-measurements``)."""
-    data, source = _read_json(path, "csl-measurements")
+    data, source = _read_json(path, "csl-measurements", (1,))
     entries = data.get("measurements")
     if not isinstance(entries, list):
         raise ValueError(f"{source}: 'measurements' must be a list")
@@ -135,16 +142,17 @@ def objects_document(objects: Sequence[TrainingObject]) -> dict[str, object]:
     """The JSON document for training objects (``read_objects`` reads it back)."""
     return {
         "format": "csl-training-objects",
-        "version": 1,
+        "version": OBJECTS_READS[-1],
         "objects": [
             {"id": o.object_id, "grasp": o.grasp, "grasp_position": o.grasp_position.to_json(),
-             **({"round": True} if o.round else {"polygon": [list(p) for p in o.polygon]})}
+             **({"round": True} if o.round else {"polygon": [list(p) for p in o.polygon]}),
+             **({} if o.appearance is None else {"appearance": o.appearance.to_json()})}
             for o in objects
         ],
     }
 
 
-def _read_json(path: str | Path, fmt: str) -> tuple[dict[str, object], str]:
+def _read_json(path: str | Path, fmt: str, versions: tuple[int, ...]) -> tuple[dict[str, object], str]:
     path = Path(path)
     source = str(path)
     try:
@@ -155,8 +163,10 @@ def _read_json(path: str | Path, fmt: str) -> tuple[dict[str, object], str]:
         raise ValueError(f"{source}: not valid JSON: {exc}") from None
     if not isinstance(data, dict) or data.get("format") != fmt:
         raise ValueError(f"{source}: 'format' must be {fmt!r}")
-    if data.get("version") != 1:
-        raise ValueError(f"{source}: unsupported 'version' {data.get('version')!r} (this csl reads 1)")
+    version = data.get("version")
+    if isinstance(version, bool) or version not in versions:
+        raise ValueError(f"{source}: unsupported 'version' {version!r} (this csl reads "
+                         f"{', '.join(map(str, versions))})")
     return data, source
 
 

@@ -53,7 +53,10 @@ class Region:
     for a round footprint, whose reference axis is world +x by convention);
     ``length_in`` and ``width_in`` are the footprint's extents along and across the
     reference axis. ``pixel_count`` is what the side-effect check after a failed grasp
-    compares (pushed: about the same; changed: clearly different).
+    compares (pushed: about the same; changed: clearly different). ``area_in2`` (pixels
+    times pixel area) and ``elongation`` (major over minor axis of the pixels' second
+    moments) are the footprint's rotation-invariant measures, the object's appearance
+    (docs/library-format.md); None on a region not measured from pixels.
     """
 
     polygon: tuple[tuple[float, float], ...]
@@ -63,6 +66,8 @@ class Region:
     round: bool
     length_in: float
     width_in: float
+    area_in2: float | None = None
+    elongation: float | None = None
 
     @property
     def reference_axis_deg(self) -> float:
@@ -221,6 +226,8 @@ def _describe(image: OverheadImage, roi: np.ndarray, row0: int, col0: int) -> Re
         round=is_round,
         length_in=max(length, ipp),
         width_in=max(width, ipp),
+        area_in2=count * ipp * ipp,
+        elongation=1.0 / axis_ratio,  # the +1/12 pixel-square term keeps minor > 0
     )
 
 

@@ -54,7 +54,8 @@ def _setup(args: argparse.Namespace) -> Setup:
     profile = load_profile(args.knowledge)
     return Setup(profile, knowledge_of(profile),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
-                        max_steps=args.max_steps, seed=getattr(args, "seed", None) or 0),
+                        max_steps=args.max_steps, seed=getattr(args, "seed", None) or 0,
+                        use_appearance=args.appearance),
                  criterion_from_args(args))
 
 

@@ -21,6 +21,9 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                    help="alternatives tried at a node before backtracking (the paper's N, default 3)")
     p.add_argument("--nearest-after", type=positive_int, default=None, metavar="K",
                    help="switch to nearest neighbour after K unreliable values (default: only as the last resort)")
+    p.add_argument("--appearance", action="store_true",
+                   help="let what the camera measured (footprint area and elongation) rule out unlike "
+                        "descriptions before any test, for free (docs/library-format.md)")
     p.add_argument("--max-steps", type=positive_int, default=40, metavar="N",
                    help="recognition steps per object before it is reported failed (default 40)")
     p.add_argument("--out", type=Path, default=Path("csl-out"),

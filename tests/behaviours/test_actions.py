@@ -14,6 +14,7 @@ from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
 from behaviours.records import GraspAttempt
 from hero_driver.interface import (BUSY, NO_TARGET, OUT_OF_RANGE, UNAVAILABLE, Driver, DriverError, GraspResult,
                                    Pose as DriverPose, RobotState, SenseResult)
+from learner.appearance import Appearance
 from learner.description import ObjectDescription, Observation
 from learner.selection import ScoredTest
 from tests.behaviours.conftest import (HEIGHT, PENDING, REGION, ROBOT, FakeDriver, P, fresh_board, get, image, measure,
@@ -414,3 +415,15 @@ def test_learn_saves_nothing_when_nothing_was_measured(services, driver, log) ->
 def test_fake_driver_refuses_unscripted_calls() -> None:
     with pytest.raises(AssertionError, match="unexpected driver call"):
         FakeDriver().camera()
+
+
+def test_learn_keeps_the_appearance_the_camera_saw(services, driver) -> None:  # noqa: ANN001
+    record, step = start_object(services)
+    record.session.appearance = Appearance(False, 13.44, 2.333)
+    measure(record, 8.5)
+    record.finish("grasped", "Front-Wrap", P(6, 0))
+    driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 500.0, 0.9))
+    assert run(Learn(ROBOT), services) == Status.SUCCESS
+    (learned,) = services.learner.learned
+    assert learned.appearance == Appearance(False, 13.44, 2.333)
+    assert learned.observations == (Observation("Width-Degree-1°", P(24, 0), 8.5),)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import py_trees
 import pytest
 from py_trees.common import Status
@@ -10,8 +12,9 @@ from behaviours.base import CslBehaviour
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.records import Step
 from behaviours.services import Params
-from tests.behaviours.conftest import (REGION, ROBOT, WIDTH, P, fresh_board, get, make_services, pose_at, put, region,
-                                       run, setup, start_object, tick)
+from learner.appearance import Appearance
+from tests.behaviours.conftest import (REGION, ROBOT, WIDTH, P, four_objects, fresh_board, get, make_services, pose_at,
+                                       put, region, run, setup, start_object, tick)
 
 
 # -- StartObject -----------------------------------------------------------------------------
@@ -205,3 +208,45 @@ def test_until_handled_ticked_without_setup_raises_runtime_error(services) -> No
 def test_until_handled_setup_without_services_raises_a_clear_error() -> None:
     with pytest.raises(RuntimeError, match="needs services"):
         UntilHandled(py_trees.behaviours.Failure("step"), ROBOT).setup()
+
+
+SEEING = Params(use_appearance=True)
+
+
+def test_start_object_hands_the_camera_appearance_to_the_session() -> None:
+    """The region measured 13.44 in^2 at elongation 2.333 (6.32 x 2.71 in): the cup recorded
+    round at 8.32 in^2 (3.25 in across, 3.07 in off on the major axis) is ruled out for free;
+    descriptions recorded without an appearance stay."""
+    library = four_objects()
+    library[0] = replace(library[0], appearance=Appearance(True, 8.32, 1.0))
+    services = make_services(descriptions=library, params=SEEING)
+    fresh_board()
+    put("objects", [replace(REGION, area_in2=13.44, elongation=2.333)])
+    assert run(StartObject(ROBOT), services) == Status.SUCCESS
+    session = get("object").session
+    assert session.appearance == Appearance(False, 13.44, 2.333)
+    assert session.candidates == ("box", "closed", "tumbler")
+    (event,) = services.log.events
+    assert event["appearance"] == {"round": False, "area_in2": 13.44, "elongation": 2.333}
+    assert event["ruled_out"] == 1 and "appearance_ignored" not in event
+
+
+def test_a_region_drawn_without_pixel_measures_has_no_appearance() -> None:
+    fresh_board()
+    put("objects", [REGION])
+    assert run(StartObject(ROBOT), make_services(params=SEEING)) == Status.SUCCESS
+    assert get("object").session.appearance is None
+
+
+def test_without_the_switch_the_appearance_is_kept_but_rules_nothing_out() -> None:
+    library = four_objects()
+    library[0] = replace(library[0], appearance=Appearance(True, 8.32, 1.0))
+    services = make_services(descriptions=library)  # default Params: appearance off
+    fresh_board()
+    put("objects", [replace(REGION, area_in2=13.44, elongation=2.333)])
+    assert run(StartObject(ROBOT), services) == Status.SUCCESS
+    session = get("object").session
+    assert session.appearance == Appearance(False, 13.44, 2.333) and not session.use_appearance
+    assert session.candidates == ("box", "closed", "cup", "tumbler")
+    (event,) = services.log.events
+    assert "appearance" not in event and "ruled_out" not in event

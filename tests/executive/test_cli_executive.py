@@ -110,3 +110,13 @@ def test_noise_presets_reach_the_simulator(tmp_path: Path, capsys) -> None:  # n
     assert ends["clean"] != ends["harsh"]
     assert main(["run", "--driver", "zenoh", "--noise", "harsh", "--out", str(tmp_path)]) == 2
     assert "--noise goes with --driver sim" in capsys.readouterr().err
+
+
+def test_appearance_rules_descriptions_out_before_any_test(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    out = tmp_path / "seen"
+    assert main(["run", "--appearance", "--no-plots", "--out", str(out), "--library", str(tmp_path / "a.sqlite")]) in (0, 1)
+    capsys.readouterr()
+    objects = [json.loads(x) for x in (out / "episode.jsonl").read_text().splitlines()]
+    objects = [e for e in objects if e["event"] == "object"]
+    assert len(objects) == 7 and all("appearance" in e for e in objects)
+    assert sum(e["ruled_out"] for e in objects) > 0  # the lab's objects are not all alike
