@@ -1,0 +1,134 @@
+"""The vendor's starting point (issue 11 §5): examples/driver_template/, run as its own
+process exactly as a vendor would, passes every check of ``csl driver check``; its
+camera image is read by the executive's vision where the toy world has things; it
+imports nothing of this project; its hardware stubs answer ``internal`` naming the
+stub; and the zenoh configs in docs/vendor-guide.md are ones zenoh accepts."""
+
+from __future__ import annotations
+
+import ast
+import re
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import zenoh
+
+from behaviours.bridge import overhead
+from hero_driver.interface import INTERNAL, DriverError
+from hero_driver.zenoh_link.client import ZenohDriver
+from hero_driver.zenoh_link.conformance import Procedures, run_checks
+from planner.vision import look
+from tests.hero_driver.test_zenoh_conformance import ALL_CHECKS
+from tests.zenoh_rpc.support import free_endpoint
+
+pytestmark = pytest.mark.zenoh
+
+REPO = Path(__file__).resolve().parents[2]
+TEMPLATE = REPO / "examples" / "driver_template"
+GUIDE = REPO / "docs" / "vendor-guide.md"
+START_TIMEOUT_S = 20.0
+
+
+class Template:
+    """The template driver in a child process, started from a neutral directory with
+    no PYTHONPATH: it must run on what it ships with."""
+
+    def __init__(self, robot: str, endpoint: str, *extra: str, cwd: Path) -> None:
+        self.process = subprocess.Popen(
+            [sys.executable, str(TEMPLATE / "driver.py"), "--robot", robot, "--listen", endpoint, *extra],
+            cwd=cwd, env={"PATH": "/usr/bin:/bin"}, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = self.process.stdout.readline() if self.process.stdout else ""
+        if not line:
+            self.process.wait(START_TIMEOUT_S)
+            raise RuntimeError(f"template exited: {self.process.stderr.read() if self.process.stderr else ''}")
+
+    def stop(self) -> int:
+        self.process.terminate()
+        status = self.process.wait(10)
+        for stream in (self.process.stdout, self.process.stderr):
+            if stream:
+                stream.close()
+        return status
+
+
+@pytest.fixture
+def template(tmp_path: Path) -> Iterator[tuple[str, str]]:
+    """The toy backend on a free port; moves at 0.25 real s per robot s, so that the
+    10-degree turn of the busy check lasts 0.5 s and overlaps the releases sent."""
+    endpoint = free_endpoint()
+    process = Template("tpl", endpoint, "--time-scale", "0.25", cwd=tmp_path)
+    try:
+        yield "tpl", endpoint
+    finally:
+        assert process.stop() == 0  # SIGTERM: a clean shutdown, token first
+
+
+def test_the_template_passes_every_conformance_check(template: tuple[str, str]) -> None:
+    robot, endpoint = template
+    results = {r.name: r for r in run_checks(robot, [endpoint], timeout_s=5.0, procedures=Procedures.from_profile())}
+    assert set(results) == ALL_CHECKS
+    assert {name for name, r in results.items() if not r.passed} == set(), results
+    assert "refused busy during a" in results["busy"].detail  # exercised, not skipped as too short
+    # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
+    # a long sweep runs, the 6 in procedures are out of range
+    assert results["sense"].detail.startswith("SenseResult")
+    assert "56.0 in away" in results["out-of-range-target"].detail
+    assert "56.0 in away" in results["grasp"].detail
+
+
+def test_the_vision_finds_the_toy_box_and_robot_where_they_are(template: tuple[str, str]) -> None:
+    robot, endpoint = template
+    with ZenohDriver(robot, connect=[endpoint]) as driver:
+        assert driver.wait_ready(10.0)
+        scene = look(overhead(driver.camera().result(10.0)))
+    # the toy's box: 6 in along x by 10 in along y, centred at (100, 60); the robot at (30, 60) facing +x
+    (box,) = scene.regions
+    assert box.centroid == pytest.approx((100.0, 60.0), abs=0.8)  # one pixel
+    assert box.orientation_deg is not None and box.orientation_deg % 180 == pytest.approx(90.0, abs=3.0)
+    assert (box.length_in, box.width_in) == (pytest.approx(10.0, abs=1.6), pytest.approx(6.0, abs=1.6))
+    assert scene.robot is not None
+    assert (scene.robot.x_in, scene.robot.y_in) == (pytest.approx(30.0, abs=0.8), pytest.approx(60.0, abs=0.8))
+
+
+def test_hardware_stubs_answer_internal_naming_the_stub(tmp_path: Path) -> None:
+    endpoint = free_endpoint()
+    process = Template("stub", endpoint, "--backend", "hardware", cwd=tmp_path)
+    try:
+        with ZenohDriver("stub", connect=[endpoint]) as driver:
+            with pytest.raises(DriverError) as refused:
+                driver.camera().result(10.0)
+    finally:
+        process.stop()
+    assert refused.value.code == INTERNAL
+    assert "VENDOR: camera() is not implemented" in refused.value.message
+
+
+def test_a_bad_robot_name_is_one_line(tmp_path: Path) -> None:
+    done = subprocess.run([sys.executable, str(TEMPLATE / "driver.py"), "--robot", "r/1"], cwd=tmp_path,
+                          env={"PATH": "/usr/bin:/bin"}, capture_output=True, text=True, timeout=30)
+    assert done.returncode != 0
+    assert done.stderr.strip().splitlines() == ["--robot 'r/1': one key chunk of letters, digits, '_', '-', '.'"]
+
+
+def test_the_template_imports_only_zenoh_numpy_and_the_standard_library() -> None:
+    siblings = {path.stem for path in TEMPLATE.glob("*.py")}
+    allowed = set(sys.stdlib_module_names) | {"zenoh", "numpy", "__future__"} | siblings
+    imported = set()
+    for path in TEMPLATE.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imported |= {alias.name.split(".")[0] for alias in node.names}
+            elif isinstance(node, ast.ImportFrom):
+                imported.add((node.module or "").split(".")[0])
+    assert {"zenoh", "numpy", "robot", "messages"} <= imported  # the scan sees the imports
+    assert imported - allowed == set()
+
+
+def test_the_vendor_guides_zenoh_configs_are_accepted_by_zenoh() -> None:
+    blocks = re.findall(r"```json5\n(.*?)```", GUIDE.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) >= 2  # the driver's and the client's
+    for block in blocks:
+        zenoh.Config.from_json5(block)  # raises on a key zenoh does not know
