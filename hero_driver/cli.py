@@ -12,7 +12,8 @@ import sys
 
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
-from zenoh_rpc.endpoints import DRIVER_ENDPOINT, check_endpoint
+from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
 
@@ -49,8 +50,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
                      help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
                           "(docs/simulator.md, Noise; default: the world file's noise table, else mild)")
-    sim.add_argument("--listen", default=DRIVER_ENDPOINT, metavar="ENDPOINT",
+    sim.add_argument("--listen", default=None, metavar="ENDPOINT",
                      help=f"zenoh endpoint to listen on (default {DRIVER_ENDPOINT})")
+    add_zenoh_config_option(sim)
     sim.set_defaults(handler=_run_sim)
 
     check = actions.add_parser(
@@ -66,7 +68,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
-    check.add_argument("--connect", default=DRIVER_ENDPOINT, metavar="ENDPOINT",
+    check.add_argument("--connect", default=None, metavar="ENDPOINT",
                        help=f"zenoh endpoint of the driver process (default {DRIVER_ENDPOINT})")
     check.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
                        help="seconds to wait for the driver to appear and for each reply "
@@ -74,12 +76,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     check.add_argument("--profile", default=None, metavar="FILE",
                        help="knowledge profile naming the robot's procedures "
                             "(default: the HERO 2000's)")
+    add_zenoh_config_option(check)
     check.set_defaults(handler=_run_check)
 
 
 def _run_sim(args: argparse.Namespace) -> int:
     keys = robot_keys(args.robot)
-    check_endpoint(args.listen)
+    if args.listen is not None:
+        check_endpoint(args.listen)
+    zenoh_config = user_config(args.zenoh_config)
+    listen = endpoint_of("--listen", args.listen, DRIVER_ENDPOINT, LISTEN_KEY, zenoh_config)
     # Imported here: the simulator pulls in pymunk and the world files, which
     # `csl --help` and `csl driver check` have no use for.
     from hero_driver.sim_driver import SimulatedHero
@@ -90,11 +96,12 @@ def _run_sim(args: argparse.Namespace) -> int:
     driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, noise=noise)
 
     def on_ready() -> None:
-        print(f"serving {keys.rpc('*')} on {args.listen} (Ctrl-C to stop)", flush=True)
+        print(f"serving {keys.rpc('*')} on {where(listen, LISTEN_KEY, zenoh_config)} (Ctrl-C to stop)",
+              flush=True)
 
     try:
         with stop_on_signals() as stop:
-            serve(driver, listen=[args.listen], stop=stop, on_ready=on_ready)
+            serve(driver, listen=[listen], stop=stop, on_ready=on_ready, zenoh_config=zenoh_config)
     finally:
         driver.close()
     print(f"driver {args.robot} stopped", file=sys.stderr)
@@ -103,12 +110,15 @@ def _run_sim(args: argparse.Namespace) -> int:
 
 def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
-    check_endpoint(args.connect)
+    zenoh_config = user_config(args.zenoh_config)
+    connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
+    check_endpoint(connect)
     if not args.timeout > 0:
         raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
 
     procedures = Procedures.from_profile(args.profile)
-    results = run_checks(args.robot, [args.connect], timeout_s=args.timeout, procedures=procedures)
+    results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=procedures,
+                         zenoh_config=zenoh_config)
     print(format_table(results))
     return 0 if all(r.passed for r in results) else 1

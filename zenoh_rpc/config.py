@@ -6,57 +6,136 @@ and tests on 127.0.0.1 run side by side on their own ports. The lease is short s
 that a peer that vanishes without closing its socket (power cut, cable pulled, a
 killed process) is noticed in about a second, and reconnection is retried quickly
 so that a restarted server is picked up again within a fraction of a second.
+
+Security is zenoh's own: a user's zenoh config file (:class:`UserConfig`, given as
+``--zenoh-config`` or ``CSL_ZENOH_CONFIG``) turns on user/password authentication,
+TLS and access control, and our settings are laid on top of it only where the file
+leaves zenoh's default in place (:data:`OUR_SETTINGS`; docs/security.md).
 """
 
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 
 import zenoh
 
-from zenoh_rpc.endpoints import check_endpoint
+from zenoh_rpc.endpoints import CONNECT_KEY, LISTEN_KEY, check_endpoint
 
 LEASE_MS = 1000  # a silent peer is dropped after this; keep-alives go 4x as often
 RETRY_PERIOD_MS = (100, 500)  # first and longest wait between connection attempts
 
+OUR_SETTINGS = ("mode", "scouting/multicast/enabled", "scouting/delay", LISTEN_KEY, CONNECT_KEY,
+                "connect/retry", "connect/timeout_ms", "connect/exit_on_failure",
+                "transport/link/tx/lease")
+"""Every key :func:`make_config` sets; a user's file that sets one keeps its own value."""
+
+_ZENOH_DEFAULTS = zenoh.Config()
+_SERDE_MESSAGE = re.compile(
+    r'JSON error: Message \{ msg: "(.*)", location: Some\(Location \{ line: (\d+), column: (\d+) \}\) \}')
+
+
+@dataclass(frozen=True)
+class UserConfig:
+    """A zenoh config file (JSON5, JSON or YAML, as :meth:`zenoh.Config.from_file` reads)
+    that the user gave to turn on zenoh's own security, read and checked at once.
+
+    ``origin`` says where the path came from (``--zenoh-config``, ``CSL_ZENOH_CONFIG``)
+    so that an error names both. Raises ValueError, one line naming the file, when
+    the file cannot be read or zenoh refuses its contents.
+    """
+
+    path: Path
+    origin: str = "--zenoh-config"
+
+    def __post_init__(self) -> None:
+        self.load()
+
+    def load(self) -> zenoh.Config:
+        """A fresh :class:`zenoh.Config` from the file (zenoh consumes one per session)."""
+        try:
+            return zenoh.Config.from_file(str(self.path))
+        except zenoh.ZError as exc:
+            raise ValueError(f"{self.origin} {self.path}: {_one_line(str(exc))}") from None
+
+    def sets(self, key: str) -> bool:
+        """True when the file gives ``key`` a value other than zenoh's own default.
+
+        zenoh fills every key the file leaves out with its default, so a value equal
+        to the default cannot be told from no value: writing zenoh's default lease
+        (10000 ms) in the file is the same as leaving it out.
+        """
+        return _sets(self.load(), key)
+
 
 def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
-                connect_timeout_s: float | None = None) -> zenoh.Config:
+                connect_timeout_s: float | None = None, user: UserConfig | None = None) -> zenoh.Config:
     """A peer-mode config listening on ``listen`` and connecting to ``connect``.
 
     An empty ``listen`` really listens nowhere (zenoh's peer default would open a
     random port on every interface). With ``connect_timeout_s``, opening the session
     waits until one ``connect`` endpoint is reached and fails after that many
     seconds: a client that must not wait forever for a server that is not there.
+    With ``user``, the config starts from the user's file and each of our settings
+    is applied only where the file does not set that key (:meth:`UserConfig.sets`).
     """
-    config = zenoh.Config()
-    config.insert_json5("mode", '"peer"')
-    config.insert_json5("scouting/multicast/enabled", "false")
-    config.insert_json5("scouting/delay", "0")  # nothing to wait for without multicast
-    config.insert_json5("listen/endpoints", json.dumps([check_endpoint(e) for e in listen]))
-    config.insert_json5("connect/endpoints", json.dumps([check_endpoint(e) for e in connect]))
-    first_ms, longest_ms = RETRY_PERIOD_MS
-    config.insert_json5("connect/retry", json.dumps(
-        {"period_init_ms": first_ms, "period_max_ms": longest_ms, "period_increase_factor": 2}))
+    ours = {
+        "mode": '"peer"',
+        "scouting/multicast/enabled": "false",
+        "scouting/delay": "0",  # nothing to wait for without multicast
+        LISTEN_KEY: json.dumps([check_endpoint(e) for e in listen]),
+        CONNECT_KEY: json.dumps([check_endpoint(e) for e in connect]),
+        "connect/retry": json.dumps({"period_init_ms": RETRY_PERIOD_MS[0], "period_max_ms": RETRY_PERIOD_MS[1],
+                                     "period_increase_factor": 2}),
+        "transport/link/tx/lease": str(LEASE_MS),
+    }
     if connect_timeout_s is not None:
-        config.insert_json5("connect/timeout_ms", str(max(1, round(connect_timeout_s * 1000))))
-        config.insert_json5("connect/exit_on_failure", "true")
-    config.insert_json5("transport/link/tx/lease", str(LEASE_MS))
+        ours["connect/timeout_ms"] = str(max(1, round(connect_timeout_s * 1000)))
+        ours["connect/exit_on_failure"] = "true"
+    config = zenoh.Config() if user is None else user.load()
+    for key, value in ours.items():
+        if not _sets(config, key):
+            config.insert_json5(key, value)
     return config
 
 
+def _sets(config: zenoh.Config, key: str) -> bool:
+    return config.get_json(key) != _ZENOH_DEFAULTS.get_json(key)
+
+
 def open_session(listen: Sequence[str] = (), connect: Sequence[str] = (),
-                 connect_timeout_s: float | None = None) -> zenoh.Session:
+                 connect_timeout_s: float | None = None, user: UserConfig | None = None) -> zenoh.Session:
     """Open a session with :func:`make_config`.
 
     Raises ConnectionError (an OSError) with a one-line reason when an endpoint
-    cannot be listened on (port taken, unknown protocol) or, with
-    ``connect_timeout_s``, none can be reached in time: command lines report it as
-    one line, and zenoh's source locations would only bury the reason.
+    cannot be listened on (port taken, unknown protocol), the user's file names
+    something zenoh cannot use (a missing password dictionary or certificate) or,
+    with ``connect_timeout_s``, no endpoint can be reached in time: command lines
+    report it as one line, and zenoh's source locations would only bury the reason.
     """
+    config = make_config(listen, connect, connect_timeout_s, user)
     try:
-        return zenoh.open(make_config(listen, connect, connect_timeout_s))
+        return zenoh.open(config)
     except zenoh.ZError as exc:
-        reason = str(exc).split(" at /")[0]
-        raise ConnectionError(f"zenoh session on {', '.join([*listen, *connect])}: {reason}") from None
+        where = ", ".join([*listen, *connect]) if user is None else f"{', '.join([*listen, *connect])} ({user.path})"
+        raise ConnectionError(f"zenoh session on {where}: {_one_line(str(exc))}") from None
+
+
+def _one_line(reason: str) -> str:
+    """zenoh's error without its Rust source location, on one line.
+
+    A JSON5 syntax error comes as a drawing (`` --> 1:22``, the line, a caret, ``=
+    expected ...``) and a misplaced key as a Rust debug print; both become
+    ``line 1, column 22: ...``.
+    """
+    lines = [line.strip() for line in reason.strip().splitlines() if line.strip()]
+    if lines and lines[0].startswith("-->"):
+        where = lines[0].removeprefix("-->").strip()
+        said = [line.removeprefix("=").strip() for line in lines if line.startswith("=")]
+        line, _, column = where.partition(":")
+        lines = [f"line {line}, column {column}: {said[-1] if said else 'syntax error'}"]
+    text = " ".join(lines).split(" at /")[0]  # zenoh's Rust source location, and what it wraps
+    return _SERDE_MESSAGE.sub(r"line \2, column \3: \1", text)

@@ -13,6 +13,11 @@ from __future__ import annotations
 DRIVER_ENDPOINT = "tcp/127.0.0.1:7447"
 LEARNER_ENDPOINT = "tcp/127.0.0.1:7448"
 
+LISTEN_KEY = "listen/endpoints"
+CONNECT_KEY = "connect/endpoints"
+"""Where a zenoh config holds a session's endpoints: a user's zenoh config file that
+sets one of them wins over our flags (docs/security.md)."""
+
 _PORTED = ("tcp", "udp", "tls", "quic")
 
 

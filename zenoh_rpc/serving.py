@@ -16,7 +16,7 @@ from types import FrameType
 
 from zenoh import Session
 
-from zenoh_rpc.config import open_session
+from zenoh_rpc.config import UserConfig, open_session
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -40,15 +40,16 @@ def stop_on_signals(signals: Sequence[signal.Signals] = STOP_SIGNALS) -> Iterato
 
 def serve_until(stop: threading.Event, listen: Sequence[str],
                 declare: Callable[[Session], AbstractContextManager[object]],
-                on_ready: Callable[[], None] | None = None) -> None:
-    """Open a session listening on ``listen``, declare a server on it with
-    ``declare(session)`` and keep it until ``stop`` is set; then close both.
+                on_ready: Callable[[], None] | None = None, user: UserConfig | None = None) -> None:
+    """Open a session listening on ``listen`` (with the user's zenoh config file
+    ``user`` under it, if any), declare a server on it with ``declare(session)`` and
+    keep it until ``stop`` is set; then close both.
 
     ``on_ready`` runs once every key is declared (a CLI prints its line there, so a
     script waiting for that line can connect at once). Raises ConnectionError when
     an endpoint cannot be listened on.
     """
-    session = open_session(listen=listen)
+    session = open_session(listen=listen, user=user)
     try:
         with declare(session):
             if on_ready is not None:

@@ -11,6 +11,7 @@ import argparse
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import py_trees
 from rich.console import Console
@@ -35,7 +36,11 @@ from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile, load_profile
-from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
+from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LEARNER_ENDPOINT
+from zenoh_rpc.options import endpoint_of, user_config, where
+
+if TYPE_CHECKING:  # zenoh is imported only when a run uses it
+    from zenoh_rpc.config import UserConfig
 
 
 @dataclass(frozen=True)
@@ -99,10 +104,13 @@ def run_run(args: argparse.Namespace) -> int:
         _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect"))
     else:
         _only_with(args, "--learner", "local", ("--library",))
+    if args.driver == "sim" and args.learner == "local":
+        _only_with(args, "--driver or --learner", "zenoh", ("--zenoh-config",))
+    zenoh_config = user_config(args.zenoh_config) if "zenoh" in (args.driver, args.learner) else None
     output_folder(args.out, "--out")
-    learner = _learner(args)
+    learner = _learner(args, zenoh_config)
     try:
-        driver = _driver(args, setup.profile)
+        driver = _driver(args, setup.profile, zenoh_config)
     except BaseException:
         learner.close()
         raise
@@ -114,18 +122,19 @@ def _noise(args: argparse.Namespace) -> NoiseConfig | None:
     return None if args.noise is None else NoiseConfig.preset(args.noise)
 
 
-def _learner(args: argparse.Namespace) -> LearnerService:
+def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None) -> LearnerService:
     if args.learner == "zenoh":
         from learner.service.zenoh_client import ZenohLearner
 
-        return ZenohLearner(args.learner_name or "default", connect=[args.learner_connect or LEARNER_ENDPOINT])
+        connect = endpoint_of("--learner-connect", args.learner_connect, LEARNER_ENDPOINT, CONNECT_KEY, zenoh_config)
+        return ZenohLearner(args.learner_name or "default", connect=[connect], zenoh_config=zenoh_config)
     path = args.library or defaults.library_db()
     if path.is_dir():
         raise ValueError(f"--library: {path} is a folder, not a library database")
     return LocalLearner(path, seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
 
 
-def _driver(args: argparse.Namespace, profile: RobotProfile) -> Driver:
+def _driver(args: argparse.Namespace, profile: RobotProfile, zenoh_config: UserConfig | None) -> Driver:
     if args.driver == "sim":
         from hero_driver.sim_driver import SimulatedHero
 
@@ -133,12 +142,15 @@ def _driver(args: argparse.Namespace, profile: RobotProfile) -> Driver:
                              noise=_noise(args))
     from hero_driver.zenoh_link.client import ZenohDriver
 
-    connect = args.connect or DRIVER_ENDPOINT
-    driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0)
+    connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
+    driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0, zenoh_config=zenoh_config)
     if not driver.wait_ready(5.0):  # alive, and its first state published
         driver.close()
-        raise DriverError(UNAVAILABLE, f"no driver is serving robot {args.robot!r} at {connect} (start one with "
-                         f"'csl driver sim --robot {args.robot}')")
+        refused = (" (or it requires credentials: --zenoh-config, docs/security.md)" if zenoh_config is None
+                   else f" (or it refused the credentials of {zenoh_config.path})")
+        raise DriverError(UNAVAILABLE, f"no driver is serving robot {args.robot!r} at "
+                         f"{where(connect, CONNECT_KEY, zenoh_config)}{refused}; start one with "
+                         f"'csl driver sim --robot {args.robot}'")
     return driver
 
 

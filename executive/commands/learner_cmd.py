@@ -11,7 +11,8 @@ from executive import defaults
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
-from zenoh_rpc.endpoints import LEARNER_ENDPOINT, check_endpoint
+from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,15 +49,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     serve.add_argument("--seed-library", type=Path, default=defaults.EXAMPLE_LIBRARY, metavar="JSON",
                        help="library JSON imported only into an empty database "
                             "(default: the shipped HERO 2000 example library)")
-    serve.add_argument("--listen", default=LEARNER_ENDPOINT, metavar="ENDPOINT",
+    serve.add_argument("--listen", default=None, metavar="ENDPOINT",
                        help=f"zenoh endpoint to listen on (default {LEARNER_ENDPOINT})")
+    add_zenoh_config_option(serve)
     serve.set_defaults(handler=run_serve)
 
 
 def run_serve(args: argparse.Namespace) -> int:
     """Serve until SIGINT or SIGTERM; exit status 0 after a clean shutdown."""
     learner_keys(args.name)
-    check_endpoint(args.listen)
+    if args.listen is not None:
+        check_endpoint(args.listen)
+    zenoh_config = user_config(args.zenoh_config)
+    listen = endpoint_of("--listen", args.listen, LEARNER_ENDPOINT, LISTEN_KEY, zenoh_config)
     # Imported here: zenoh costs `csl --help` and every other command its start-up time.
     from learner.service.zenoh_node import serve_learner
     from zenoh_rpc.serving import stop_on_signals
@@ -66,12 +71,13 @@ def run_serve(args: argparse.Namespace) -> int:
 
     def on_ready() -> None:
         snapshot = service.library()
-        print(f"serving learner {args.name!r} on {args.listen}: {len(snapshot.descriptions)} "
+        print(f"serving learner {args.name!r} on {where(listen, LISTEN_KEY, zenoh_config)}: "
+              f"{len(snapshot.descriptions)} "
               f"descriptions, version {snapshot.version}, from {db} (Ctrl-C to stop)", flush=True)
 
     try:
         with stop_on_signals() as stop:
-            serve_learner(service, args.name, [args.listen], stop, on_ready=on_ready)
+            serve_learner(service, args.name, [listen], stop, on_ready=on_ready, zenoh_config=zenoh_config)
     finally:
         service.close()
     print(f"learner {args.name!r} stopped", file=sys.stderr)

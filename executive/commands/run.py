@@ -11,6 +11,7 @@ from executive import defaults
 from executive.args import add_criterion_options, endpoint, non_negative_int, positive_int
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
+from zenoh_rpc.options import add_zenoh_config_option
 
 
 def _executive_options(p: argparse.ArgumentParser) -> None:
@@ -63,6 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--learner-name", default=None, help="name of the zenoh learner service (default 'default')")
     run.add_argument("--learner-connect", type=endpoint, default=None, metavar="ENDPOINT",
                      help=f"zenoh endpoint of the learner service (with --learner zenoh; default {LEARNER_ENDPOINT})")
+    add_zenoh_config_option(run)
     _executive_options(run)
     run.set_defaults(handler=_handler("run_run"))
 

@@ -49,7 +49,7 @@ from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
 from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
-from zenoh_rpc.config import open_session
+from zenoh_rpc.config import UserConfig, open_session
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT
 
 log = logging.getLogger(__name__)
@@ -85,8 +85,9 @@ class VerbTimeouts:
 class ZenohDriver:
     """Drives the robot served on ``hero/<robot>/...`` by some driver process.
 
-    ``connect`` lists the driver nodes' endpoints; pass ``session`` instead to share
-    an open session (the client then leaves it open on :meth:`close`). The
+    ``connect`` lists the driver nodes' endpoints, reached with the user's zenoh config
+    file ``zenoh_config`` (credentials, TLS) if given; pass ``session`` instead to
+    share an open session (the client then leaves it open on :meth:`close`). The
     constructor waits up to ``discover_s`` for a driver's liveliness token, so a
     driver that is already up is usable straight away; one that starts later is
     picked up when its token appears (see :attr:`alive`, :meth:`wait_ready`).
@@ -97,12 +98,12 @@ class ZenohDriver:
 
     def __init__(self, robot: str = "r1", *, connect: Sequence[str] = (DRIVER_ENDPOINT,),
                  timeouts: VerbTimeouts = VerbTimeouts(), session: zenoh.Session | None = None,
-                 discover_s: float = 1.0) -> None:
+                 discover_s: float = 1.0, zenoh_config: UserConfig | None = None) -> None:
         self._keys = robot_keys(robot)
         self.robot = self._keys.name
         self.timeouts = timeouts
         self._owns_session = session is None
-        self._session = open_session(connect=connect) if session is None else session
+        self._session = open_session(connect=connect, user=zenoh_config) if session is None else session
         self._rpc = RpcClient(self._session, self._keys)
         self._lock = threading.Condition()
         self._alive = False

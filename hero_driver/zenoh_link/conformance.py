@@ -48,7 +48,7 @@ from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
-from zenoh_rpc.config import open_session
+from zenoh_rpc.config import UserConfig, open_session
 from robot_profile import DEFAULT_PROFILE, load_profile
 
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
@@ -512,13 +512,14 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 
 
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
-               procedures: Procedures | None = None) -> list[CheckResult]:
-    """Run every check against the driver serving ``robot`` at ``connect``."""
+               procedures: Procedures | None = None, zenoh_config: UserConfig | None = None) -> list[CheckResult]:
+    """Run every check against the driver serving ``robot`` at ``connect``; ``zenoh_config``
+    is the user's zenoh file (credentials, TLS) for a driver that requires them."""
     robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
     chosen = procedures if procedures is not None else Procedures.from_profile()
-    session = open_session(connect=connect)
+    session = open_session(connect=connect, user=zenoh_config)
     probe = _Probe(session, robot, timeout_s)
     try:
         if not probe.rpc.wait_alive(timeout_s) and probe.rpc.ask("noop", _message({}), timeout_s).first is None:

@@ -39,6 +39,7 @@ from hero_driver.zenoh_link.codec import CodecError, Request
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, Verb
 from zenoh_rpc.server import JSON, RpcServer, payload_of, reply
+from zenoh_rpc.config import UserConfig
 from zenoh_rpc.serving import serve_until
 
 log = logging.getLogger(__name__)
@@ -171,10 +172,12 @@ def _error_body(code: str, message: str) -> bytes:
 
 
 def serve(driver: Driver, *, listen: Sequence[str], stop: threading.Event,
-          on_ready: Callable[[], None] | None = None) -> None:
+          on_ready: Callable[[], None] | None = None, zenoh_config: UserConfig | None = None) -> None:
     """Serve ``driver`` on its own session listening on ``listen`` until ``stop`` is set.
 
     ``on_ready`` runs once every key is declared (the CLI prints a line there).
+    ``zenoh_config`` is the user's zenoh config file: its authentication and access
+    control are what keep other sessions from driving the robot (docs/security.md).
     Raises ConnectionError (an OSError) when a listen endpoint cannot be opened.
     """
-    serve_until(stop, listen, lambda session: DriverNode(driver, session), on_ready)
+    serve_until(stop, listen, lambda session: DriverNode(driver, session), on_ready, zenoh_config)

@@ -23,7 +23,7 @@ from learner.service import protocol
 from learner.service.interface import LearnerUnavailable, LibrarySnapshot
 from learner.service.protocol import LEARN, LIBRARY, VERSION_VERB, ProtocolError
 from zenoh_rpc.client import RpcClient
-from zenoh_rpc.config import open_session
+from zenoh_rpc.config import UserConfig, open_session
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT
 
 T = TypeVar("T")
@@ -32,14 +32,16 @@ T = TypeVar("T")
 class ZenohLearner:
     """Reaches the learner service ``name`` through the nodes at ``connect``.
 
-    Every wait, from connecting to each reply, is bounded by ``timeout_s``. Raises
+    Every wait, from connecting to each reply, is bounded by ``timeout_s``; the
+    session carries the user's zenoh config file ``zenoh_config`` (credentials, TLS)
+    if given. Raises
     ConnectionError when no endpoint can be reached or no service ``name`` is alive
     there; later, an unanswered call raises ConnectionError and an error reply from
     the service raises ValueError.
     """
 
     def __init__(self, name: str = "default", connect: Sequence[str] = (LEARNER_ENDPOINT,),
-                 timeout_s: float = 5.0) -> None:
+                 timeout_s: float = 5.0, zenoh_config: UserConfig | None = None) -> None:
         keys = protocol.learner_keys(name)
         self.name = keys.name
         if not timeout_s > 0:
@@ -50,7 +52,7 @@ class ZenohLearner:
         self._cached: LibrarySnapshot | None = None
         self._closed = False
         try:
-            self._session = open_session(connect=connect, connect_timeout_s=timeout_s)
+            self._session = open_session(connect=connect, connect_timeout_s=timeout_s, user=zenoh_config)
         except ConnectionError as exc:
             raise LearnerUnavailable(f"learner {self.name!r}: cannot reach a service: {exc}") from None
         self._rpc = RpcClient(self._session, keys)

@@ -21,6 +21,7 @@ from learner.service import protocol
 from learner.service.interface import LearnerService
 from learner.service.protocol import BAD_REQUEST, INTERNAL, LEARN, LIBRARY, VERBS
 from zenoh_rpc.server import RpcServer, payload_of, reply
+from zenoh_rpc.config import UserConfig
 from zenoh_rpc.serving import serve_until
 
 log = logging.getLogger(__name__)
@@ -73,12 +74,16 @@ class LearnerNode:
 
 
 def serve_learner(service: LearnerService, name: str, listen_endpoints: Sequence[str],
-                  stop_event: threading.Event, *, on_ready: Callable[[], None] | None = None) -> None:
+                  stop_event: threading.Event, *, on_ready: Callable[[], None] | None = None,
+                  zenoh_config: UserConfig | None = None) -> None:
     """Serve ``service`` as ``name`` on a session listening on ``listen_endpoints``
     until ``stop_event`` is set.
 
     ``on_ready`` runs once every key is declared (the CLI prints its line there, so a
     script that waits for that line can connect at once). Raises ConnectionError when
-    an endpoint cannot be listened on.
+    an endpoint cannot be listened on. ``zenoh_config`` is the user's zenoh config
+    file, whose authentication and access control keep others from writing to the
+    library (docs/security.md).
     """
-    serve_until(stop_event, listen_endpoints, lambda session: LearnerNode(service, session, name), on_ready)
+    serve_until(stop_event, listen_endpoints, lambda session: LearnerNode(service, session, name), on_ready,
+                zenoh_config)

@@ -1,0 +1,60 @@
+"""``--zenoh-config FILE`` and ``CSL_ZENOH_CONFIG``: how every command that opens a
+zenoh session is given the user's zenoh config file (docs/security.md).
+
+Shared by ``csl driver`` and the executive's commands; it imports nothing of either,
+so the driver side stays usable on a robot's own computer.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # zenoh itself is imported only by a command that opens a session
+    from zenoh_rpc.config import UserConfig
+
+CONFIG_ENV = "CSL_ZENOH_CONFIG"
+
+
+def add_zenoh_config_option(parser: argparse.ArgumentParser) -> None:
+    """Add ``--zenoh-config FILE`` to a command that opens a zenoh session."""
+    parser.add_argument(
+        "--zenoh-config", type=Path, default=None, metavar="FILE",
+        help=f"zenoh's own config file (JSON5) for user/password authentication, TLS and access "
+             f"control; it wins over this command's zenoh settings wherever it sets one "
+             f"(docs/security.md; default: ${CONFIG_ENV}, else none)")
+
+
+def user_config(given: Path | None) -> UserConfig | None:
+    """The file given with ``--zenoh-config``, else the one named by ``CSL_ZENOH_CONFIG``
+    (empty counts as unset), read and checked now; None when neither names one.
+
+    Raises ValueError naming the file and where it came from when zenoh cannot use it.
+    """
+    from zenoh_rpc.config import UserConfig
+
+    if given is not None:
+        return UserConfig(given, "--zenoh-config")
+    named = os.environ.get(CONFIG_ENV, "")
+    return UserConfig(Path(named), CONFIG_ENV) if named else None
+
+
+def endpoint_of(flag: str, given: str | None, default: str, key: str, user: UserConfig | None) -> str:
+    """The endpoint for ``flag`` (``given``, else ``default``).
+
+    The user's file wins over our endpoints, so a flag typed on the command line that
+    the file overrides would be silently ignored: that is refused with one line.
+    """
+    if given is not None and user is not None and user.sets(key):
+        raise ValueError(f"{flag} {given}: {user.origin} {user.path} sets {key}, which wins over "
+                         f"{flag}; give the endpoint in one place only")
+    return given or default
+
+
+def where(endpoint: str, key: str, user: UserConfig | None) -> str:
+    """Where a session really listens or connects, for a command's one-line report."""
+    if user is not None and user.sets(key):
+        return f"the {key} of {user.path}"
+    return endpoint
