@@ -50,6 +50,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
                      help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
                           "(docs/simulator.md, Noise; default: the world file's noise table, else mild)")
+    sim.add_argument("--profile", default=None, metavar="FILE",
+                     help="robot profile TOML of the robot to simulate; its name and fingerprint are "
+                          "sent in the hello reply so 'csl run' refuses another robot's profile "
+                          "(default: the HERO 2000's, hero_driver/profiles/hero2000.toml)")
     sim.add_argument("--listen", default=None, metavar="ENDPOINT",
                      help=f"zenoh endpoint to listen on (default {DRIVER_ENDPOINT})")
     add_zenoh_config_option(sim)
@@ -92,8 +96,11 @@ def _run_sim(args: argparse.Namespace) -> int:
     from hero_driver.zenoh_link.node import serve
     from zenoh_rpc.serving import stop_on_signals
 
+    from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
+
+    profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     noise = None if args.noise is None else NoiseConfig.preset(args.noise)
-    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, noise=noise)
+    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, profile=profile, noise=noise)
 
     def on_ready() -> None:
         print(f"serving {keys.rpc('*')} on {where(listen, LISTEN_KEY, zenoh_config)} (Ctrl-C to stop)",
@@ -101,7 +108,8 @@ def _run_sim(args: argparse.Namespace) -> int:
 
     try:
         with stop_on_signals() as stop:
-            serve(driver, listen=[listen], stop=stop, on_ready=on_ready, zenoh_config=zenoh_config)
+            serve(driver, listen=[listen], stop=stop, on_ready=on_ready, zenoh_config=zenoh_config,
+                  profile=profile_stamp(profile))
     finally:
         driver.close()
     print(f"driver {args.robot} stopped", file=sys.stderr)

@@ -11,8 +11,9 @@ from robot_profile.model import (
     FeatureSpec, GraspingProcedure, MoveModel, Robot, RobotGeometry, RobotMotion, RobotProfile, SensingProcedure,
 )
 from robot_profile.reader import DEFAULT_PROFILE, load_profile, profile_from_dict
+from robot_profile.stamp import ProfileStamp, profile_stamp
 
 __all__ = [
     "DEFAULT_PROFILE", "FeatureSpec", "GraspingProcedure", "MoveModel", "Robot", "RobotGeometry", "RobotMotion",
-    "RobotProfile", "SensingProcedure", "load_profile", "profile_from_dict",
+    "ProfileStamp", "RobotProfile", "SensingProcedure", "load_profile", "profile_from_dict", "profile_stamp",
 ]

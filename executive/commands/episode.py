@@ -35,7 +35,7 @@ from learner.knowledge import Knowledge
 from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
-from robot_profile import RobotProfile, load_profile
+from robot_profile import RobotProfile, load_profile, profile_stamp
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import endpoint_of, user_config, where
 
@@ -144,13 +144,24 @@ def _driver(args: argparse.Namespace, profile: RobotProfile, zenoh_config: UserC
 
     connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
     driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0, zenoh_config=zenoh_config)
-    if not driver.wait_ready(5.0):  # alive, and its first state published
+    if not driver.wait_ready(5.0):  # alive, agreed on a version, and its first state published
         driver.close()
         refused = (" (or it requires credentials: --zenoh-config, docs/security.md)" if zenoh_config is None
                    else f" (or it refused the credentials of {zenoh_config.path})")
         raise DriverError(UNAVAILABLE, f"no driver is serving robot {args.robot!r} at "
                          f"{where(connect, CONNECT_KEY, zenoh_config)}{refused}; start one with "
                          f"'csl driver sim --robot {args.robot}'")
+    # The robot the driver serves must be the one planned for: a larger base or other
+    # procedure times would make every plan and every cost wrong without a single error.
+    ours, theirs = profile_stamp(profile), driver.profile
+    if theirs is None:
+        print(f"csl: driver {args.robot} does not say which robot profile it serves (a driver from before "
+              f"the 'profile' feature); assuming {ours.name}, as --knowledge says", file=sys.stderr)
+    elif theirs.sha256 != ours.sha256:
+        driver.close()
+        raise ValueError(f"--knowledge {profile.source} is robot profile {ours.name} (sha256 {ours.sha256[:12]}) "
+                         f"but driver {args.robot} serves {theirs.name} (sha256 {theirs.sha256[:12]}): "
+                         f"run with the driver's profile or start the driver with --profile {profile.source}")
     return driver
 
 

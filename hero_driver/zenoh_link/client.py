@@ -37,7 +37,6 @@ from hero_driver.interface import (
     CameraImage,
     DriverError,
     GraspResult,
-    Hello,
     MoveResult,
     Pose,
     RobotState,
@@ -47,7 +46,8 @@ from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request, ResetRequest
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
-from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, NoCommonVersion, agree
+from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
+from robot_profile import ProfileStamp
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT
@@ -110,6 +110,7 @@ class ZenohDriver:
         self._liveliness_events = 0  # bumped by every token change, to ignore stale queries
         self._state: RobotState | None = None
         self._agreement: Agreement | None = None  # with the live driver, once it answered hello
+        self._profile: ProfileStamp | None = None  # the robot profile it said it serves, if it said
         self._refusal: str | None = None  # why the live driver cannot be used, if it cannot
         self._pending: set[_Call] = set()
         self._closed = False
@@ -138,6 +139,14 @@ class ZenohDriver:
         it has answered ``hello`` (or while none is alive or it cannot be used)."""
         with self._lock:
             return self._agreement
+
+    @property
+    def profile(self) -> ProfileStamp | None:
+        """The robot profile the live driver says it serves (the ``profile`` feature);
+        None when it does not say (a driver from before the feature) or has not yet
+        answered ``hello``. A caller compares it with the profile it plans with."""
+        with self._lock:
+            return self._profile
 
     def wait_ready(self, timeout_s: float) -> bool:
         """Wait until a driver is alive, agreed on a version and published its state;
@@ -177,7 +186,7 @@ class ZenohDriver:
         """With the lock held: no driver, no state; the verbs in flight, to fail."""
         self._alive = False
         self._state = None
-        self._agreement = self._refusal = None
+        self._agreement = self._refusal = self._profile = None
         orphans, self._pending = self._pending, set()
         self._lock.notify_all()
         return orphans
@@ -215,25 +224,26 @@ class ZenohDriver:
             if self._closed:
                 return
             generation = self._liveliness_events
-            self._agreement = self._refusal = None
+            self._agreement = self._refusal = self._profile = None
         self.hello().add_done_callback(lambda answered: self._settle(generation, answered))
 
-    def _settle(self, generation: int, answered: Future[Hello]) -> None:
+    def _settle(self, generation: int, answered: Future[Greeting]) -> None:
         try:
-            served = answered.result()
+            greeting = answered.result()
         except DriverError as exc:
             # No hello (unknown_verb), no catch-all to say so (unavailable), or a
             # hello that failed: the protocol as it was before hello, version 1.
             if exc.code != UNKNOWN_VERB:
                 log.warning("driver %s did not answer hello (%s); assuming protocol version 1", self.robot, exc)
-            served = BEFORE_HELLO
+            greeting = Greeting(BEFORE_HELLO)
         try:
-            agreement, refusal = agree(served), None
+            agreement, refusal = agree(greeting.served), None
         except NoCommonVersion as exc:
             agreement, refusal = None, f"robot {self.robot}: {exc}"
         with self._lock:
             if self._liveliness_events == generation and self._alive and not self._closed:
                 self._agreement, self._refusal = agreement, refusal
+                self._profile = greeting.profile if agreement is not None else None
                 self._lock.notify_all()
 
     # --------------------------------------------------------------------- state
@@ -286,8 +296,9 @@ class ZenohDriver:
         """Round trip to the driver node without touching the robot (health, benchmark)."""
         return self._call("noop", EmptyRequest)
 
-    def hello(self) -> Future[Hello]:
-        """Which protocol versions and optional features the driver process serves."""
+    def hello(self) -> Future[Greeting]:
+        """Which protocol versions and optional features the driver process serves,
+        and the robot profile when it says."""
         return self._call("hello", EmptyRequest)
 
     def _call(self, verb: str, build: Callable[[], Request]) -> Future[Any]:

@@ -39,6 +39,8 @@ from hero_driver.interface import (
     RobotState,
     SenseResult,
 )
+from hero_driver.zenoh_link.versions import PROFILE, Greeting
+from robot_profile import ProfileStamp
 
 Json = dict[str, Any]
 
@@ -473,14 +475,42 @@ def camera_in(message: Json) -> CameraImage:
 
 
 def hello_out(hello: object) -> Json:
-    if not isinstance(hello, Hello):
-        raise CodecError(f"message: expected a Hello, got {type(hello).__name__}")
-    return {"versions": _versions(hello.versions), "features": _features(hello.features)}
+    """A :class:`Greeting`, or a bare :class:`Hello` (a driver naming no profile)."""
+    if isinstance(hello, Hello):
+        hello = Greeting(hello)
+    if not isinstance(hello, Greeting):
+        raise CodecError(f"message: expected a Greeting or a Hello, got {type(hello).__name__}")
+    fields: Json = {"versions": _versions(hello.served.versions), "features": _features(hello.served.features)}
+    if hello.profile is not None:
+        fields["profile"] = {"name": _name(hello.profile.name, "profile.name"),
+                             "sha256": _sha256(hello.profile.sha256, "profile.sha256")}
+    _profile_listed(fields["features"], hello.profile is not None)
+    return fields
 
 
-def hello_in(message: Json) -> Hello:
-    fields = _fields(message, "", ("versions", "features"))
-    return Hello(tuple(_versions(fields["versions"])), tuple(_features(fields["features"])))
+def hello_in(message: Json) -> Greeting:
+    fields = _fields(message, "", ("versions", "features"), ("profile",))
+    served = Hello(tuple(_versions(fields["versions"])), tuple(_features(fields["features"])))
+    profile = None
+    if "profile" in fields:
+        body = _fields(fields["profile"], "profile", ("name", "sha256"))
+        profile = ProfileStamp(_name(body["name"], "profile.name"), _sha256(body["sha256"], "profile.sha256"))
+    _profile_listed(list(served.features), profile is not None)
+    return Greeting(served, profile)
+
+
+def _sha256(value: object, path: str) -> str:
+    text = _text(value, path)
+    if len(text) != 64 or not set(text) <= set("0123456789abcdef"):
+        raise CodecError(f"{path}: expected 64 lowercase hex digits, got {text!r}")
+    return text
+
+
+def _profile_listed(features: list[str], stated: bool) -> None:
+    """The ``profile`` field and the ``profile`` feature come together or not at all."""
+    if stated != (PROFILE in features):
+        raise CodecError("profile: sent without the 'profile' feature" if stated
+                         else "profile: missing field (the 'profile' feature is listed)")
 
 
 def _versions(value: object) -> list[int]:

@@ -263,12 +263,16 @@ class _Suite:
             if outcome.code != UNKNOWN_VERB:
                 raise CheckFailed(f"expected a Hello or {UNKNOWN_VERB}, got {outcome.code}: {outcome.message}")
             return "no hello: used as protocol version 1 with no optional features"
+        served = outcome.served
         try:
-            agreement = agree(outcome)
+            agreement = agree(served)
         except NoCommonVersion as exc:
             raise CheckFailed(str(exc)) from None
-        features = ", ".join(outcome.features) or "none"
-        return f"serves versions {', '.join(map(str, outcome.versions))} (using {agreement.version}); features: {features}"
+        features = ", ".join(served.features) or "none"
+        profile = "" if outcome.profile is None else (
+            f"; profile: {outcome.profile.name} (sha256 {outcome.profile.sha256[:12]})")
+        return (f"serves versions {', '.join(map(str, served.versions))} (using {agreement.version}); "
+                f"features: {features}{profile}")
 
     def reset(self) -> str:
         state = self.probe.result("reset", {"world": None, "seed": None})

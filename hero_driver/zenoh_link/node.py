@@ -38,6 +38,8 @@ from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, Request
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, Verb
+from hero_driver.zenoh_link.versions import greeting
+from robot_profile import ProfileStamp
 from zenoh_rpc.server import JSON, RpcServer, payload_of, reply
 from zenoh_rpc.config import UserConfig
 from zenoh_rpc.serving import serve_until
@@ -54,9 +56,10 @@ class DriverNode:
     (the liveliness token first, so clients stop sending) and leaves the session open.
     """
 
-    def __init__(self, driver: Driver, session: zenoh.Session, *,
+    def __init__(self, driver: Driver, session: zenoh.Session, *, profile: ProfileStamp | None = None,
                  state_period_s: float = STATE_PERIOD_S) -> None:
         self.driver = driver
+        self.greeting = greeting(profile)  # the answer to hello: ``profile`` names the robot served
         keys = robot_keys(driver.robot)
         self.robot = keys.name
         self._driver_lock = threading.Lock()  # the driver object is called by one thread at a time
@@ -109,7 +112,7 @@ class DriverNode:
 
     def _start(self, verb: Verb, request: Request) -> Future[Any]:
         if not verb.touches_robot:
-            return verb.call(self.driver, request)
+            return verb.call(self.greeting, request)
         with self._busy_lock:
             if self._busy_verb is not None:
                 raise DriverError(BUSY, f"{verb.name}: the robot is still executing {self._busy_verb}")
@@ -172,12 +175,16 @@ def _error_body(code: str, message: str) -> bytes:
 
 
 def serve(driver: Driver, *, listen: Sequence[str], stop: threading.Event,
-          on_ready: Callable[[], None] | None = None, zenoh_config: UserConfig | None = None) -> None:
+          on_ready: Callable[[], None] | None = None, zenoh_config: UserConfig | None = None,
+          profile: ProfileStamp | None = None) -> None:
     """Serve ``driver`` on its own session listening on ``listen`` until ``stop`` is set.
+
+    ``profile`` is the robot profile the driver serves, named in the ``hello`` reply so
+    a client can refuse a robot it did not plan for (None: the node does not say).
 
     ``on_ready`` runs once every key is declared (the CLI prints a line there).
     ``zenoh_config`` is the user's zenoh config file: its authentication and access
     control are what keep other sessions from driving the robot (docs/security.md).
     Raises ConnectionError (an OSError) when a listen endpoint cannot be opened.
     """
-    serve_until(stop, listen, lambda session: DriverNode(driver, session), on_ready, zenoh_config)
+    serve_until(stop, listen, lambda session: DriverNode(driver, session, profile=profile), on_ready, zenoh_config)

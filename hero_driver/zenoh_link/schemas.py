@@ -84,7 +84,14 @@ VERB_FIELDS: Mapping[str, tuple[tuple[Mapping[str, Schema], Sequence[str]],
     "hello": (({}, ()),
               ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
                              "minItems": 1, "uniqueItems": True},
-                "features": {"type": "array", "items": NAME, "uniqueItems": True}}, ())),
+                "features": {"type": "array", "items": NAME, "uniqueItems": True},
+                "profile": _object({"name": NAME, "sha256": {"type": "string", "pattern": "^[0-9a-f]{64}$"}})},
+               ("profile",))),
+}
+# The ``profile`` field comes exactly when the ``profile`` feature is listed.
+LISTS_PROFILE: Schema = {"properties": {"features": {"contains": {"const": "profile"}}}}
+CONDITIONS: Mapping[str, Schema] = {
+    "hello.reply": {"if": {"required": ["profile"]}, "then": LISTS_PROFILE, "else": {"not": LISTS_PROFILE}},
 }
 
 
@@ -102,6 +109,8 @@ def all_schemas() -> dict[str, Schema]:
         schemas[f"{verb}.request"] = message(f"{verb} request (query payload on hero/<robot>/rpc/{verb})",
                                              request, request_optional)
         schemas[f"{verb}.reply"] = message(f"{verb} reply (query.reply payload)", reply, reply_optional)
+    for name, condition in CONDITIONS.items():
+        schemas[name].update(condition)
     schemas["state"] = message("state publication on hero/<robot>/state", STATE_FIELDS)
     schemas["error"] = message("error reply (query.reply_err payload) of any verb",
                                {"code": {"enum": sorted(ERROR_CODES)}, "message": TEXT})

@@ -17,7 +17,6 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from hero_driver.interface import Driver
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (
     CodecError,
@@ -28,7 +27,6 @@ from hero_driver.zenoh_link.codec import (
     Request,
     ResetRequest,
 )
-from hero_driver.zenoh_link.versions import SERVED
 
 T = TypeVar("T")
 
@@ -38,8 +36,9 @@ class Verb:
     """One verb: ``hero/<robot>/rpc/<name>``.
 
     ``call`` starts the verb on a driver with the decoded request. A verb whose
-    ``touches_robot`` is false is the node's own (its call ignores the driver): the node
-    answers it at once, even while a robot verb runs, and never refuses it as ``busy``.
+    ``touches_robot`` is false is the node's own: its call is given the node's
+    :class:`~.versions.Greeting` instead of the driver, and the node answers it at once,
+    even while a robot verb runs, and never refuses it as ``busy``.
     """
 
     name: str
@@ -49,7 +48,7 @@ class Verb:
     result_out: Callable[[Any], Json]
     result_in: Callable[[Json], Any]
     timeout_s: float
-    call: Callable[[Driver, Any], Future[Any]]
+    call: Callable[[Any, Any], Future[Any]]  # (the Driver, or the node's Greeting; the request)
     touches_robot: bool = True
 
     def encode_request(self, request: Request) -> bytes:
@@ -91,10 +90,10 @@ VERBS: tuple[Verb, ...] = (
          lambda driver, request: driver.reset(request.world, request.seed)),
     # The health ping and the round-trip benchmark.
     Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.noop_out, codec.noop_in, 5.0, lambda _driver, _request: _settled(None), touches_robot=False),
-    # Which protocol versions and optional features this node serves.
+         codec.noop_out, codec.noop_in, 5.0, lambda _greeting, _request: _settled(None), touches_robot=False),
+    # Which protocol versions and optional features this node serves, and which robot profile.
     Verb("hello", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.hello_out, codec.hello_in, 5.0, lambda _driver, _request: _settled(SERVED), touches_robot=False),
+         codec.hello_out, codec.hello_in, 5.0, lambda greeting, _request: _settled(greeting), touches_robot=False),
 )
 
 def _settled(value: T) -> Future[T]:

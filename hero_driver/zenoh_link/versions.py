@@ -8,7 +8,8 @@ drivers keep working with new clients and the other way round. Only a change an 
 peer would misread (a field that changes meaning, a required field) is a new
 **version**. A client speaks every version it knows and uses the highest one both
 ends speak; a driver that predates ``hello`` is taken to serve version 1 and no
-features, because that is all there was before ``hello``.
+features, because that is all there was before ``hello``. The one feature so far,
+``profile``, adds the robot profile's name and fingerprint to the ``hello`` reply.
 """
 
 from __future__ import annotations
@@ -17,11 +18,27 @@ from collections.abc import Collection
 from dataclasses import dataclass
 
 from hero_driver.interface import PROTOCOL_VERSION, Hello
+from robot_profile import ProfileStamp
 
+PROFILE = "profile"  # the feature: the hello reply names the robot profile the driver serves
 SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
-FEATURES: tuple[str, ...] = ()  # optional features this code serves and uses: none defined yet
-SERVED = Hello(SUPPORTED_VERSIONS, FEATURES)  # the node's answer to ``hello``
+FEATURES: tuple[str, ...] = (PROFILE,)  # optional features this code serves and uses
 BEFORE_HELLO = Hello((1,), ())  # what a driver without ``hello`` serves
+
+
+@dataclass(frozen=True)
+class Greeting:
+    """A driver process's whole ``hello`` answer: what it serves, and the robot profile
+    it serves when it says (the ``profile`` feature; None: it does not say)."""
+
+    served: Hello
+    profile: ProfileStamp | None = None
+
+
+def greeting(profile: ProfileStamp | None) -> Greeting:
+    """What a node of this code answers to ``hello``: every version it speaks, and the
+    ``profile`` feature only when it has a profile to name."""
+    return Greeting(Hello(SUPPORTED_VERSIONS, (PROFILE,) if profile is not None else ()), profile)
 
 
 class NoCommonVersion(ValueError):

@@ -16,7 +16,8 @@ from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.conformance import CheckFailed, Procedures, _Probe, _Suite
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import DriverNode
-from hero_driver.zenoh_link.versions import Agreement, NoCommonVersion, agree
+from hero_driver.zenoh_link.versions import Agreement, Greeting, NoCommonVersion, agree
+from robot_profile import ProfileStamp
 from tests.hero_driver.test_zenoh_node import error_of
 from tests.hero_driver.test_zenoh_support import FakeHero, SlowHero
 from tests.zenoh_rpc.support import wait_until
@@ -27,6 +28,7 @@ pytestmark = pytest.mark.zenoh
 
 REPLY_S = 5.0
 V1 = Agreement(1, frozenset())
+ROVER = ProfileStamp("rover", "ab" * 32)
 
 
 # ------------------------------------------------------------------- the policy
@@ -72,7 +74,16 @@ def hand_written(session: zenoh.Session, robot: str, hello: bytes | None) -> Rpc
 def test_the_node_says_what_it_serves_and_the_client_agrees(server: zenoh.Session, endpoint: str) -> None:
     with DriverNode(FakeHero(), server), ZenohDriver("r1", connect=[endpoint], discover_s=5.0) as client:
         assert client.agreement == V1  # agreed before the constructor returned
-        assert client.hello().result(REPLY_S) == Hello((1,), ())
+        assert client.hello().result(REPLY_S) == Greeting(Hello((1,), ()))
+        assert client.profile is None  # this node was given no profile to name
+
+
+def test_a_node_names_its_profile_and_the_client_exposes_it(server: zenoh.Session, endpoint: str) -> None:
+    with DriverNode(FakeHero(), server, profile=ROVER), \
+            ZenohDriver("r1", connect=[endpoint], discover_s=5.0) as client:
+        assert client.agreement == Agreement(1, frozenset({"profile"}))
+        assert client.profile == ROVER
+        assert client.hello().result(REPLY_S) == Greeting(Hello((1,), ("profile",)), ROVER)
 
 
 def test_hello_is_answered_while_a_move_runs(server: zenoh.Session, endpoint: str) -> None:
@@ -80,7 +91,7 @@ def test_hello_is_answered_while_a_move_runs(server: zenoh.Session, endpoint: st
     with DriverNode(hero, server), ZenohDriver("r1", connect=[endpoint], discover_s=5.0) as client:
         moving = client.move([Pose(40, 30, 0)])
         assert wait_until(lambda: hero.moving is not None, 2.0)
-        assert client.hello().result(REPLY_S).versions == (1,)
+        assert client.hello().result(REPLY_S).served.versions == (1,)
         hero.finish_move()
         assert moving.result(REPLY_S).pose == Pose(40, 30, 0)
 
@@ -147,6 +158,14 @@ def hello_check(session: zenoh.Session, robot: str) -> str:
     (b'{"v":1,"versions":[1,2],"features":["x"]}', "serves versions 1, 2 (using 1); features: x"),
     (b'{"v":1,"versions":[2],"features":[]}', "FAIL: the driver serves protocol version 2"),
     (b'{"v":1,"versions":[1],"features":[],"vendor":"acme"}', "FAIL: malformed reply: vendor: unknown field"),
+    (b'{"v":1,"versions":[1],"features":["profile"],"profile":{"name":"rover","sha256":"' + b"ab" * 32 + b'"}}',
+     "serves versions 1 (using 1); features: profile; profile: rover (sha256 abababababab)"),
+    (b'{"v":1,"versions":[1],"features":[],"profile":{"name":"rover","sha256":"' + b"ab" * 32 + b'"}}',
+     "FAIL: malformed reply: profile: sent without the 'profile' feature"),
+    (b'{"v":1,"versions":[1],"features":["profile"]}',
+     "FAIL: malformed reply: profile: missing field (the 'profile' feature is listed)"),
+    (b'{"v":1,"versions":[1],"features":["profile"],"profile":{"name":"rover","sha256":"AB"}}',
+     "FAIL: malformed reply: profile.sha256: expected 64 lowercase hex digits"),
     (b'{"v":1,"versions":[]}', "FAIL: malformed reply: features: missing field"),
     (b'{"v":1,"versions":"1","features":[]}', "FAIL: malformed reply: versions: expected an array"),
 ])
@@ -164,3 +183,4 @@ def test_the_hello_check(server: zenoh.Session, endpoint: str, body: bytes | Non
 def test_the_hello_check_passes_the_node(server: zenoh.Session, endpoint: str) -> None:
     with DriverNode(FakeHero("n"), server), open_session(connect=[endpoint]) as session:
         assert hello_check(session, "n") == "serves versions 1 (using 1); features: none"
+

@@ -19,6 +19,8 @@ from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest
 from hero_driver.zenoh_link.schemas import all_schemas, render
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
+from hero_driver.zenoh_link.versions import Greeting
+from robot_profile import ProfileStamp
 from tests.hero_driver.test_zenoh_verbs import EXAMPLES
 
 FOLDER = Path(__file__).resolve().parents[2] / "docs" / "schemas"
@@ -128,6 +130,13 @@ BAD: list[tuple[str, object]] = [
     ("hello.reply", {"v": 1, "versions": [1, 1.0], "features": []}),
     ("hello.reply", {"v": 1, "versions": [1], "features": ["x", "x"]}),
     ("hello.reply", {"v": 1, "versions": [1]}),
+    ("hello.reply", {"v": 1, "versions": [1], "features": [], "profile": {"name": "rover", "sha256": "ab" * 32}}),
+    ("hello.reply", {"v": 1, "versions": [1], "features": ["profile"]}),
+    ("hello.reply", {"v": 1, "versions": [1], "features": ["profile"],
+                     "profile": {"name": "rover", "sha256": "AB" * 32}}),
+    ("hello.reply", {"v": 1, "versions": [1], "features": ["profile"],
+                     "profile": {"name": "", "sha256": "ab" * 32}}),
+    ("hello.reply", {"v": 1, "versions": [1], "features": ["profile"], "profile": {"name": "rover"}}),
     ("noop.reply", {"v": 1, "ok": True}),
     ("state", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "battery": 1.5}),
     ("state", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": -1, "battery": 1}),
@@ -240,9 +249,33 @@ def test_schema_and_codec_agree_on_mutated_messages(name: str, data: st.DataObje
     assert codec_accepts(name, changed) == schema_accepts(name, changed), changed
 
 
+PROFILED = Greeting(Hello((1,), ("profile",)), ProfileStamp("rover", "0123456789abcdef" * 4))
+
+
+@settings(max_examples=200, deadline=None)
+@given(data=st.data())
+def test_schema_and_codec_agree_on_a_mutated_hello_naming_its_profile(data: st.DataObject) -> None:
+    message = json.loads(BY_NAME["hello"].encode_result(PROFILED))
+    path = data.draw(st.sampled_from(paths(message)), label="path")
+    operation = data.draw(st.sampled_from(["replace", "delete", "add"]), label="operation")
+    value = data.draw(json_values | st.just("profile"), label="value")
+    key = data.draw(st.text(max_size=5), label="key")
+    changed = mutated(message, path, operation, value, key)
+    assert codec_accepts("hello.reply", changed) == schema_accepts("hello.reply", changed), changed
+
+
+def test_a_hello_naming_its_profile_round_trips_and_validates() -> None:
+    verb = BY_NAME["hello"]
+    body = verb.encode_result(PROFILED)
+    assert verb.decode_result(body) == PROFILED
+    assert json.loads(body) == {"v": 1, "versions": [1], "features": ["profile"],
+                                "profile": {"name": "rover", "sha256": "0123456789abcdef" * 4}}
+    assert schema_accepts("hello.reply", json.loads(body))
+
+
 def test_hello_round_trips_through_the_codec() -> None:
     verb = BY_NAME["hello"]
     served = Hello((1, 2), ("profile-hash",))
-    assert verb.decode_result(verb.encode_result(served)) == served
+    assert verb.decode_result(verb.encode_result(served)) == Greeting(served)
     assert verb.decode_request(verb.encode_request(EmptyRequest())) == EmptyRequest()
     assert json.loads(verb.encode_result(served)) == {"v": 1, "versions": [1, 2], "features": ["profile-hash"]}
