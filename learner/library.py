@@ -11,13 +11,14 @@ from __future__ import annotations
 import json
 import math
 import sqlite3
+import sys
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from learner.appearance import Appearance, appearance_from_json
-from learner.description import ObjectDescription, Observation
+from learner.description import ObjectDescription, Observation, in_order
 from learner.knowledge import Knowledge
-from learner.position import Position, position_from_json
+from learner.position import Position, known_position_json, position_from_json
 
 FORMAT = "csl-library"
 VERSION = 2  # 2: descriptions may carry the camera's appearance of their object
@@ -71,13 +72,16 @@ def descriptions_from_json(data: object, source: str = "<library>") -> list[Obje
     return out
 
 
+_ENTRY_KEYS = {1: frozenset({"id", "grasp", "grasp_position", "features"}),
+               2: frozenset({"id", "grasp", "grasp_position", "features", "appearance"})}
+_FEATURE_KEYS = frozenset({"feature", "position", "value"})
+
+
 def _description(entry: object, where: str, version: int = VERSION) -> ObjectDescription:
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: must be an object")
-    keys = {"id", "grasp", "grasp_position", "features"} | ({"appearance"} if version >= 2 else set())
-    unknown = sorted(set(entry) - keys)
-    if unknown:
-        raise ValueError(f"{where}: unknown key {unknown[0]!r}")
+    if not entry.keys() <= _ENTRY_KEYS[version]:
+        raise ValueError(f"{where}: unknown key {sorted(entry.keys() - _ENTRY_KEYS[version])[0]!r}")
     for key in ("id", "grasp"):
         if not isinstance(entry.get(key), str) or not entry[key]:
             raise ValueError(f"{where}: missing or empty string field '{key}'")
@@ -88,25 +92,62 @@ def _description(entry: object, where: str, version: int = VERSION) -> ObjectDes
     features = entry.get("features", [])
     if not isinstance(features, list):
         raise ValueError(f"{where}: 'features' must be a list")
-    observations = []
-    for j, f in enumerate(features):
-        fw = f"{where}: features[{j}]"
-        if not isinstance(f, dict):
-            raise ValueError(f"{fw}: must be an object")
-        unknown = sorted(set(f) - {"feature", "position", "value"})
-        if unknown:
-            raise ValueError(f"{fw}: unknown key {unknown[0]!r}")
-        if not isinstance(f.get("feature"), str) or not f["feature"]:
-            raise ValueError(f"{fw}: missing field 'feature'")
-        value = f.get("value")
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise ValueError(f"{fw}: 'value' must be a finite number, got {value!r}")
-        if "position" not in f:
-            raise ValueError(f"{fw}: missing field 'position'")
-        observations.append(Observation(f["feature"], position_from_json(f["position"], f"{fw}: position"), float(value)))
+    observations = _plain_observations(features)
+    if observations is None:
+        observations = [_observation(f, f"{where}: features[{j}]") for j, f in enumerate(features)]
     appearance = (appearance_from_json(entry["appearance"], f"{where}: appearance")
                   if "appearance" in entry else None)
-    return ObjectDescription(entry["id"], entry["grasp"], grasp_position, tuple(sorted(observations)), appearance)
+    return ObjectDescription(entry["id"], sys.intern(entry["grasp"]), grasp_position, in_order(observations),
+                             appearance)
+
+
+def _plain_observations(features: list[object]) -> list[Observation] | None:
+    """The observations when every entry is plainly valid (the usual case), else None.
+
+    The bulk path of loading: no error context is built, and positions seen before are
+    looked up rather than parsed. Anything unusual (an unseen position, a missing or
+    extra key, a bad value) returns None, and :func:`_observation` then parses each entry
+    with full checks and the error naming it, so validation is exactly the same.
+    """
+    out = []
+    for f in features:
+        if type(f) is not dict or len(f) != 3:
+            return None
+        feature, value = f.get("feature"), f.get("value")
+        position = known_position_json(f.get("position"))
+        if (position is None or type(feature) is not str or not feature
+                or type(value) not in _JSON_NUMBER or not _finite(value)):
+            return None
+        out.append(Observation(sys.intern(feature), position, float(value)))
+    return out
+
+
+def _observation(f: object, where: str) -> Observation:
+    """One ``features[j]`` entry, fully checked; errors name ``where`` and the field."""
+    if not isinstance(f, dict):
+        raise ValueError(f"{where}: must be an object")
+    if not f.keys() <= _FEATURE_KEYS:
+        raise ValueError(f"{where}: unknown key {sorted(f.keys() - _FEATURE_KEYS)[0]!r}")
+    if not isinstance(f.get("feature"), str) or not f["feature"]:
+        raise ValueError(f"{where}: missing field 'feature'")
+    value = f.get("value")
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not _finite(value):
+        raise ValueError(f"{where}: 'value' must be a finite number, got {value!r}")
+    if "position" not in f:
+        raise ValueError(f"{where}: missing field 'position'")
+    return Observation(sys.intern(f["feature"]), position_from_json(f["position"], f"{where}: position"),
+                       float(value))
+
+
+_JSON_NUMBER = (int, float)  # exact types: a JSON true is a bool, not a number
+
+
+def _finite(value: float) -> bool:
+    """``math.isfinite``, with an integer too large for a float (JSON allows one) not finite."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 def check_library(descriptions: Iterable[ObjectDescription], knowledge: Knowledge, source: str) -> None:
@@ -234,12 +275,15 @@ class LibraryStore:
             "SELECT seq, id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round, appearance_area_in2,"
             " appearance_elongation FROM descriptions ORDER BY seq"
         ).fetchall()
+        positions: dict[tuple[float | None, float | None], Position] = {}  # one object per position
+        names: dict[str, str] = {}  # one string per feature or grasp name
         obs: dict[int, list[Observation]] = {}
         for seq, feature, d, o, v in self._db.execute(
             "SELECT description_seq, feature, distance_in, orientation_deg, value FROM observations"
         ):
-            obs.setdefault(seq, []).append(Observation(feature, Position(d, o), v))
-        return [ObjectDescription(i, g, Position(d, o), tuple(sorted(obs.get(seq, []))),
+            position = positions.get((d, o)) or positions.setdefault((d, o), Position(d, o))
+            obs.setdefault(seq, []).append(Observation(names.setdefault(feature, feature), position, v))
+        return [ObjectDescription(i, names.setdefault(g, g), Position(d, o), in_order(obs.get(seq, ())),
                                   None if r is None else Appearance(bool(r), a, e))
                 for seq, i, g, d, o, r, a, e in rows]
 

@@ -12,10 +12,15 @@ import math
 from dataclasses import dataclass
 
 ANY = "*"
+_JSON_SLOT = (int, float, str)  # exact types a valid JSON slot has (bool is not int here)
+_KNOWN_LIMIT = 4096  # positions are a small grid; a bound keeps hostile input from growing it
+
+
+_KNOWN: dict[tuple[object, object], Position] = {}  # valid JSON slots -> their shared Position
 
 
 @functools.total_ordering
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Position:
     """Where a feature was (or is to be) measured, relative to the object."""
 
@@ -24,7 +29,13 @@ class Position:
 
     def __lt__(self, other: Position) -> bool:
         """Concrete slots sort before ``*``, so listings and ties are deterministic."""
-        return _sort_key(self) < _sort_key(other)
+        return self.order_key() < other.order_key()
+
+    def order_key(self) -> tuple[bool, float, bool, float]:
+        """The sort order as a plain tuple: equal exactly when the positions are equal,
+        so a large sort can compare keys in C instead of calling ``__lt__``."""
+        return (self.distance_in is None, self.distance_in or 0.0,
+                self.orientation_deg is None, self.orientation_deg or 0.0)
 
     def covers(self, other: Position) -> bool:
         """True when a value recorded at ``self`` holds at ``other``.
@@ -59,9 +70,29 @@ class Position:
 
 def position_from_json(value: object, where: str) -> Position:
     """Parse ``[d, theta]`` (numbers or ``"*"``); ``where`` names the field in errors."""
+    known = known_position_json(value)
+    if known is not None:
+        return known
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise ValueError(f"{where}: a position is [distance, orientation], got {value!r}")
-    return _checked(Position(_slot_parse(value[0], f"{where}[0]"), _slot_parse(value[1], f"{where}[1]")), where)
+    position = _checked(Position(_slot_parse(value[0], f"{where}[0]"), _slot_parse(value[1], f"{where}[1]")), where)
+    if len(_KNOWN) < _KNOWN_LIMIT and type(value[0]) in _JSON_SLOT and type(value[1]) in _JSON_SLOT:
+        _KNOWN[value[0], value[1]] = position
+    return position
+
+
+def known_position_json(value: object) -> Position | None:
+    """The one shared Position for a JSON ``[d, theta]`` already parsed valid, else None.
+
+    A library repeats a few positions hundreds of thousands of times; looking them up
+    skips re-validating and re-building each, and shares one object among them. A miss
+    says nothing about validity: call :func:`position_from_json` for the error.
+    """
+    if type(value) is list and len(value) == 2:
+        d, theta = value
+        if type(d) in _JSON_SLOT and type(theta) in _JSON_SLOT:
+            return _KNOWN.get((d, theta))
+    return None
 
 
 def _checked(p: Position, where: str) -> Position:
@@ -96,9 +127,18 @@ def _slot_parse(value: object, where: str) -> float | None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"{where}: expected a number or \"*\", got {value!r}")
-    if not math.isfinite(value):
+    if not _finite(value):
         raise ValueError(f"{where}: expected a finite number, got {value!r}")
     return float(value)
+
+
+def _finite(value: float) -> bool:
+    """``math.isfinite`` that calls an integer too large for a float not finite (JSON
+    allows 400-digit integers; they must give the error, not an OverflowError)."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
 
 
 def _slot_covers(mine: float | None, other: float | None) -> bool:
@@ -117,7 +157,3 @@ def _slot_json(value: float | None) -> float | str:
 
 def _slot_text(value: float | None) -> str:
     return str(_slot_json(value))
-
-
-def _sort_key(p: Position) -> tuple[bool, float, bool, float]:
-    return (p.distance_in is None, p.distance_in or 0.0, p.orientation_deg is None, p.orientation_deg or 0.0)
