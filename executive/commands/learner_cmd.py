@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from executive import defaults
+from executive.profile import load_knowledge
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
@@ -49,6 +50,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     serve.add_argument("--seed-library", type=Path, default=defaults.EXAMPLE_LIBRARY, metavar="JSON",
                        help="library JSON imported only into an empty database "
                             "(default: the shipped HERO 2000 example library)")
+    serve.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE, metavar="FILE",
+                       help="the robot profile every learned description must fit; stored ones that "
+                            "do not are quarantined, kept but not served (default: the HERO 2000 profile)")
     serve.add_argument("--listen", default=None, metavar="ENDPOINT",
                        help=f"zenoh endpoint to listen on (default {LEARNER_ENDPOINT})")
     add_zenoh_config_option(serve)
@@ -67,7 +71,9 @@ def run_serve(args: argparse.Namespace) -> int:
     from zenoh_rpc.serving import stop_on_signals
 
     db = args.db or defaults.library_db()
-    service = LocalLearner(db, seed_library=read_library_json(args.seed_library))
+    service = LocalLearner(db, seed_library=read_library_json(args.seed_library),
+                           knowledge=load_knowledge(args.knowledge))
+    report_quarantined(service, args.name)
 
     def on_ready() -> None:
         snapshot = service.library()
@@ -82,3 +88,17 @@ def run_serve(args: argparse.Namespace) -> int:
         service.close()
     print(f"learner {args.name!r} stopped", file=sys.stderr)
     return 0
+
+
+QUARANTINE_LINES = 10
+"""Quarantined descriptions named one per line at start; the rest are counted."""
+
+
+def report_quarantined(service: LocalLearner, name: str) -> None:
+    """Say on stderr which stored descriptions are not served, and why."""
+    for q in service.quarantined[:QUARANTINE_LINES]:
+        print(f"learner {name!r}: quarantined {q.object_id!r} (kept in {service.path}, not served): {q.reason}",
+              file=sys.stderr)
+    if len(service.quarantined) > QUARANTINE_LINES:
+        print(f"learner {name!r}: and {len(service.quarantined) - QUARANTINE_LINES} more quarantined descriptions",
+              file=sys.stderr)

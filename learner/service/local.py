@@ -14,6 +14,11 @@ costs clients one needless refetch, where the other order could hide a committed
 description behind an unchanged version. While a ``LocalLearner`` is open it is the
 store's only expected writer; descriptions imported behind its back are seen after a
 restart.
+
+Given the robot's ``knowledge``, the learner admits only descriptions that robot can use
+(:mod:`learner.service.admission`) and quarantines stored ones that fail: they stay in
+the file, listed in :attr:`LocalLearner.quarantined`, and are never served, so one bad
+row cannot stop every robot that reads the library.
 """
 
 from __future__ import annotations
@@ -26,7 +31,9 @@ from dataclasses import replace
 from pathlib import Path
 
 from learner.description import ObjectDescription
-from learner.library import LibraryStore, descriptions_from_json, descriptions_to_json
+from learner.knowledge import Knowledge
+from learner.library import LibraryStore, check_library
+from learner.service.admission import Quarantined, admitted, partition
 from learner.service.interface import LibrarySnapshot
 
 VERSION_KEY = "learner_version"
@@ -38,19 +45,35 @@ class LocalLearner:
 
     ``seed_library`` is imported when the store holds no description yet, so a fresh
     robot starts from the shipped example library while a used store is never
-    overwritten.
+    overwritten. ``knowledge`` is the robot the library serves: with it, ``learn``
+    refuses what that robot cannot use and a stored description it cannot use is
+    quarantined at opening (see :attr:`quarantined`); without it only the library
+    format is checked.
     """
 
+    quarantined: tuple[Quarantined, ...]
+    """Stored descriptions not served, with why: reported when the service starts,
+    kept in the file for a person to repair or delete."""
+
     def __init__(self, store_path: str | Path,
-                 seed_library: Sequence[ObjectDescription] | None = None) -> None:
+                 seed_library: Sequence[ObjectDescription] | None = None, *,
+                 knowledge: Knowledge | None = None) -> None:
         self.path = Path(store_path)
+        self.knowledge = knowledge
         self._lock = threading.Lock()
         self._closed = False
         with LibraryStore(self.path) as store:
-            if seed_library and not store.descriptions():
+            stored = store.descriptions()
+            if seed_library and not stored:
+                if knowledge is not None:
+                    check_library(seed_library, knowledge, "the seed library")
                 self._bump_version()
                 store.add(list(seed_library))
-            self._snapshot = LibrarySnapshot(self._stored_version(), tuple(store.descriptions()))
+                stored = store.descriptions()
+        served, self.quarantined = partition(stored, knowledge, str(self.path))
+        if self.quarantined:  # what clients cached may hold a quarantined row: make them refetch
+            self._bump_version()
+        self._snapshot = LibrarySnapshot(self._stored_version(), served)
 
     def library(self) -> LibrarySnapshot:
         with self._lock:
@@ -63,14 +86,15 @@ class LocalLearner:
             return self._snapshot.version
 
     def learn(self, description: ObjectDescription) -> str:
-        checked = _storable(description)
+        checked = admitted(description, self.knowledge, "not learned")  # before anything is written
         with self._lock:
             self._check_open()
             with LibraryStore(self.path) as store:
                 stored = replace(checked, object_id=store.unique_id(checked.object_id))
                 version = self._bump_version()
                 store.add([stored])
-                self._snapshot = LibrarySnapshot(version, tuple(store.descriptions()))
+            # Appended, not reloaded: a reload would serve the quarantined rows again.
+            self._snapshot = LibrarySnapshot(version, (*self._snapshot.descriptions, stored))
         return stored.object_id
 
     def close(self) -> None:
@@ -100,12 +124,3 @@ class LocalLearner:
             db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (VERSION_KEY, str(version)))
         return version
 
-
-def _storable(description: ObjectDescription) -> ObjectDescription:
-    """``description`` as the library JSON would give it back, or ValueError.
-
-    Every stored description must survive ``csl library export`` and the zenoh
-    protocol, so it goes through the same validation as a library file (an empty
-    id, a NaN value), checked before anything is written.
-    """
-    return descriptions_from_json(descriptions_to_json([description]), "learn")[0]

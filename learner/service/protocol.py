@@ -2,8 +2,10 @@
 
 Keys, message shapes and error codes live in one module so the node and the client
 cannot drift apart; the transport they ride on is the shared :mod:`zenoh_rpc` kit.
-Descriptions travel in the library JSON format (docs/library-format.md), so a library reply is also a valid library file and the
-validation of ``csl library import`` guards what a robot may learn.
+Descriptions travel in the library JSON format (docs/library-format.md), so a library
+reply is also a valid library file. Decoding checks only that format; whether the robot
+can use a description (known features, values in their spans, reachable positions) is
+the service's check (:mod:`learner.service.admission`), which knows the robot.
 """
 
 from __future__ import annotations

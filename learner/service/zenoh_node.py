@@ -6,7 +6,9 @@ that a service only deals in descriptions and snapshots; the transport plumbing 
 shares with the driver link comes from :mod:`zenoh_rpc`. A request that breaks the
 protocol is answered with ``bad_request`` and a service failure with ``internal``;
 neither stops the node, because one robot's bad message must not cut the others off
-their library.
+their library. A description the service will not admit (``LocalLearner`` checks it
+against the robot's knowledge) raises ValueError there and is answered ``bad_request``
+with that one line, nothing stored.
 """
 
 from __future__ import annotations

@@ -3,16 +3,20 @@ concurrent robots, on a real SQLite file."""
 
 from __future__ import annotations
 
+import sqlite3
 import threading
+from contextlib import closing
 from pathlib import Path
 
 import pytest
 
 from learner.library import LibraryStore, load_library
 from learner.service import LearnerService, LibrarySnapshot, LocalLearner
-from tests.learner.fixtures import P, desc, four_objects
+from learner.service.local import VERSION_KEY
+from tests.learner.fixtures import P, desc, four_objects, hero
 
-MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Handle?", P(6, None), 1))
+# Fits the HERO 2000 profile the service checks against by default.
+MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Front-Hole?", P(6, None), 1))
 
 
 def test_an_empty_store_without_seed_starts_at_version_zero(tmp_path: Path) -> None:
@@ -103,3 +107,94 @@ def test_a_closed_learner_refuses_calls(tmp_path: Path) -> None:
     learner.close()
     with pytest.raises(ValueError, match="closed"):
         learner.version()
+
+
+# -- admission against the robot's knowledge (issue 12 §3) -----------------------------
+HERO_REFUSALS = [
+    # Width-Degree-1° spans a few dozen degrees on the HERO 2000 profile: 1e308 is out.
+    (desc("huge", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 1e308)),
+     r"Width-Degree-1°\(24,0\) = 1e\+308 is outside"),
+    (desc("nan", "Front-Wrap", ("Height", P(6, None), float("nan"))), "'value' must be a finite number"),
+    (desc("inf", "Front-Wrap", ("Height", P(6, None), float("inf"))), "'value' must be a finite number"),
+    (desc("colour", "Front-Wrap", ("Colour", P(6, None), 3)), "feature 'Colour' is not yielded"),
+    (desc("magic", "Levitate", ("Height", P(6, None), 3)), "grasp 'Levitate' is not in the knowledge file"),
+    (desc("hole", "Front-Wrap", ("Top-Hole?", P(6, None), 0.5)), "Top-Hole. is 0 or 1, got 0.5"),
+    # D-Scan-0.3 measures Height only at 6 in; Front-Wrap grasps only at 6 in.
+    (desc("far", "Front-Wrap", ("Height", P(60, None), 3)),
+     r"Height\(60,\*\): distance 60 in is outside D-Scan-0.3's range \[6, 6\]"),
+    (desc("reach", "Front-Wrap", at=P(24, None)),
+     r"grasp_position \(24,\*\): distance 24 in is outside Front-Wrap's range"),
+    (desc("x" * 201, "Front-Wrap"), "id is 201 characters, at most 200"),
+    (desc("many", "Front-Wrap", *[("Height", P(6, o / 10), 3) for o in range(1001)]),
+     "features: 1001 observations, at most 1000"),
+]
+
+
+@pytest.mark.parametrize(("bad", "message"), HERO_REFUSALS, ids=[d.object_id[:8] for d, _ in HERO_REFUSALS])
+def test_a_description_the_robot_cannot_use_is_refused_and_nothing_is_stored(
+        tmp_path: Path, bad, message: str) -> None:  # noqa: ANN001
+    path = tmp_path / "lib.sqlite"
+    with LocalLearner(path, seed_library=four_objects(), knowledge=hero()) as learner:
+        with pytest.raises(ValueError, match=message) as err:
+            learner.learn(bad)
+        assert "\n" not in str(err.value)
+        assert learner.library() == LibrarySnapshot(1, tuple(four_objects()))
+        assert learner.learn(MUG) == "mug"  # a good one after a bad one is stored
+        assert learner.library() == LibrarySnapshot(2, (*four_objects(), MUG))
+    with LibraryStore(path) as store:
+        assert store.descriptions() == [*four_objects(), MUG]
+
+
+def test_without_knowledge_only_the_format_is_checked(tmp_path: Path) -> None:
+    with LocalLearner(tmp_path / "lib.sqlite") as learner:
+        assert learner.learn(desc("colour", "Front-Wrap", ("Colour", P(6, None), 3))) == "colour"
+        with pytest.raises(ValueError, match="'value' must be a finite number"):
+            learner.learn(desc("inf", "Front-Wrap", ("Height", P(6, None), float("inf"))))
+
+
+def test_a_seed_the_robot_cannot_use_is_refused_before_anything_is_written(tmp_path: Path) -> None:
+    path = tmp_path / "lib.sqlite"
+    with pytest.raises(ValueError, match="the seed library: description 'colour': feature 'Colour'"):
+        LocalLearner(path, seed_library=[MUG, desc("colour", "Front-Wrap", ("Colour", P(6, None), 3))],
+                     knowledge=hero())
+    assert load_library(path) == []
+
+
+POISON = [desc("huge", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 1e308)),
+          desc("inf", "Front-Wrap", ("Height", P(6, None), float("inf"))),
+          desc("colour", "Front-Wrap", ("Colour", P(6, None), 3))]
+
+
+def poisoned_store(path: Path) -> None:
+    """A store written before admission existed: good rows around bad ones, version 1."""
+    with LibraryStore(path) as store:
+        store.add([*four_objects()[:2], *POISON, *four_objects()[2:]])
+    with closing(sqlite3.connect(path)) as db, db:  # as the old service did before writing
+        db.execute("INSERT INTO meta VALUES (?, '1')", (VERSION_KEY,))
+
+
+def test_a_poisoned_store_serves_its_good_descriptions_and_quarantines_the_rest(tmp_path: Path) -> None:
+    path = tmp_path / "lib.sqlite"
+    poisoned_store(path)
+    with LocalLearner(path, seed_library=[MUG], knowledge=hero()) as learner:
+        assert [(q.object_id, q.reason.split(": ", 2)[2]) for q in learner.quarantined] == [
+            ("huge", "Width-Degree-1°(24,0) = 1e+308 is outside [0, 180]"),
+            ("inf", "features[0]: 'value' must be a finite number, got inf"),
+            ("colour", f"feature 'Colour' is not yielded by any sensing procedure in {hero().source}"),
+        ]
+        # served: the good ones; the version moved so no client keeps a cached bad row
+        assert learner.library() == LibrarySnapshot(2, tuple(four_objects()))
+        assert learner.learn(MUG) == "mug"
+        assert learner.library() == LibrarySnapshot(3, (*four_objects(), MUG))
+    with LibraryStore(path) as store:  # quarantined, not deleted
+        assert [d.object_id for d in store.descriptions()] == ["cup", "box", "huge", "inf", "colour", "tumbler",
+                                                               "closed", "mug"]
+
+
+def test_without_knowledge_a_poisoned_store_quarantines_what_breaks_the_format(tmp_path: Path) -> None:
+    path = tmp_path / "lib.sqlite"
+    poisoned_store(path)
+    with LocalLearner(path) as learner:
+        assert [q.object_id for q in learner.quarantined] == ["inf"]
+        assert [d.object_id for d in learner.library().descriptions] == ["cup", "box", "huge", "colour", "tumbler",
+                                                                        "closed"]

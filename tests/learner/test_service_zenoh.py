@@ -21,10 +21,11 @@ from pathlib import Path
 import pytest
 
 from executive.cli import main
-from learner.library import write_library_json
+from learner.description import ObjectDescription
+from learner.library import LibraryStore, check_library, descriptions_to_json, load_library, write_library_json
 from learner.service.protocol import learner_keys
 from learner.service.zenoh_client import ZenohLearner
-from tests.learner.fixtures import P, desc, four_objects
+from tests.learner.fixtures import P, desc, four_objects, hero
 from tests.zenoh_rpc.support import free_endpoint
 from zenoh_rpc.config import open_session
 
@@ -32,19 +33,20 @@ pytestmark = pytest.mark.zenoh
 
 REPO = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 20.0  # a cold interpreter importing numpy and zenoh on a busy box
-MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Handle?", P(6, None), 1))
+# Fits the HERO 2000 profile the service checks against by default.
+MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Front-Hole?", P(6, None), 1))
 
 
 class ServiceProcess:
     """``csl learner serve`` as a child process; :meth:`close` always ends it."""
 
-    def __init__(self, db: Path, endpoint: str, seed: Path, name: str = "test") -> None:
+    def __init__(self, db: Path, endpoint: str, seed: Path, name: str = "test", extra: tuple[str, ...] = ()) -> None:
         self.endpoint = endpoint
         self.name = name
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
         self.process = subprocess.Popen(
             [sys.executable, "-m", "executive.cli", "learner", "serve", "--name", name, "--db", str(db),
-             "--seed-library", str(seed), "--listen", endpoint],
+             "--seed-library", str(seed), "--listen", endpoint, *extra],
             cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
     def ready(self) -> str:
@@ -213,3 +215,69 @@ def test_a_call_to_a_killed_service_fails_within_the_timeout(service: ServicePro
         with pytest.raises(ConnectionError, match="learner 'test': version: ") as err:
             r1.version()
         assert time.monotonic() - started < 2.5 and "\n" not in str(err.value)
+
+
+def learn_payload(description: ObjectDescription, value: float) -> bytes:
+    """A ``learn`` request for ``description`` with its first value replaced, written as
+    a careless client would (NaN included, which the protocol's own encoder refuses)."""
+    entry = descriptions_to_json([description])["descriptions"][0]  # type: ignore[index]
+    entry["features"][0]["value"] = value
+    return json.dumps({"v": 1, "description": entry}).encode()
+
+
+UNUSABLE = [
+    (learn_payload(desc("huge", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 0)), 1e308),
+     "description 'huge': Width-Degree-1°(24,0) = 1e+308 is outside [0, 180]"),
+    (learn_payload(desc("nan", "Front-Wrap", ("Height", P(6, None), 0)), float("nan")),
+     "features[0]: 'value' must be a finite number"),
+    (learn_payload(desc("colour", "Front-Wrap", ("Colour", P(6, None), 0)), 3),
+     "description 'colour': feature 'Colour' is not yielded by any sensing procedure"),
+]
+
+
+def test_a_description_the_robot_cannot_use_is_refused_and_the_service_keeps_serving(service: ServiceProcess) -> None:
+    session = open_session(connect=[service.endpoint], connect_timeout_s=3.0)
+    try:
+        for payload, message in UNUSABLE:
+            replies = list(session.get(learner_keys(service.name).rpc("learn"), payload=payload, timeout=3.0))
+            assert len(replies) == 1 and replies[0].err is not None, payload
+            body = json.loads(replies[0].err.payload.to_bytes())
+            assert body["code"] == "bad_request" and message in body["message"], body
+            assert "\n" not in body["message"]
+    finally:
+        session.close()
+    with robot(service) as r1:
+        assert r1.version() == 1  # nothing was stored
+        assert r1.learn(MUG) == "mug"  # a good one after the bad ones
+        assert r1.library().descriptions == (*four_objects(), MUG)
+
+
+def test_a_poisoned_store_is_served_without_its_bad_descriptions(tmp_path: Path, seed: Path) -> None:
+    db = tmp_path / "lib.sqlite"
+    with LibraryStore(db) as store:  # as a service before admission existed could leave it
+        store.add([*four_objects()[:2], desc("huge", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 1e308)),
+                   *four_objects()[2:], desc("colour", "Front-Wrap", ("Colour", P(6, None), 3))])
+    process = ServiceProcess(db, free_endpoint(), seed)
+    try:
+        assert "4 descriptions" in process.ready()
+        with robot(process) as r1:
+            served = r1.library().descriptions
+            assert served == tuple(four_objects())
+            check_library(served, hero(), "the library")  # what `csl run` checks before moving: passes
+            assert r1.learn(MUG) == "mug"
+        assert process.terminate() == 0
+        assert process.process.stderr is not None
+        reports = process.process.stderr.read().splitlines()[:2]  # printed before the ready line
+        assert [line.split(": ")[1] for line in reports] == [
+            f"quarantined 'huge' (kept in {db}, not served)", f"quarantined 'colour' (kept in {db}, not served)"]
+        assert "1e+308 is outside" in reports[0] and "'Colour' is not yielded" in reports[1]
+    finally:
+        process.close()
+    assert [d.object_id for d in load_library(db)] == ["cup", "box", "huge", "tumbler", "closed", "colour", "mug"]
+
+
+def test_serve_refuses_a_missing_knowledge_file_with_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["learner", "serve", "--db", str(tmp_path / "lib.sqlite"),
+                 "--knowledge", str(tmp_path / "nope.toml"), "--listen", free_endpoint()]) == 2
+    err = capsys.readouterr().err
+    assert "nope.toml" in err and len(err.strip().splitlines()) == 1
