@@ -136,6 +136,12 @@ class SimWorld:
         every inch driven."""
         if not waypoints or not all(isinstance(w, Pose) for w in waypoints):
             raise DriverError(BAD_REQUEST, "move: waypoints must be a non-empty list of Pose")
+        width, depth = self.spec.room_width_in, self.spec.room_depth_in
+        margin = math.hypot(width, depth)  # driving at a wall is allowed (the bumper stops it); 1e308 is not
+        for i, wp in enumerate(waypoints):
+            if not (-margin <= wp.x_in <= width + margin and -margin <= wp.y_in <= depth + margin):
+                raise DriverError(BAD_REQUEST, f"move: waypoints[{i}] ({wp.x_in:g}, {wp.y_in:g}) is far outside "
+                                               f"the room (0-{width:g} x 0-{depth:g} in)")
         motion, radius = self.profile.robot.motion, self.profile.robot.geometry.base_radius_in
         duration = motion.vision_s
         x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg

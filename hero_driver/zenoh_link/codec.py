@@ -94,6 +94,8 @@ def loads(data: bytes) -> Json:
         raise CodecError(f"message: not UTF-8 ({exc.reason})") from None
     except json.JSONDecodeError as exc:
         raise CodecError(f"message: malformed JSON ({exc.msg} at char {exc.pos})") from None
+    except RecursionError:  # no message of the protocol nests more than a few levels
+        raise CodecError("message: JSON nested too deeply") from None
     if not isinstance(message, dict):
         raise CodecError(f"message: expected a JSON object, got {_kind(message)}")
     if "v" not in message:

@@ -99,3 +99,17 @@ def test_a_base_in_contact_can_back_away_but_not_push_on() -> None:
     assert sim.move([Pose(75.0, 60.0, 0.0)], face=None).collided
     back = sim.move([Pose(30.0, 60.0, 0.0)], face=None)
     assert not back.collided and back.pose.x_in == pytest.approx(30.0)
+
+
+@pytest.mark.parametrize("goal", [Pose(1e308, 1e308, 0.0), Pose(-301.0, 40.0, 0.0), Pose(40.0, 10_000.0, 0.0)])
+def test_a_waypoint_far_outside_the_room_is_refused_and_the_robot_stays(goal: Pose) -> None:
+    """Sent more than the room's diagonal (300 in for the 240 x 180 in lab) beyond a wall,
+    or to 1e308, the robot refuses: its pose and clock are as before. Driving at a wall
+    stays allowed: the bumper stops the base (test_the_base_stops_short_of_furniture)."""
+    sim = lab()
+    before, clock = sim.pose, sim.clock_s
+    with pytest.raises(DriverError) as refused:
+        sim.move([Pose(30.0, 80.0, 90.0), goal], face=None)
+    assert refused.value.code == BAD_REQUEST and "waypoints[1]" in refused.value.message
+    assert "far outside the room (0-240 x 0-180 in)" in refused.value.message
+    assert sim.pose == before and sim.clock_s == clock

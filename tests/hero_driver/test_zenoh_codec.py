@@ -128,6 +128,7 @@ def test_errors_round_trip_with_their_code() -> None:
     ("sense", b"{", "malformed JSON"),
     ("sense", b"\xff\xfe", "not UTF-8"),
     ("sense", b"[1, 2]", "expected a JSON object"),
+    ("sense", b"[" * 100_000 + b"]" * 100_000, "nested too deeply"),
     ("sense", json.dumps({"procedure": "H-Sweep-5°"}).encode(), "v: missing"),
     ("sense", json.dumps({"v": 2, "procedure": "H-Sweep-5°"}).encode(), "v: protocol version 2"),
     ("sense", json.dumps({"v": True, "procedure": "H-Sweep-5°"}).encode(), "v: expected an integer"),
