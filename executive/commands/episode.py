@@ -250,6 +250,16 @@ def run_bt(args: argparse.Namespace) -> int:
     from executive.behaviour_tree import build_tree
 
     root = build_tree()
+    if args.dot:
+        graph = py_trees.display.dot_tree(root)
+        graph.set_name("csl_executive")
+        text = graph.to_string()
+        if str(args.dot) == "-":
+            sys.stdout.write(text)
+        else:
+            args.dot.write_text(text, encoding="utf-8")
+            print(f"wrote {args.dot}")
+        return 0
     if args.render:
         plot_behaviour_tree(args.render, root)
         print(f"wrote {args.render}")

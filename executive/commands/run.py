@@ -69,8 +69,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.set_defaults(handler=_handler("run_run"))
 
     bt = sub.add_parser("bt", help="show the behaviour tree",
-                        description="Print the executive's behaviour tree, or render it to a PNG.")
+                        description="Print the executive's behaviour tree, render it to a PNG, or export it "
+                                    "as Graphviz DOT through py_trees' own dot export.")
     bt.add_argument("--render", type=Path, metavar="PNG", help="write the tree as a PNG picture")
+    bt.add_argument("--dot", type=Path, metavar="FILE",
+                    help="write the tree as Graphviz DOT (py_trees.display.dot_tree; '-' for standard output); "
+                         "render with e.g. 'dot -Tsvg FILE'")
     bt.add_argument("--unicode", action="store_true", help="draw with py_trees' unicode symbols (default: ascii)")
     bt.set_defaults(handler=_handler("run_bt"))
 

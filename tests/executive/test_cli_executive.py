@@ -120,3 +120,18 @@ def test_appearance_rules_descriptions_out_before_any_test(tmp_path: Path, capsy
     objects = [e for e in objects if e["event"] == "object"]
     assert len(objects) == 7 and all("appearance" in e for e in objects)
     assert sum(e["ruled_out"] for e in objects) > 0  # the lab's objects are not all alike
+
+
+@pytest.mark.filterwarnings("ignore:.*deprecated.*:DeprecationWarning")  # pydot's own parser on new pyparsing
+def test_bt_exports_dot_through_py_trees(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    import pydot
+
+    from executive.behaviour_tree import build_tree
+
+    assert main(["bt", "--dot", str(tmp_path / "bt.dot")]) == 0
+    (graph,) = pydot.graph_from_dot_data((tmp_path / "bt.dot").read_text(encoding="utf-8"))
+    names = {node.get_name().strip('"') for node in graph.get_nodes()}
+    assert {b.name for b in build_tree().iterate()} <= names and graph.get_name() == "csl_executive"
+    capsys.readouterr()
+    assert main(["bt", "--dot", "-"]) == 0
+    assert capsys.readouterr().out.startswith("digraph csl_executive {")
