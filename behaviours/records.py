@@ -15,7 +15,10 @@ from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+import py_trees
+
 from behaviours.bridge import PlannerMoveCost
+from behaviours.services import namespace
 from learner.position import Position
 from learner.runtime import RecognitionSession
 from learner.selection import ScoredTest
@@ -91,3 +94,10 @@ class ObjectRecord:
     def finish(self, outcome: str, grasp: str | None = None, position: Position | None = None) -> None:
         """The object is handled (grasped, left) or given up on (failed)."""
         self.outcome, self.grasp, self.grasp_position = outcome, grasp, position
+
+
+def reset_blackboard(robot: str) -> None:
+    """The robot's blackboard keys as an episode starts: no objects located yet, no
+    results, no object or step under way, no pose known."""
+    for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None)):
+        py_trees.blackboard.Blackboard.set(f"{namespace(robot)}/{key}", value)

@@ -27,6 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 import py_trees  # noqa: E402
 
+from behaviours.records import reset_blackboard  # noqa: E402
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
@@ -54,7 +55,7 @@ def episode(seed: int):  # noqa: ANN201
 
 def tick_overhead(n: int) -> tuple[float, float]:
     ex = Executive(BusyHero("busy", world="lab", seed=0), learner())
-    ex._reset_blackboard()  # noqa: SLF001 - driving the tree by hand for the measurement
+    reset_blackboard(ex.services.driver.robot)  # driving the tree by hand for the measurement
     for _ in range(50):  # locate, choose the first test, start the move
         ex.tree.tick()
     start = time.perf_counter()

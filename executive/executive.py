@@ -15,7 +15,7 @@ import py_trees
 from py_trees.common import Status
 
 from behaviours.base import DriverAction
-from behaviours.records import ObjectRecord, Step
+from behaviours.records import ObjectRecord, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.episode_log import EpisodeLog
 from executive.profile import knowledge_of
@@ -60,11 +60,6 @@ class Executive:
         self._snapshot = py_trees.visitors.SnapshotVisitor()
         self.tree.add_visitor(self._snapshot)
 
-    def _reset_blackboard(self) -> None:
-        board = py_trees.blackboard.Blackboard
-        for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None)):
-            board.set(f"{self.namespace}/{key}", value)
-
     def run(self, max_ticks: int | None = None, trace: bool = False,
             on_object: Callable[[ObjectRecord], None] | None = None) -> EpisodeResult:
         """Tick until the tree finishes (every object ends within ``Params.max_steps``
@@ -72,7 +67,7 @@ class Executive:
         one line per tick listing every behaviour ticked and its status (the snapshot
         tests' compact trace). A tree that did not finish is stopped, which cancels any
         verb still in flight."""
-        self._reset_blackboard()
+        reset_blackboard(self.services.driver.robot)
         lines: list[str] = []
         began = time.perf_counter()
         reported = 0

@@ -33,7 +33,7 @@ def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], ev
     fig, ax = plt.subplots(figsize=(10, 7.5))
     ax.imshow(image.pixels, cmap="gray", extent=extent, origin="upper", vmin=0, vmax=255)
     for record, label in zip(records, labels):
-        region = record.first_region or record.region
+        region = record.first_region
         xs, ys = zip(*region.polygon)
         colour = _COLOURS.get(record.outcome, "tab:gray")
         ax.fill(xs, ys, facecolor="none", edgecolor=colour, linewidth=2)

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from behaviours.records import ObjectRecord
+from executive.exit_status import HANDLED_OUTCOMES
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[
         seen = (r.first_region or r.region).centroid
         name = truth.name if truth else f"object {r.index} at ({seen[0]:.0f}, {seen[1]:.0f})"
         correct = None
-        if truth is not None and r.outcome in ("grasped", "left"):
+        if truth is not None and r.outcome in HANDLED_OUTCOMES:
             correct = (r.grasp in truth.grasps) if r.outcome == "grasped" else ("No-Grab" in truth.grasps)
         elif truth is not None:
             correct = False

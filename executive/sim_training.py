@@ -34,10 +34,10 @@ class SimTraining:
 
 
 def train_in_simulator(knowledge: Knowledge, profile: RobotProfile | None = None, seed: int = 0,
-                       noise: bool = False, object_set: str = "training") -> SimTraining:
-    """Train on the catalogue's ``object_set`` (Table 3) as the robot of ``profile`` sees
+                       noise: bool = False) -> SimTraining:
+    """Train on the catalogue's training objects (Table 3) as the robot of ``profile`` sees
     and senses it; moves are priced with the knowledge's move model."""
-    seen = camera_objects(object_set, profile, seed, noise)
+    seen = camera_objects("training", profile, seed, noise)
     for o in seen.objects:
         if not knowledge.has_grasp(o.grasp):
             raise ValueError(f"simulator catalogue: object {o.object_id!r}: grasp {o.grasp!r} is not in "

@@ -17,11 +17,8 @@ from dataclasses import dataclass
 from behaviours.appearance import appearance_of
 from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
-from hero_driver.sim.catalogue import CatalogueEntry
-from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.probe import probe
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
-from hero_driver.sim.worldfile import one_object_world
+from hero_driver.sim.probe import probe, probe_world
+from hero_driver.sim.world import profile_and_catalogue
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
 from planner.vision import Region, look
@@ -120,11 +117,10 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
     taken from the catalogue as :func:`catalogue_objects` does. Each object's appearance
     (area, elongation, round) is recorded as the camera saw it here, for its description.
     """
-    _, catalogue = profile_and_catalogue(profile)
     labelled = {o.object_id: o for o in catalogue_objects(object_set)}
     objects, offsets = [], {}
     for object_id, labels in labelled.items():
-        region = _seen(object_id, catalogue, profile, seed, noise)
+        region = _seen(object_id, profile, seed, noise)
         offset = region.reference_axis_deg  # the object lies at yaw 0: the catalogue's axis is world +x
         offsets[object_id] = offset
         grasp_orientation = labels.grasp_position.orientation_deg
@@ -137,10 +133,8 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
     return SeenObjects(tuple(objects), offsets)
 
 
-def _seen(object_id: str, catalogue: Mapping[str, CatalogueEntry], profile: RobotProfile | None, seed: int,
-          noise: bool) -> Region:
-    sim = SimWorld(one_object_world(object_id, catalogue), seed, profile, None if noise else NoiseConfig.off())
-    regions = look(overhead(sim.camera())).regions
+def _seen(object_id: str, profile: RobotProfile | None, seed: int, noise: bool) -> Region:
+    regions = look(overhead(probe_world(object_id, seed, noise, profile).camera())).regions
     if len(regions) != 1:
         raise ValueError(f"camera: {object_id!r} alone on the floor shows {len(regions)} regions, not 1")
     return regions[0]

@@ -94,7 +94,6 @@ def object_figure(events: Sequence[Mapping[str, object]], index: int, ctx: Conte
 class _Visit:
     """The robot at one tree node: the lines of its box and how it left the node."""
 
-    node: Node
     lines: list[Line] = field(default_factory=list)
     kind: Kind = "test"
     branches: list[tuple[str, Shape | None]] = field(default_factory=list)  # None: the path goes on there
@@ -155,7 +154,7 @@ class _Replay:
             label, style = self.pending
             if self.visits and not self.visits[-1].branches:
                 self.visits[-1].onward, self.visits[-1].style = label, style
-            self.visits.append(_Visit(self.node))
+            self.visits.append(_Visit())
             self.pending = None
         return self.visits[-1]
 

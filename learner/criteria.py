@@ -108,8 +108,13 @@ class CriterionSpec:
             raise ValueError(f"{self.name} has no parameter {', '.join(unknown)} "
                              f"(its parameters: {', '.join(names) or 'none'})")
         bound = {p.name: p.check(given.get(p.name, p.default)) for p in self.parameters}
-        return Criterion(self.name, functools.partial(self.score, **bound), self.cost_sensitive,
-                         self.cost_blind_choices, self.joint_gain, self.lookahead, self.rollout)
+        traits = {name: getattr(self, name) for name in _TRAITS}
+        return Criterion(self.name, functools.partial(self.score, **bound), **traits)
+
+
+_TRAITS = tuple(f.name for f in dataclasses.fields(Criterion) if f.name not in ("name", "score"))
+"""How a criterion ranks besides its formula: declared once on :class:`Criterion`, copied
+by name from its registry entry."""
 
 
 def _ratio(numerator: float, cost: float) -> float:

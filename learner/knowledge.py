@@ -65,6 +65,9 @@ class GraspingProcedure:
     def feature_cost_s(self) -> float:
         return self.time_s + self.side_effect_penalty_s
 
+    def applicable_at(self, distance_in: float) -> bool:
+        return self.range_in[0] - 1e-9 <= distance_in <= self.range_in[1] + 1e-9
+
 
 @dataclass(frozen=True)
 class MoveModel:
@@ -96,17 +99,21 @@ class Knowledge:
         return self._features[feature][1]
 
     def grasp(self, name: str) -> GraspingProcedure:
-        for g in self.grasping:
-            if g.name == name:
-                return g
-        raise KeyError(f"{self.source}: unknown grasping procedure {name!r}")
+        try:
+            return self._grasps[name]
+        except KeyError:
+            raise KeyError(f"{self.source}: unknown grasping procedure {name!r}") from None
 
     def has_feature(self, name: str) -> bool:
         return name in self._features
 
     def has_grasp(self, name: str) -> bool:
-        return any(g.name == name for g in self.grasping)
+        return name in self._grasps
 
     @cached_property
     def _features(self) -> dict[str, tuple[FeatureSpec, SensingProcedure]]:
         return {f.name: (f, p) for p in self.sensing for f in p.features}
+
+    @cached_property
+    def _grasps(self) -> dict[str, GraspingProcedure]:  # grasp() is asked per candidate test
+        return {g.name: g for g in self.grasping}

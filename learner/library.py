@@ -9,7 +9,6 @@ description behind.
 from __future__ import annotations
 
 import json
-import math
 import sqlite3
 import sys
 from collections.abc import Iterable, Sequence
@@ -18,7 +17,7 @@ from pathlib import Path
 from learner.appearance import Appearance, appearance_from_json
 from learner.description import ObjectDescription, Observation, in_order
 from learner.knowledge import Knowledge
-from learner.position import Position, known_position_json, position_from_json
+from learner.position import Position, finite_number, known_position_json, position_from_json
 
 FORMAT = "csl-library"
 VERSION = 2  # 2: descriptions may carry the camera's appearance of their object
@@ -77,7 +76,7 @@ _ENTRY_KEYS = {1: frozenset({"id", "grasp", "grasp_position", "features"}),
 _FEATURE_KEYS = frozenset({"feature", "position", "value"})
 
 
-def _description(entry: object, where: str, version: int = VERSION) -> ObjectDescription:
+def _description(entry: object, where: str, version: int) -> ObjectDescription:
     if not isinstance(entry, dict):
         raise ValueError(f"{where}: must be an object")
     if not entry.keys() <= _ENTRY_KEYS[version]:
@@ -116,7 +115,7 @@ def _plain_observations(features: list[object]) -> list[Observation] | None:
         feature, value = f.get("feature"), f.get("value")
         position = known_position_json(f.get("position"))
         if (position is None or type(feature) is not str or not feature
-                or type(value) not in _JSON_NUMBER or not _finite(value)):
+                or type(value) not in _JSON_NUMBER or not finite_number(value)):
             return None
         out.append(Observation(sys.intern(feature), position, float(value)))
     return out
@@ -131,7 +130,7 @@ def _observation(f: object, where: str) -> Observation:
     if not isinstance(f.get("feature"), str) or not f["feature"]:
         raise ValueError(f"{where}: missing field 'feature'")
     value = f.get("value")
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not _finite(value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not finite_number(value):
         raise ValueError(f"{where}: 'value' must be a finite number, got {value!r}")
     if "position" not in f:
         raise ValueError(f"{where}: missing field 'position'")
@@ -140,14 +139,6 @@ def _observation(f: object, where: str) -> Observation:
 
 
 _JSON_NUMBER = (int, float)  # exact types: a JSON true is a bool, not a number
-
-
-def _finite(value: float) -> bool:
-    """``math.isfinite``, with an integer too large for a float (JSON allows one) not finite."""
-    try:
-        return math.isfinite(value)
-    except OverflowError:
-        return False
 
 
 def check_library(descriptions: Iterable[ObjectDescription], knowledge: Knowledge, source: str) -> None:

@@ -62,7 +62,8 @@ from learner.gain import partition_columns
 from learner.matrix import DescriptionMatrix
 from learner.position import Position
 from learner.runtime import Matched, RecognitionSession, Unreliable
-from learner.selection import Context, Node, ScoredTest, measured_value, split, target_for
+from learner.selection import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range, split,
+                               target_for)
 
 _EPS = 1e-9
 
@@ -120,12 +121,8 @@ class _Search:
         self.estimator = estimator
         self.knowledge = matrix.knowledge
         self.ctx = Context(matrix, criterion(DEFAULT_CRITERION), estimator)  # target_for reads only knowledge
-        k = matrix.knowledge
-        tests = matrix.tests
-        self.price = [k.grasp(t.procedure).feature_cost_s if t.is_grasp else k.procedure_for(t.feature).time_s
-                      for t in tests]
-        self.reach = [k.grasp(t.procedure).range_in if t.is_grasp else k.procedure_for(t.feature).range_in
-                      for t in tests]
+        self.price = [procedure_cost(t, matrix.knowledge) for t in matrix.tests]
+        self.reach = [procedure_range(t, matrix.knowledge) for t in matrix.tests]
         places = [o.position for d in matrix.descriptions for o in d.observations]
         places += [d.grasp_position for d in matrix.descriptions]
         self.distances = sorted({p.distance_in for p in places if p.distance_in is not None})
@@ -312,7 +309,7 @@ class _Search:
             self._made_free[key] = _mask(
                 c for c, t in enumerate(self.matrix.tests)
                 if not t.is_grasp and (t.procedure if kind == "procedure" else t.feature) == name
-                and (t.position.covers(where) or where.covers(t.position)))
+                and t.position.overlaps(where))
         return self._made_free[key]
 
     def _targets_for(self, column: int, at: int) -> tuple[int, ...]:

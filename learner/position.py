@@ -47,6 +47,12 @@ class Position:
             self.orientation_deg, other.orientation_deg
         )
 
+    def overlaps(self, other: Position) -> bool:
+        """True when a value measured at either position serves a test at the other: a
+        value at ``(6,90)`` serves ``Height(6,*)``, and one recorded at ``(6,*)`` (an
+        object with no orientation) serves ``Height(6,90)``."""
+        return self.covers(other) or other.covers(self)
+
     def compatible(self, other: Position) -> bool:
         """True when some concrete position satisfies both (each slot ``*`` or equal)."""
         return _slot_compatible(self.distance_in, other.distance_in) and _slot_compatible(
@@ -127,12 +133,12 @@ def _slot_parse(value: object, where: str) -> float | None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"{where}: expected a number or \"*\", got {value!r}")
-    if not _finite(value):
+    if not finite_number(value):
         raise ValueError(f"{where}: expected a finite number, got {value!r}")
     return float(value)
 
 
-def _finite(value: float) -> bool:
+def finite_number(value: float) -> bool:
     """``math.isfinite`` that calls an integer too large for a float not finite (JSON
     allows 400-digit integers; they must give the error, not an OverflowError)."""
     try:

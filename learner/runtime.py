@@ -297,7 +297,7 @@ class RecognitionSession:
         if parent.test is not None:
             parent.tried.add(parent.test.test)
             for key in [k for k in self.measurements
-                        if k[0] == parent.test.test.feature and _serves(k[1], parent.test.test.position)]:
+                        if k[0] == parent.test.test.feature and parent.test.test.position.overlaps(k[1])]:
                 del self.measurements[key]
         parent.test, parent.value = None, None
         parent.awaiting_reselection = False  # the parent chooses afresh
@@ -408,6 +408,3 @@ class RecognitionSession:
         observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
         return ObjectDescription(object_id, grasp, grasp_position, observations, self.appearance)
 
-
-def _serves(measured_at: Position, test_at: Position) -> bool:
-    return test_at.covers(measured_at) or measured_at.covers(test_at)

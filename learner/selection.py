@@ -107,17 +107,27 @@ def leaf_classes(node: Node, matrix: DescriptionMatrix) -> list[str]:
 def measured_value(test: Test, measurements: Measurements) -> float | None:
     """A value already measured on this object that serves for ``test`` (free to use)."""
     for (feature, at), value in measurements.items():
-        # a value at (6,90) serves Height(6,*); one at (6,*) (an object with no
-        # orientation) serves Height(6,90)
-        if feature == test.feature and (test.position.covers(at) or at.covers(test.position)):
+        if feature == test.feature and test.position.overlaps(at):
             return value
     return None
 
 
+def procedure_range(test: Test, knowledge: Knowledge) -> tuple[float, float]:
+    """The distances (in) the test's procedure works at: its grasp's, or its sensing
+    procedure's."""
+    return knowledge.grasp(test.procedure).range_in if test.is_grasp else knowledge.procedure_for(test.feature).range_in
+
+
+def procedure_cost(test: Test, knowledge: Knowledge) -> float:
+    """What applying the test costs besides moving: a grasp tried as a feature is its
+    time plus the side-effect penalty, a sensing test its procedure's time."""
+    return (knowledge.grasp(test.procedure).feature_cost_s if test.is_grasp
+            else knowledge.procedure_for(test.feature).time_s)
+
+
 def target_for(test: Test, current: Position, ctx: Context) -> Position:
     """Where the robot goes for a test: ``*`` slots stay where the robot is, within range."""
-    k = ctx.knowledge
-    lo, hi = k.grasp(test.procedure).range_in if test.is_grasp else k.procedure_for(test.feature).range_in
+    lo, hi = procedure_range(test, ctx.knowledge)
     distance = test.position.distance_in
     if distance is None:
         distance = min(max(current.distance_in if current.distance_in is not None else lo, lo), hi)
@@ -171,8 +181,7 @@ def rank(
             if target not in move_costs:
                 move_costs[target] = ctx.estimator.move_cost(current, target)
             move = move_costs[target]
-            sense = (ctx.knowledge.grasp(test.procedure).feature_cost_s if test.is_grasp
-                     else ctx.knowledge.procedure_for(test.feature).time_s)
+            sense = procedure_cost(test, ctx.knowledge)
         if not math.isfinite(move):
             continue  # no path to the test's position: the learner cannot use it
         scored_on = None
@@ -275,8 +284,7 @@ def yielded(test: ScoredTest, ctx: Context) -> dict[tuple[str, Position], float]
 def _anywhere(test: Test, ctx: Context) -> Position:
     """A cost-blind position for a test: each ``*`` slot drawn uniformly, a distance
     within the procedure's range, an orientation anywhere around the object."""
-    lo, hi = (ctx.knowledge.grasp(test.procedure).range_in if test.is_grasp
-              else ctx.knowledge.procedure_for(test.feature).range_in)
+    lo, hi = procedure_range(test, ctx.knowledge)
     distance, orientation = test.position.distance_in, test.position.orientation_deg
     if distance is None:
         distance = float(ctx.rng.uniform(lo, hi))

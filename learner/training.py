@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from learner.costs import MoveCostEstimator
-from learner.criteria import criterion
+from learner.criteria import DEFAULT_CRITERION, criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge, SensingProcedure
 from learner.partition import match, nearest
@@ -284,7 +284,7 @@ def train_position(
 
 def _tree(descriptions: Sequence[ObjectDescription], knowledge: Knowledge) -> TreeNode:
     matrix = DescriptionMatrix(descriptions, knowledge, grasps_as_features=False)
-    ctx = Context(matrix, criterion("cs-id3"), _ZeroMove())
+    ctx = Context(matrix, criterion(DEFAULT_CRITERION), _ZeroMove())
     return grow(Node.root(len(descriptions)), Position(0.0, 0.0), ctx)
 
 
@@ -303,10 +303,10 @@ def generalise(observations: Iterable[Observation], knowledge: Knowledge,
     obs = list(observations)
     obs = _generalise_slot(obs, knowledge, keep="distance", required=lambda _feature: set(orientations))
     return _generalise_slot(obs, knowledge, keep="orientation",
-                            required=lambda feature: _reachable(feature, distances, knowledge))
+                            required=lambda feature: reachable_distances(feature, distances, knowledge))
 
 
-def _reachable(feature: str, distances: Sequence[float], knowledge: Knowledge) -> set[float]:
+def reachable_distances(feature: str, distances: Sequence[float], knowledge: Knowledge) -> set[float]:
     """The training distances at which the feature's procedure can be applied."""
     if not knowledge.has_feature(feature):
         return set(distances)

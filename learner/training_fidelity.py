@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.position import Position
-from learner.training import sensed_at
+from learner.training import reachable_distances, sensed_at
 from learner.training_data import MeasurementSource, TrainingObject
 
 
@@ -53,9 +53,8 @@ def stands_for(obj: TrainingObject, feature: str, position: Position, orientatio
     at ``position`` claims to hold at: ``*`` orientation means every training orientation
     (a round object: the one it is sensed at), ``*`` distance every training distance the
     feature's procedure reaches."""
-    proc = knowledge.procedure_for(feature)
-    ds = [position.distance_in] if position.distance_in is not None else [
-        d for d in distances if proc.applicable_at(d)]
+    ds = [position.distance_in] if position.distance_in is not None else sorted(
+        reachable_distances(feature, distances, knowledge))
     os_ = [position.orientation_deg] if position.orientation_deg is not None else list(orientations)
     return sorted({sensed_at(obj, Position(d, o)) for d in ds for o in os_})
 

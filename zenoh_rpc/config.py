@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import zenoh
@@ -50,9 +50,10 @@ class UserConfig:
 
     path: Path
     origin: str = "--zenoh-config"
+    _parsed: zenoh.Config = field(init=False, repr=False, compare=False)  # read once, asked by sets()
 
     def __post_init__(self) -> None:
-        self.load()
+        object.__setattr__(self, "_parsed", self.load())
 
     def load(self) -> zenoh.Config:
         """A fresh :class:`zenoh.Config` from the file (zenoh consumes one per session)."""
@@ -68,7 +69,7 @@ class UserConfig:
         to the default cannot be told from no value: writing zenoh's default lease
         (10000 ms) in the file is the same as leaving it out.
         """
-        return _sets(self.load(), key)
+        return _sets(self._parsed, key)
 
 
 def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),

@@ -27,7 +27,6 @@ from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from executive.profile import knowledge_of
 from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
 from executive.tables import print_table
-from executive.sim_training import train_in_simulator
 from hero_driver.interface import UNAVAILABLE, CameraImage, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
 from learner.criteria import Criterion
@@ -81,6 +80,8 @@ def run_demo(args: argparse.Namespace) -> int:
     driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile,
                            noise=_noise(args))  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
+        from executive.sim_training import train_in_simulator  # the simulator: csl demo only
+
         trained = train_in_simulator(knowledge, setup.profile, args.seed)
     summary = trained.summary
     console.print(f"trained: {summary.descriptions} descriptions at distances "

@@ -15,6 +15,7 @@ from robot_profile import RobotProfile
 
 DEFAULT_NOISE = "default"  # the simulator's own default (mild: clipped sonar, 2% outliers)
 NO_NOISE = "off"  # exact values everywhere
+EXECUTION_NOISE = "paper"  # the preset the paper's experiment runs under (docs/simulator.md)
 
 
 def noise_names() -> list[str]:

@@ -2,7 +2,7 @@
 
 Execution: the trained library meets the training objects and the unseen test objects,
 each floor laid out at random per seed, under the execution noise (the simulator's
-``paper`` preset when it has presets). Baselines, on the same test floors and seeds:
+``paper`` preset). Baselines, on the same test floors and seeds:
 every registered criterion (the cost-blind ``id3`` among them), the control strategies
 switched off, and the library from exhaustive training; and measuring every feature,
 priced from the knowledge.
@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from executive.experiment import figures
-from executive.experiment.conditions import STRATEGIES_OFF
+from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.exhaustive import measure_everything_s
@@ -34,25 +34,20 @@ COST_BLIND = "id3"
 Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
-def execution_noise() -> str:
-    """The noise the paper's experiment runs under: the realistic preset."""
-    return "paper"
-
-
 def _execution(objects: str, seed: int) -> EpisodeSpec:
-    return EpisodeSpec("execution", f"{objects} objects", seed, objects, noise=execution_noise())
+    return EpisodeSpec("execution", f"{objects} objects", seed, objects, noise=EXECUTION_NOISE)
 
 
 def _criterion(name: str, seed: int) -> EpisodeSpec:
-    return EpisodeSpec("baselines", name, seed, criterion=name, noise=execution_noise())
+    return EpisodeSpec("baselines", name, seed, criterion=name, noise=EXECUTION_NOISE)
 
 
 def _strategies_off(seed: int) -> EpisodeSpec:
-    return EpisodeSpec("baselines", "strategies off", seed, control=STRATEGIES_OFF, noise=execution_noise())
+    return EpisodeSpec("baselines", "strategies off", seed, control=STRATEGIES_OFF, noise=EXECUTION_NOISE)
 
 
 def _exhaustive(seed: int) -> EpisodeSpec:
-    return EpisodeSpec("baselines", "exhaustive library", seed, library="exhaustive", noise=execution_noise())
+    return EpisodeSpec("baselines", "exhaustive library", seed, library="exhaustive", noise=EXECUTION_NOISE)
 
 
 def criteria_seeds(config: ExperimentConfig) -> list[int]:
@@ -63,7 +58,7 @@ def criteria_seeds(config: ExperimentConfig) -> list[int]:
 def criteria_run(config: ExperimentConfig) -> list[str]:
     """The registry's criteria, all of them; a quick run leaves out those that look ahead
     (each test choice grows a second level, so they cost the most computation)."""
-    return [name for name, spec in CRITERIA.items() if not (config.quick and getattr(spec, "lookahead", False))]
+    return [name for name, spec in CRITERIA.items() if not (config.quick and spec.lookahead)]
 
 
 def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
@@ -111,7 +106,7 @@ def summarise_execution(config: ExperimentConfig, results: Results) -> StudyResu
     detail = (("test object", "episodes", "success", "robot min (mean)", "grasps failed at a leaf"),
               tuple((name, str(len(rs)), percent(_success(rs)), num(_minutes(rs)), str(sum(r.wrong_grasps for r in rs)))
                     for name, rs in sorted(per_object.items())))
-    notes = (f"Noise: `{execution_noise()}`; criterion `{DEFAULT_CRITERION}`; {len(config.seed_list)} seeds, each a "
+    notes = (f"Noise: `{EXECUTION_NOISE}`; criterion `{DEFAULT_CRITERION}`; {len(config.seed_list)} seeds, each a "
              f"floor with every object of the set at a random position and yaw; the library trained in study 1.",
              "Success: the object was grasped with one of its correct grasps (or left, for No-Grab objects), judged "
              "by what it is at the end (a tumbler knocked over and then grasped as a lying one counts).",
@@ -164,10 +159,10 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
     groups = {name: {"robot min / object": (_minutes(crs), _stderr_min(crs))} for name, crs in by_criterion.items()}
     groups["strategies off"] = {"robot min / object": (_minutes(off), _stderr_min(off))}
     groups["exhaustive lib."] = {"robot min / object": (_minutes(exhaustive), _stderr_min(exhaustive))}
-    bars(out / "baselines.png", f"robot minutes per test object (noise {execution_noise()}, ± s.e.)", "minutes",
+    bars(out / "baselines.png", f"robot minutes per test object (noise {EXECUTION_NOISE}, ± s.e.)", "minutes",
          groups)
     left_out = sorted(set(CRITERIA) - set(by_criterion))
-    notes = (f"Every criterion runs the same {len(seeds)} test floor(s) under noise `{execution_noise()}`"
+    notes = (f"Every criterion runs the same {len(seeds)} test floor(s) under noise `{EXECUTION_NOISE}`"
              + (f" (quick: {', '.join(left_out)} left out)" if left_out else "") + "; "
              f"`{COST_BLIND}` is the registry's cost-blind ID3. Saving = 1 - ours / `{COST_BLIND}`'s mean robot "
              "time per object (the paper's 30% counts classification alone: the parenthesis leaves out grasping).",

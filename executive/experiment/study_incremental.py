@@ -11,10 +11,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from executive.experiment.conditions import EXECUTION_NOISE
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.plots import Panel, curves
-from executive.experiment.study_execution import execution_noise
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 
 TITLE = "Incremental learning: the learning curve"
@@ -24,7 +24,7 @@ Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(config: ExperimentConfig, seed: int) -> EpisodeSpec:
-    return EpisodeSpec("incremental", f"chain of {config.chain_length}", seed, noise=execution_noise(),
+    return EpisodeSpec("incremental", f"chain of {config.chain_length}", seed, noise=EXECUTION_NOISE,
                        episodes=config.chain_length)
 
 
@@ -68,7 +68,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
         Panel("cost", "episode", "robot min / object", {"mean": (xs, minutes)}),
         Panel("library", "episode", "descriptions at the start", {"mean": (xs, sizes)}),
     ])
-    notes = (f"{len(chains)} chain(s) of {last} episodes on the test objects under noise `{execution_noise()}`; "
+    notes = (f"{len(chains)} chain(s) of {last} episodes on the test objects under noise `{EXECUTION_NOISE}`; "
              "every episode is a fresh random layout, the learner store is kept.",
              "Misclassified: a grasp executed at a leaf failed, or the object was not handled. The tumbler row "
              "counts chains where it was misclassified at some encounter with one more encounter after it.")

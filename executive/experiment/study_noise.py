@@ -12,14 +12,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from executive.experiment.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control
+from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF, STRATEGIES_ON, Control
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 
 TITLE = "Noise: success and cost vs noise rate"
-PRESET = "paper"
 SETTINGS = (STRATEGIES_ON, STRATEGIES_OFF, Control(alternatives=1), Control(alternatives=5),
             Control(nearest_after=1))
 
@@ -27,7 +26,7 @@ Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(control: Control, factor: float, seed: int) -> EpisodeSpec:
-    return EpisodeSpec("noise", f"{control.label}, noise x{factor:g}", seed, noise=PRESET, noise_factor=factor,
+    return EpisodeSpec("noise", f"{control.label}, noise x{factor:g}", seed, noise=EXECUTION_NOISE, noise_factor=factor,
                        control=control)
 
 
@@ -72,11 +71,11 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
         series[control.label] = (factors, [measured[(control, f)][0] for f in factors])
         costs[control.label] = (factors, [measured[(control, f)][1] for f in factors])
     curves(out / "noise.png", [
-        Panel(f"success vs noise ({PRESET} preset x factor)", "noise factor", "success rate", series),
+        Panel(f"success vs noise ({EXECUTION_NOISE} preset x factor)", "noise factor", "success rate", series),
         Panel("cost vs noise", "noise factor", "robot min / object", costs),
     ])
     notes = (f"Test objects, criterion cs-id3, {len(seeds)} seed(s) per point; factor f scales every rate and sigma "
-             f"of the `{PRESET}` preset (`NoiseConfig.preset('{PRESET}').scaled(f)`).",
+             f"of the `{EXECUTION_NOISE}` preset (`NoiseConfig.preset('{EXECUTION_NOISE}').scaled(f)`).",
              f"The executive's default is `{STRATEGIES_ON.label}` (the paper's); at noise x1 and above the data "
              f"favours `{best.label}`.")
     return StudyResult(TITLE, tuple(table), notes, ("noise.png",))

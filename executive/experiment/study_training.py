@@ -34,9 +34,9 @@ class Trained:
     knowledge: Knowledge
 
 
-def run_training(profile: RobotProfile, seed: int = 0) -> Trained:
+def run_training(profile: RobotProfile) -> Trained:
     knowledge = knowledge_of(profile)
-    trained = train_in_simulator(knowledge, profile, seed)  # as `csl train --sim`: footprints from the camera
+    trained = train_in_simulator(knowledge, profile)  # as `csl train --sim` (seed 0): footprints from the camera
     objects, source, result, summary = list(trained.seen.objects), trained.source, trained.result, trained.summary
     log = result.log
     fidelity = ground_truth(result.descriptions, trained.seen, knowledge, summary, profile)

@@ -35,7 +35,8 @@ def approach_pose(sim: SimWorld, index: int, distance_in: float, orientation_deg
     return Pose(obj.x_in + reach * ux, obj.y_in + reach * uy, normalise_deg(alpha + orientation_deg + 180.0))
 
 
-def _probe_world(entry_id: str, seed: int, noise: bool, profile: RobotProfile | None) -> SimWorld:
+def probe_world(entry_id: str, seed: int, noise: bool, profile: RobotProfile | None) -> SimWorld:
+    """A world holding ``entry_id`` alone at the origin, yaw 0, with noise on or off."""
     loaded, catalogue = profile_and_catalogue(profile)
     return SimWorld(one_object_world(entry_id, catalogue), seed, profile=loaded,
                     noise=NoiseConfig() if noise else NoiseConfig.off())
@@ -45,7 +46,7 @@ def probe(entry_id: str, procedure: str, distance_in: float, orientation_deg: fl
           seed: int = 0, noise: bool = False, profile: RobotProfile | None = None) -> SenseResult:
     """Apply ``procedure`` to ``entry_id`` seen from ``(distance, orientation)``;
     raises DriverError as the driver would (out of range, unknown procedure)."""
-    sim = _probe_world(entry_id, seed, noise, profile)
+    sim = probe_world(entry_id, seed, noise, profile)
     sim.pose = approach_pose(sim, 0, distance_in, orientation_deg)
     return sim.sense(procedure)
 
@@ -54,7 +55,7 @@ def grasp_probe(entry_id: str, grasp: str, orientation_deg: float, seed: int = 0
                 profile: RobotProfile | None = None) -> bool:
     """Whether ``grasp`` picks ``entry_id`` up when approached from ``orientation`` at
     the near end of the grasp's range (6 in for the HERO's grasps)."""
-    sim = _probe_world(entry_id, seed, False, profile)
+    sim = probe_world(entry_id, seed, False, profile)
     spec = sim.profile.grasping_procedure(grasp)
     distance = spec.range_in[0] if spec is not None else 0.0  # unknown: grasp() refuses it
     sim.pose = approach_pose(sim, 0, distance, orientation_deg)

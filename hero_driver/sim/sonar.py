@@ -164,10 +164,6 @@ def scan_height(aim: Aim) -> float:
     return math.floor(aim.target.entry.height_in / SCAN_STEP_IN + 0.5) * SCAN_STEP_IN
 
 
-# Procedures whose beam meets the object's side (the S-Sweep looks down on its top), so
-# a flat side met at a grazing angle can reflect their echo away.
-SIDE_LOOKING = frozenset({"H-Sweep-1°", "H-Sweep-5°", "V-Sweep-1°", "V-Sweep-5°", "H-Scan-0.3", "D-Scan-0.3"})
-
 # Ideal feature values per procedure: feature name -> (value, quantum for noise).
 Ideal = dict[str, tuple[float, float]]
 PROCEDURES: dict[str, Callable[[Physics, Aim], Ideal]] = {
@@ -182,3 +178,7 @@ PROCEDURES: dict[str, Callable[[Physics, Aim], Ideal]] = {
                                    "Depth": (_central_chord(aim), 0.0),
                                    "Top-Hole?": (float(aim.target.entry.top_hole), 0.0)},
 }
+
+# Procedures whose beam meets the object's side (the S-Sweep looks down on its top), so
+# a flat side met at a grazing angle can reflect their echo away.
+SIDE_LOOKING = frozenset(PROCEDURES) - {"S-Sweep-1°"}

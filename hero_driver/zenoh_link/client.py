@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Future, InvalidStateError
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import zenoh
@@ -65,6 +66,7 @@ class VerbTimeouts:
     """
 
     seconds: tuple[tuple[str, float], ...]
+    _by_verb: Mapping[str, float] = field(init=False, repr=False, compare=False)  # of() runs on every call
 
     def __init__(self, **overrides: float) -> None:
         known = {f"{verb.name}_s": verb.timeout_s for verb in VERBS}
@@ -76,10 +78,11 @@ class VerbTimeouts:
         chosen = {**known, **overrides}
         object.__setattr__(self, "seconds", tuple((name.removesuffix("_s"), float(chosen[name]))
                                                   for name in known))
+        object.__setattr__(self, "_by_verb", MappingProxyType(dict(self.seconds)))
 
     def of(self, verb: str) -> float:
         """The timeout of ``verb``."""
-        return dict(self.seconds)[verb]
+        return self._by_verb[verb]
 
 
 class ZenohDriver:

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from learner.description import ObjectDescription
-from learner.knowledge import Knowledge
+from learner.knowledge import GraspingProcedure, Knowledge, SensingProcedure
 from learner.library import check_library, descriptions_from_json, descriptions_to_json
 from learner.position import Position
 
@@ -67,11 +67,10 @@ def check_positions(description: ObjectDescription, knowledge: Knowledge, where:
     :func:`check_library` passed, so every feature and the grasp are known.
     """
     grasp = knowledge.grasp(description.grasp)
-    _within(description.grasp_position, grasp.range_in, f"{where}: grasp_position {description.grasp_position}",
-            grasp.name)
+    _within(description.grasp_position, grasp, f"{where}: grasp_position {description.grasp_position}")
     for o in description.observations:
         procedure = knowledge.procedure_for(o.feature)
-        _within(o.position, procedure.range_in, f"{where}: {o.feature}{o.position}", procedure.name)
+        _within(o.position, procedure, f"{where}: {o.feature}{o.position}")
 
 
 def partition(descriptions: list[ObjectDescription], knowledge: Knowledge | None,
@@ -90,8 +89,8 @@ def partition(descriptions: list[ObjectDescription], knowledge: Knowledge | None
     return tuple(served), tuple(quarantined)
 
 
-def _within(position: Position, range_in: tuple[float, float], where: str, procedure: str) -> None:
+def _within(position: Position, procedure: SensingProcedure | GraspingProcedure, where: str) -> None:
     d = position.distance_in
-    lo, hi = range_in
-    if d is not None and not lo - 1e-9 <= d <= hi + 1e-9:
-        raise ValueError(f"{where}: distance {d:g} in is outside {procedure}'s range [{lo:g}, {hi:g}]")
+    if d is not None and not procedure.applicable_at(d):
+        lo, hi = procedure.range_in
+        raise ValueError(f"{where}: distance {d:g} in is outside {procedure.name}'s range [{lo:g}, {hi:g}]")

@@ -36,7 +36,7 @@ from py_trees.common import Status
 
 from behaviours.bridge import PlannerMoveCost, to_driver_pose
 from behaviours.events import Event
-from behaviours.records import ObjectRecord, Step
+from behaviours.records import ObjectRecord, Step, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
 from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Pose as DriverPose,
                                    RobotState, SenseResult)
@@ -267,8 +267,7 @@ def get(key: str, robot: str = ROBOT) -> Any:
 
 def fresh_board(robot: str = ROBOT) -> None:
     """The blackboard as the executive resets it before an episode."""
-    for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None)):
-        put(key, value, robot)
+    reset_blackboard(robot)
 
 
 def start_object(services: Services, *, start: Position = P(60, 0), where: Region = REGION,
