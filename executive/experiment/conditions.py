@@ -47,20 +47,24 @@ class Control:
     ``nearest_after``: unreliable values before following the nearest branch (None:
     only as the last resort; 0: at once, which switches reselection and backtracking
     off, since the executive then trusts the nearest branch of every value).
+    ``appearance``: rule candidates out by what the camera saw (``Params.use_appearance``).
     """
 
     alternatives: int = 3
     nearest_after: int | None = None
+    appearance: bool = False
 
     @property
     def label(self) -> str:
+        camera = ", appearance" if self.appearance else ""
         if self.nearest_after == 0:
-            return "off"
+            return "off" + camera
         nearest = "last" if self.nearest_after is None else f"after {self.nearest_after}"
-        return f"N={self.alternatives}, nearest {nearest}"
+        return f"N={self.alternatives}, nearest {nearest}{camera}"
 
     def params(self) -> Params:
-        return Params(max_alternatives=self.alternatives, nearest_after=self.nearest_after)
+        return Params(max_alternatives=self.alternatives, nearest_after=self.nearest_after,
+                      use_appearance=self.appearance)
 
 
 STRATEGIES_ON = Control()

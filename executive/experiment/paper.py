@@ -21,7 +21,8 @@ from rich.console import Console
 
 from robot_profile import load_profile
 
-from executive.experiment import (study_execution, study_incremental, study_noise, study_optimum, study_trends)
+from executive.experiment import (study_appearance, study_execution, study_incremental, study_noise, study_optimum,
+                                  study_trends)
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.csvfile import write_episodes
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, install_worker
@@ -65,7 +66,8 @@ def run_paper(config: ExperimentConfig, console: Console | None = None) -> Paper
         trained = run_training(profile)
     libraries = {"trained": trained.descriptions, "exhaustive": trained.exhaustive}
     episodes: list[EpisodeSpec] = [*study_execution.plan(config), *study_trends.plan(config),
-                                   *study_incremental.plan(config), *study_noise.plan(config)]
+                                   *study_incremental.plan(config), *study_noise.plan(config),
+                                   *study_appearance.plan(config)]
     optimum_jobs = study_optimum.plan(config)
     # the longest jobs first (the optimum's, then chains of episodes), so no long one
     # starts last and leaves a worker idle at the end
@@ -80,6 +82,7 @@ def run_paper(config: ExperimentConfig, console: Console | None = None) -> Paper
             study_trends.summarise(config, results, plots),
             study_incremental.summarise(config, results, plots),
             study_noise.summarise(config, results, plots),
+            study_appearance.summarise(config, results),
             study_optimum.summarise(config, results, plots),
         )
         ran = list(dict.fromkeys(episodes))

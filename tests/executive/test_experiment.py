@@ -14,7 +14,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from executive.cli import main
+from executive.experiment import study_appearance, study_execution
 from executive.experiment.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control, CostScale, noise_config
+from executive.experiment.config import ExperimentConfig
 from executive.experiment.csvfile import read_episodes, write_episodes
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, _object_stats
 from executive.experiment.exhaustive import measure_everything_s, positions
@@ -73,6 +75,26 @@ def test_strategies_off_means_nearest_neighbour_at_once() -> None:
     assert STRATEGIES_ON.params().max_alternatives == 3 and STRATEGIES_ON.params().nearest_after is None
     assert STRATEGIES_OFF.label == "off"
     assert Control(5, 2).label == "N=5, nearest after 2"
+    assert Control(appearance=True).label == "N=3, nearest last, appearance"
+    assert Control(appearance=True).params().use_appearance and not STRATEGIES_ON.params().use_appearance
+
+
+def test_appearance_off_is_the_execution_run_so_the_pool_runs_it_once() -> None:
+    config = ExperimentConfig(quick=True, seeds=2, jobs=1, out=Path("."), command="csl experiment paper --quick")
+    off = [spec for spec in study_appearance.plan(config) if not spec.control.appearance]
+    assert set(off) <= set(study_execution.plan(config)) and len(off) == 4  # 2 object sets x 2 seeds
+
+
+def test_paired_saving_and_verdict_by_hand() -> None:
+    # per-seed minutes off 10, 12, 14 and on 9, 10, 13: differences 1, 2, 1 -> mean 4/3,
+    # sample sd sqrt(((1-4/3)^2*2 + (2-4/3)^2)/2) = sqrt(1/3), SE = sqrt(1/3)/sqrt(3) = 1/3
+    saving, error = study_appearance.paired_saving([10.0, 12.0, 14.0], [9.0, 10.0, 13.0])
+    assert saving == pytest.approx(4 / 3) and error == pytest.approx(1 / 3)
+    assert study_appearance.verdict(saving, error, 0.9, 0.9) == "on"  # 1.33 > 2 x 0.33
+    assert study_appearance.verdict(saving, error, 0.9, 0.8) == "no difference beyond noise"  # cheaper, less success
+    assert study_appearance.verdict(-saving, error, 0.9, 0.9) == "off"
+    assert study_appearance.verdict(0.5, error, 0.9, 0.9) == "no difference beyond noise"
+    assert study_appearance.verdict(*study_appearance.paired_saving([10.0], [9.0]), 0.9, 0.9) == "too few seeds to tell"
 
 
 def test_noise_names_and_errors() -> None:
@@ -209,7 +231,7 @@ def test_quick_run_page_has_every_study_with_four_column_rows(quick_run: Path) -
         "Training on the Table 3 objects", "Execution on training and unseen test objects",
         "Baselines in the same run", "Cost trends: move and sensing cost multipliers",
         "Incremental learning: the learning curve", "Noise: success and cost vs noise rate",
-        "Distance to the optimum (noise-free)"]
+        "The camera's appearance as free features", "Distance to the optimum (noise-free)"]
     for title, text in sections.items():
         if "Not yet available:" in text:
             continue

@@ -1,0 +1,94 @@
+"""Study: the camera's appearance as free features — candidates ruled out by what the
+overhead camera already measured (round or not, footprint area, elongation) against the
+same floors without it.
+
+The paper's CSL sensed every feature with the arm; our robot also has the camera image it
+located the object in. ``Params.use_appearance`` lets the session drop every candidate
+whose recorded appearance is unlike the object's (docs/method.md), at no robot time. Off
+by default until the data says otherwise; this study is that data: the execution runs of
+study 2 (appearance off) against the same seeds with it on.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+from collections.abc import Mapping, Sequence
+
+from executive.experiment.conditions import EXECUTION_NOISE, Control
+from executive.experiment.config import ExperimentConfig
+from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
+
+TITLE = "The camera's appearance as free features"
+OBJECT_SETS = ("test", "training")
+SETTINGS = (Control(), Control(appearance=True))
+
+Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
+
+
+def _spec(objects: str, control: Control, seed: int) -> EpisodeSpec:
+    # with the appearance off this is study 2's execution run: the pool runs it once
+    return EpisodeSpec("appearance", f"{objects} objects, {control.label}", seed, objects, noise=EXECUTION_NOISE,
+                       control=control)
+
+
+def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
+    return [_spec(objects, c, s) for objects in OBJECT_SETS for c in SETTINGS for s in config.seed_list]
+
+
+def _rows(results: Results, objects: str, control: Control, seeds: Sequence[int]) -> list[EpisodeRow]:
+    return [r for s in seeds for r in results[_spec(objects, control, s)]]
+
+
+def paired_saving(off: Sequence[float], on: Sequence[float]) -> tuple[float, float]:
+    """Mean of the per-seed differences ``off - on`` and its standard error: the same
+    floors run both ways, so pairing by seed removes most of the floors' own spread."""
+    differences = [a - b for a, b in zip(off, on, strict=True)]
+    if not differences:
+        return math.nan, math.nan
+    spread = statistics.stdev(differences) / math.sqrt(len(differences)) if len(differences) > 1 else math.nan
+    return statistics.fmean(differences), spread
+
+
+def verdict(saving: float, error: float, success_off: float, success_on: float) -> str:
+    """Which setting the data favours: on only when it is cheaper by more than twice the
+    standard error and no less successful; off when it is dearer by that much; else none."""
+    if math.isnan(saving) or math.isnan(error):
+        return "too few seeds to tell"
+    if saving > 2 * error and success_on >= success_off:
+        return "on"
+    if saving < -2 * error:
+        return "off"
+    return "no difference beyond noise"
+
+
+def _per_seed_minutes(results: Results, objects: str, control: Control, seeds: Sequence[int]) -> list[float]:
+    return [mean(r.robot_s for r in results[_spec(objects, control, s)]) / 60.0 for s in seeds]
+
+
+def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
+    seeds = config.seed_list
+    off, on = SETTINGS
+    table: list[ResultRow] = []
+    for objects in OBJECT_SETS:
+        cells = []
+        for control in SETTINGS:
+            rows = _rows(results, objects, control, seeds)
+            wrong = mean(float(r.wrong_grasps) for r in rows)
+            cells.append((mean(float(r.success) for r in rows), mean(r.robot_s for r in rows) / 60.0,
+                          mean(float(r.tests) for r in rows), wrong))
+        for control, (success, minutes, tests, wrong) in zip(SETTINGS, cells):
+            table.append(ResultRow(f"{objects} objects, appearance {'on' if control.appearance else 'off'}", "-",
+                                   f"{percent(success)}, {num(minutes)} min, {num(tests)} tests, "
+                                   f"{num(wrong, 2)} wrong grasps per object"))
+        saving, error = paired_saving(_per_seed_minutes(results, objects, off, seeds),
+                                      _per_seed_minutes(results, objects, on, seeds))
+        table.append(ResultRow(f"{objects} objects: robot min saved per object by the appearance (paired by seed)",
+                               "-", f"{num(saving, 2)} ± {num(error, 2)}; favours: "
+                               f"{verdict(saving, error, cells[0][0], cells[1][0])}"))
+    notes = (f"Noise `{EXECUTION_NOISE}`, criterion cs-id3, the library trained in study 1 (it records each "
+             f"description's appearance), {len(seeds)} seeds; the appearance-off runs are study 2's.",
+             "Favours 'on' only when it saves more than twice the standard error of the paired difference and "
+             "loses no success; the executive's default is off (`--appearance` turns it on).")
+    return StudyResult(TITLE, tuple(table), notes)
