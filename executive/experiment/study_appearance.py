@@ -12,13 +12,12 @@ study 2 (appearance off) against the same seeds with it on.
 from __future__ import annotations
 
 import math
-import statistics
 from collections.abc import Mapping, Sequence
 
 from executive.experiment.conditions import EXECUTION_NOISE, Control
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
-from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
+from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
 TITLE = "The camera's appearance as free features"
 OBJECT_SETS = ("test", "training")
@@ -39,16 +38,6 @@ def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
 
 def _rows(results: Results, objects: str, control: Control, seeds: Sequence[int]) -> list[EpisodeRow]:
     return [r for s in seeds for r in results[_spec(objects, control, s)]]
-
-
-def paired_saving(off: Sequence[float], on: Sequence[float]) -> tuple[float, float]:
-    """Mean of the per-seed differences ``off - on`` and its standard error: the same
-    floors run both ways, so pairing by seed removes most of the floors' own spread."""
-    differences = [a - b for a, b in zip(off, on, strict=True)]
-    if not differences:
-        return math.nan, math.nan
-    spread = statistics.stdev(differences) / math.sqrt(len(differences)) if len(differences) > 1 else math.nan
-    return statistics.fmean(differences), spread
 
 
 def verdict(saving: float, error: float, success_off: float, success_on: float) -> str:
@@ -82,7 +71,7 @@ def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
             table.append(ResultRow(f"{objects} objects, appearance {'on' if control.appearance else 'off'}", "-",
                                    f"{percent(success)}, {num(minutes)} min, {num(tests)} tests, "
                                    f"{num(wrong, 2)} wrong grasps per object"))
-        saving, error = paired_saving(_per_seed_minutes(results, objects, off, seeds),
+        saving, error = paired_difference(_per_seed_minutes(results, objects, off, seeds),
                                       _per_seed_minutes(results, objects, on, seeds))
         table.append(ResultRow(f"{objects} objects: robot min saved per object by the appearance (paired by seed)",
                                "-", f"{num(saving, 2)} ± {num(error, 2)}; favours: "

@@ -9,6 +9,7 @@ so the defaults can follow it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -16,7 +17,7 @@ from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF, STR
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.plots import Panel, curves
-from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
+from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
 TITLE = "Noise: success and cost vs noise rate"
 SETTINGS = (STRATEGIES_ON, STRATEGIES_OFF, Control(alternatives=1), Control(alternatives=5),
@@ -43,6 +44,18 @@ def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
     return [_spec(c, f, s) for c, f in _grid(config) for s in config.few_seeds]
 
 
+def _success_gain(results: Results, setting: Control, factors: Sequence[float],
+                  seeds: Sequence[int]) -> tuple[float, float]:
+    """Success of ``setting`` minus the default's, per (noise factor, seed) floor: the
+    mean and its standard error."""
+
+    def rate(control: Control, factor: float, seed: int) -> float:
+        return mean(float(r.success) for r in results[_spec(control, factor, seed)])
+
+    pairs = [(f, s) for f in factors for s in seeds]
+    return paired_difference([rate(setting, f, s) for f, s in pairs], [rate(STRATEGIES_ON, f, s) for f, s in pairs])
+
+
 def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyResult:
     grid = _grid(config)
     seeds = config.few_seeds
@@ -64,6 +77,12 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
 
     best = max(SETTINGS, key=standing)
     table.append(ResultRow("best setting at noise x1 and above (success first, then cost)", "-", best.label))
+    gain, error = _success_gain(results, best, [f for f in noisy if (best, f) in measured and (STRATEGIES_ON, f) in measured],
+                                seeds)
+    beyond = not (math.isnan(gain) or math.isnan(error)) and gain > 2 * error
+    table.append(ResultRow(f"success gained by `{best.label}` over the default, paired by seed", "-",
+                           f"{num(100 * gain)} ± {num(100 * error)} points; "
+                           f"{'beyond' if beyond else 'within'} twice the standard error"))
     series: dict[str, tuple[list[float], list[float]]] = {}
     costs: dict[str, tuple[list[float], list[float]]] = {}
     for control in SETTINGS:
@@ -77,5 +96,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
     notes = (f"Test objects, criterion cs-id3, {len(seeds)} seed(s) per point; factor f scales every rate and sigma "
              f"of the `{EXECUTION_NOISE}` preset (`NoiseConfig.preset('{EXECUTION_NOISE}').scaled(f)`).",
              f"The executive's default is `{STRATEGIES_ON.label}` (the paper's); at noise x1 and above the data "
-             f"favours `{best.label}`.")
+             f"favours `{best.label}`"
+             + (", by more than the noise: the default should follow it." if beyond and best != STRATEGIES_ON else
+                ", but not beyond twice the standard error, so the default stays the paper's."))
     return StudyResult(TITLE, tuple(table), notes, ("noise.png",))

@@ -57,6 +57,16 @@ def mean(values: Iterable[float]) -> float:
     return statistics.fmean(data) if data else math.nan
 
 
+def paired_difference(a: Sequence[float], b: Sequence[float]) -> tuple[float, float]:
+    """Mean of the paired differences ``a - b`` and its standard error: the same floors
+    run both ways, so pairing by seed removes most of the floors' own spread."""
+    differences = [x - y for x, y in zip(a, b, strict=True)]
+    if not differences:
+        return math.nan, math.nan
+    spread = statistics.stdev(differences) / math.sqrt(len(differences)) if len(differences) > 1 else math.nan
+    return statistics.fmean(differences), spread
+
+
 def num(value: float | None, digits: int = 1, unit: str = "") -> str:
     if value is None or not math.isfinite(value):
         return "-"

@@ -20,7 +20,7 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.csvfile import read_episodes, write_episodes
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, _object_stats
 from executive.experiment.exhaustive import measure_everything_s, positions
-from executive.experiment.table import markdown_table, ratio
+from executive.experiment.table import markdown_table, paired_difference, ratio
 from executive.experiment.worlds import random_floor, set_members
 from executive.profile import knowledge_of
 from hero_driver.sim.noise import NoiseConfig
@@ -88,13 +88,13 @@ def test_appearance_off_is_the_execution_run_so_the_pool_runs_it_once() -> None:
 def test_paired_saving_and_verdict_by_hand() -> None:
     # per-seed minutes off 10, 12, 14 and on 9, 10, 13: differences 1, 2, 1 -> mean 4/3,
     # sample sd sqrt(((1-4/3)^2*2 + (2-4/3)^2)/2) = sqrt(1/3), SE = sqrt(1/3)/sqrt(3) = 1/3
-    saving, error = study_appearance.paired_saving([10.0, 12.0, 14.0], [9.0, 10.0, 13.0])
+    saving, error = paired_difference([10.0, 12.0, 14.0], [9.0, 10.0, 13.0])
     assert saving == pytest.approx(4 / 3) and error == pytest.approx(1 / 3)
     assert study_appearance.verdict(saving, error, 0.9, 0.9) == "on"  # 1.33 > 2 x 0.33
     assert study_appearance.verdict(saving, error, 0.9, 0.8) == "no difference beyond noise"  # cheaper, less success
     assert study_appearance.verdict(-saving, error, 0.9, 0.9) == "off"
     assert study_appearance.verdict(0.5, error, 0.9, 0.9) == "no difference beyond noise"
-    assert study_appearance.verdict(*study_appearance.paired_saving([10.0], [9.0]), 0.9, 0.9) == "too few seeds to tell"
+    assert study_appearance.verdict(*paired_difference([10.0], [9.0]), 0.9, 0.9) == "too few seeds to tell"
 
 
 def test_noise_names_and_errors() -> None:
