@@ -78,7 +78,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
     check.add_argument("--profile", default=None, metavar="FILE",
-                       help="knowledge profile naming the robot's procedures "
+                       help="knowledge profile of the robot: its procedures are the ones exercised, "
+                            "and a driver whose hello names another profile fails in one line "
                             "(default: the HERO 2000's)")
     add_zenoh_config_option(check)
     check.set_defaults(handler=_run_check)
@@ -125,8 +126,10 @@ def _run_check(args: argparse.Namespace) -> int:
         raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
 
-    procedures = Procedures.from_profile(args.profile)
-    results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=procedures,
-                         zenoh_config=zenoh_config)
+    from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
+
+    profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
+    results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
+                         zenoh_config=zenoh_config, profile=profile_stamp(profile))
     print(format_table(results))
     return 0 if all(r.passed for r in results) else 1

@@ -1,16 +1,17 @@
 """A driver for docs/driver-protocol.md, standalone: eclipse-zenoh, numpy and the
 Python standard library, nothing of the executive. Copy this directory, fill in the
-``# VENDOR:`` stubs of robot.py's HardwareRobot, and check it with
-``csl driver check --robot NAME --connect ENDPOINT`` (docs/vendor-guide.md).
+``# VENDOR:`` stubs of robot.py's HardwareRobot, put your robot's knowledge profile in
+place of hero2000.toml, and check it with ``csl driver check --robot NAME --connect
+ENDPOINT --profile YOUR.toml`` (docs/vendor-guide.md).
 
     python driver.py --robot r1 --listen tcp/0.0.0.0:7447            # the toy backend
-    python driver.py --robot r1 --backend hardware --zenoh-config zenoh.json5
+    python driver.py --robot r1 --backend hardware --profile myrobot.toml --zenoh-config zenoh.json5
 
 This file is the protocol plumbing, in the order the protocol page asks for it: a
 state publisher (5 Hz and after every verb), one queryable per verb answering only
 its exact key, a catch-all on ``rpc/**`` for unknown verbs and wildcards, one robot
-verb at a time (``busy`` otherwise, never queued), and the liveliness token declared
-last and undeclared first.
+verb at a time (``busy`` otherwise, never queued), ``hello`` naming the robot profile
+served (knowledge.py), and the liveliness token declared last and undeclared first.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from collections.abc import Callable
 
 import zenoh
 
+import knowledge
 import messages
 from robot import BAD_REQUEST, BUSY, INTERNAL, UNKNOWN_VERB, HardwareRobot, Robot, RobotError
 from toy_robot import ToyRobot
@@ -50,8 +52,9 @@ DEFAULT_CONFIG = """{
 class Driver:
     """Serves ``robot`` as ``hero/<name>/...`` on ``session`` until :meth:`close`."""
 
-    def __init__(self, session: zenoh.Session, name: str, robot: Robot) -> None:
+    def __init__(self, session: zenoh.Session, name: str, robot: Robot, profile: knowledge.Knowledge) -> None:
         self.robot = robot
+        self.profile = profile
         self.root = f"hero/{name}"
         self._busy_lock = threading.Lock()
         self._busy: str | None = None
@@ -109,7 +112,7 @@ class Driver:
         if verb == "noop":
             _reply(query, {})
         elif verb == "hello":
-            _reply(query, messages.hello_body())
+            _reply(query, messages.hello_body(self.profile))
         else:
             with self._busy_lock:
                 if self._busy is not None:
@@ -177,6 +180,9 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
                         help="zenoh JSON5 config file (security settings: docs/vendor-guide.md)")
     parser.add_argument("--backend", choices=("toy", "hardware"), default="toy",
                         help="toy: an in-memory robot and box; hardware: robot.py's VENDOR stubs")
+    parser.add_argument("--profile", default=str(knowledge.DEFAULT_PROFILE), metavar="FILE",
+                        help="the robot's knowledge profile (TOML): the procedures it runs, and the name and "
+                             "fingerprint hello sends (default: hero2000.toml next to this file)")
     parser.add_argument("--time-scale", type=float, default=0.1, metavar="X",
                         help="toy backend: real seconds per robot second of motion (default 0.1)")
     return parser.parse_args(argv)
@@ -205,7 +211,11 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(f"--robot {args.robot!r}: one key chunk of letters, digits, '_', '-', '.'")
     if not args.time_scale >= 0:
         raise SystemExit(f"--time-scale {args.time_scale}: expected a number >= 0")
-    robot: Robot = ToyRobot(args.time_scale) if args.backend == "toy" else HardwareRobot()
+    try:
+        profile = knowledge.load(args.profile)
+    except ValueError as exc:
+        raise SystemExit(f"--profile {exc}") from None
+    robot: Robot = ToyRobot(profile, args.time_scale) if args.backend == "toy" else HardwareRobot()
     try:
         session = zenoh.open(_config(args))
     except zenoh.ZError as exc:
@@ -213,7 +223,7 @@ def main(argv: list[str] | None = None) -> int:
     stop = threading.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda *_: stop.set())
-    driver = Driver(session, args.robot, robot)
+    driver = Driver(session, args.robot, robot, profile)
     print(f"serving robot {args.robot} ({args.backend} backend); Ctrl-C stops", flush=True)
     try:
         while not stop.wait(0.5):  # a timed wait lets the signal handler run promptly

@@ -15,12 +15,13 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from knowledge import Knowledge
 from overhead import image_body
 from robot import GraspResult, Image, MoveResult, Pose, RobotState, SenseResult
 
 PROTOCOL_VERSION = 1
 VERSIONS = (1,)  # what `hello` lists: the versions this driver serves
-FEATURES: tuple[str, ...] = ()  # optional features offered (none are defined yet)
+FEATURES = ("profile",)  # optional features offered: hello names the robot profile served
 
 
 class BadRequest(ValueError):
@@ -183,8 +184,11 @@ def result_body(result: object) -> dict:
     raise TypeError(f"not a verb result: {type(result).__name__}")
 
 
-def hello_body() -> dict:
-    return {"versions": list(VERSIONS), "features": list(FEATURES)}
+def hello_body(knowledge: Knowledge) -> dict:
+    """Versions, features and, as the ``profile`` feature asks, which robot profile
+    this driver serves: a client planning with another refuses the robot."""
+    return {"versions": list(VERSIONS), "features": list(FEATURES),
+            "profile": {"name": knowledge.name, "sha256": knowledge.sha256}}
 
 
 def encode(fields: dict) -> bytes:

@@ -1,11 +1,14 @@
-"""A toy backend: a HERO-sized robot on an empty floor with one box, all in memory.
+"""A toy backend: a robot of the knowledge profile's size and speeds on an empty floor
+with one box, all in memory.
 
 It lets the template run, and pass ``csl driver check``, before any hardware is
 wired: the geometry is honest (a disc base that stops on contact, a sonar ray cast
 to the box, ranges with the 1.5 in tolerance, a camera image drawn in the grey bands)
-but the box's features are computed from its size, not measured. Moves take real
-time (``time_scale`` real seconds per robot second), as a real base does, so a
-second verb sent during one is refused ``busy``.
+but the box's features are computed from its size, not measured, by a model that
+knows the HERO 2000's procedure names. Procedure times and ranges and the [robot]
+constants come from the profile (knowledge.py), the same file whose fingerprint
+``hello`` sends. Moves take real time (``time_scale`` real seconds per robot second),
+as a real base does, so a second verb sent during one is refused ``busy``.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import overhead
+from knowledge import Knowledge, Procedure
 from robot import (
     BAD_REQUEST,
     NO_TARGET,
@@ -32,15 +36,6 @@ from robot import (
     RobotState,
     SenseResult,
 )
-
-# The HERO 2000's constants (its knowledge profile's [robot] table).
-BASE_RADIUS_IN = 9.0
-SENSOR_OFFSET_IN = 11.0
-SENSOR_HEIGHT_IN = 4.0
-RAISED_SENSOR_HEIGHT_IN = 18.0
-SPEED_IN_PER_S = 0.5
-TURN_DEG_PER_S = 5.0
-CENTRING_S = 15.0
 
 ROOM_IN = (144.0, 120.0)  # floor, x by y, walls all round
 WALL_IN = 2.0
@@ -61,21 +56,6 @@ class Box:
     angle_deg: float = 0.0
 
 
-@dataclass(frozen=True)
-class Procedure:
-    time_s: float
-    range_in: tuple[float, float]
-
-
-# The HERO 2000's procedures (names, times, ranges) as in its knowledge profile; a
-# real driver takes them from the profile its robot is run with.
-SENSING = {name: Procedure(t, r) for name, t, r in [
-    ("H-Sweep-1°", 100, (6, 127)), ("H-Sweep-5°", 45, (6, 127)), ("V-Sweep-1°", 76, (6, 127)),
-    ("V-Sweep-5°", 42, (6, 127)), ("S-Sweep-1°", 70, (6, 6)), ("H-Scan-0.3", 105, (6, 6)),
-    ("D-Scan-0.3", 84, (6, 6))]}
-GRASPING = {name: Procedure(t, r) for name, t, r in [
-    ("Front-Pinch", 45, (6, 6)), ("Front-Wrap", 60, (6, 6)), ("Top-Pinch", 63, (6, 6)),
-    ("Top-Vert-Grip", 80, (6, 6)), ("Top-Hor-Grip", 80, (6, 6)), ("No-Grab", 0, (6, 999))]}
 LIFTS_THE_BOX = {"Front-Wrap", "Top-Hor-Grip"}  # the grasps that hold a 10 in wide box
 
 
@@ -91,7 +71,10 @@ def _turn(from_deg: float, to_deg: float) -> float:
 class ToyRobot:
     """The robot and its world; every verb is thread-safe against ``state()``."""
 
-    def __init__(self, time_scale: float = 0.1) -> None:
+    def __init__(self, knowledge: Knowledge, time_scale: float = 0.1) -> None:
+        self.knowledge = knowledge
+        self.robot = knowledge.robot  # the [robot] constants: base size, sonar placement, speeds
+        self.radius_in = self.robot["base_radius_in"]
         self.time_scale = time_scale
         self._lock = threading.Lock()
         self._pose = START
@@ -104,8 +87,8 @@ class ToyRobot:
     def _blocked(self, x: float, y: float) -> bool:
         """Would the base disc at (x, y) touch a wall or the box?"""
         w, h = ROOM_IN
-        if not (WALL_IN + BASE_RADIUS_IN <= x <= w - WALL_IN - BASE_RADIUS_IN
-                and WALL_IN + BASE_RADIUS_IN <= y <= h - WALL_IN - BASE_RADIUS_IN):
+        if not (WALL_IN + self.radius_in <= x <= w - WALL_IN - self.radius_in
+                and WALL_IN + self.radius_in <= y <= h - WALL_IN - self.radius_in):
             return True
         box = self._box
         if box is None:
@@ -115,11 +98,12 @@ class ToyRobot:
         across = -(x - box.x_in) * math.sin(a) + (y - box.y_in) * math.cos(a)
         dx = max(abs(along) - box.length_in / 2, 0.0)
         dy = max(abs(across) - box.width_in / 2, 0.0)
-        return math.hypot(dx, dy) < BASE_RADIUS_IN
+        return math.hypot(dx, dy) < self.radius_in
 
     def _sonar(self, pose: Pose) -> tuple[float, float]:
         h = math.radians(pose.heading_deg)
-        return pose.x_in + SENSOR_OFFSET_IN * math.cos(h), pose.y_in + SENSOR_OFFSET_IN * math.sin(h)
+        offset = self.robot["sensor_offset_in"]
+        return pose.x_in + offset * math.cos(h), pose.y_in + offset * math.sin(h)
 
     def _distance_ahead(self, pose: Pose) -> float | None:
         """Sonar to the box's surface straight ahead (slab test in the box frame), or None."""
@@ -175,9 +159,9 @@ class ToyRobot:
             here = self._pose
             self._turn_to(math.degrees(math.atan2(face[1] - here.y_in, face[0] - here.x_in)))
             distance = self._distance_ahead(self._pose)
-            if distance is not None and math.dist(self._sonar(self._pose), face) <= distance + BASE_RADIUS_IN:
+            if distance is not None and math.dist(self._sonar(self._pose), face) <= distance + self.radius_in:
                 centred = True
-                self._step(CENTRING_S, self._pose)
+                self._step(self.robot["centring_s"], self._pose)
         return MoveResult(self._pose, self._clock_s - start, False, centred)
 
     def _step(self, seconds: float, pose: Pose) -> None:
@@ -189,28 +173,28 @@ class ToyRobot:
     def _turn_to(self, heading_deg: float) -> None:
         here = self._pose
         turn = _turn(here.heading_deg, heading_deg)
-        steps = max(1, math.ceil(abs(turn) / TURN_DEG_PER_S / STEP_S))
+        steps = max(1, math.ceil(abs(turn) / self.robot["turn_deg_per_s"] / STEP_S))
         for i in range(1, steps + 1):
-            self._step(abs(turn) / TURN_DEG_PER_S / steps,
+            self._step(abs(turn) / self.robot["turn_deg_per_s"] / steps,
                        Pose(here.x_in, here.y_in, _wrap(here.heading_deg + turn * i / steps)))
 
     def _drive(self, x: float, y: float) -> bool:
         """Straight to (x, y); False when the base touched something first."""
         here = self._pose
         length = math.hypot(x - here.x_in, y - here.y_in)
-        steps = max(1, math.ceil(length / SPEED_IN_PER_S / STEP_S))
+        steps = max(1, math.ceil(length / self.robot["speed_in_per_s"] / STEP_S))
         for i in range(1, steps + 1):
             nx = here.x_in + (x - here.x_in) * i / steps
             ny = here.y_in + (y - here.y_in) * i / steps
             if self._blocked(nx, ny):
                 return False
-            self._step(length / SPEED_IN_PER_S / steps, Pose(nx, ny, here.heading_deg))
+            self._step(length / self.robot["speed_in_per_s"] / steps, Pose(nx, ny, here.heading_deg))
         return True
 
     def sense(self, procedure: str) -> SenseResult:
-        if procedure not in SENSING:
+        spec = self.knowledge.sensing.get(procedure)
+        if spec is None:
             raise RobotError(UNKNOWN_PROCEDURE, f"{procedure!r} is not a sensing procedure of this robot")
-        spec = SENSING[procedure]
         d = self._in_range(spec, procedure)
         box = self._box
         assert box is not None  # _in_range found it
@@ -218,11 +202,12 @@ class ToyRobot:
         if procedure.startswith("H-Sweep"):
             values = {f"Width-Degree-{procedure[-2:]}": math.degrees(2 * math.atan2(box.width_in / 2, d))}
         elif procedure.startswith("V-Sweep"):
+            sonar = self.robot["sensor_height_in"]
             values = {f"Height-Degree-{procedure[-2:]}": math.degrees(
-                math.atan2(box.height_in - SENSOR_HEIGHT_IN, d) + math.atan2(SENSOR_HEIGHT_IN, d))}
+                math.atan2(box.height_in - sonar, d) + math.atan2(sonar, d))}
         elif procedure == "S-Sweep-1°":
             values = {"Depth-Degree-1°": math.degrees(
-                math.atan2(box.length_in, max(RAISED_SENSOR_HEIGHT_IN - box.height_in, 1.0)))}
+                math.atan2(box.length_in, max(self.robot["raised_sensor_height_in"] - box.height_in, 1.0)))}
         elif procedure == "H-Scan-0.3":
             values = {"Width": box.width_in, "Front-Hole?": 0.0}
         else:
@@ -232,11 +217,11 @@ class ToyRobot:
         return SenseResult(procedure, values, spec.time_s, d)
 
     def grasp(self, procedure: str) -> GraspResult:
-        if procedure not in GRASPING:
+        spec = self.knowledge.grasping.get(procedure)
+        if spec is None:
             raise RobotError(UNKNOWN_PROCEDURE, f"{procedure!r} is not a grasping procedure of this robot")
         if self._held is not None:
             raise RobotError(BAD_REQUEST, f"{procedure}: the hand already holds an object")
-        spec = GRASPING[procedure]
         self._in_range(spec, procedure)
         lifted = procedure in LIFTS_THE_BOX
         with self._lock:
@@ -261,11 +246,11 @@ class ToyRobot:
         if box is not None:
             pixels[overhead.rectangle(x, y, box.x_in, box.y_in, box.length_in, box.width_in,
                                       box.angle_deg)] = overhead.OBJECT
-        pixels[overhead.disc(x, y, pose.x_in, pose.y_in, BASE_RADIUS_IN)] = overhead.BASE
+        pixels[overhead.disc(x, y, pose.x_in, pose.y_in, self.radius_in)] = overhead.BASE
         h = math.radians(pose.heading_deg)
-        ahead = 2 / 3 * BASE_RADIUS_IN
+        ahead = 2 / 3 * self.radius_in
         pixels[overhead.disc(x, y, pose.x_in + ahead * math.cos(h), pose.y_in + ahead * math.sin(h),
-                             BASE_RADIUS_IN / 4)] = overhead.MARKER
+                             self.radius_in / 4)] = overhead.MARKER
         return Image(pixels, INCHES_PER_PIXEL, 0.0, ROOM_IN[1], clock, {"backend": "toy"})
 
     def reset(self, world: str | None, seed: int | None) -> RobotState:

@@ -1,17 +1,21 @@
-"""Does a driver's overhead image show the robot where its published pose says, in the
-grey levels of docs/driver-protocol.md?
+"""Does a driver's overhead image show things where they are, in the grey levels of
+docs/driver-protocol.md?
 
 A camera reply can decode perfectly and still ruin every episode: rows counted from
-the bottom put each object at its mirror-image place, and objects drawn at another
-grey level are no objects to the vision. Both are visible in the one thing the
-conformance suite knows the position of, the robot itself: its base (levels 140-194)
-must lie around the published pose with its heading marker (235-255) ahead of it, and
-nothing else in the image may be drawn in the robot's levels.
+the bottom put each object at its mirror-image place, objects drawn at another grey
+level are no objects to the vision, and objects drawn off their place send the robot
+to empty floor. The conformance suite knows the position of two kinds of thing: the
+robot itself, whose base (levels 140-194) must lie around the published pose with its
+heading marker (235-255) ahead of it and nothing else in the robot's levels; and the
+objects a ``reset`` to a known world placed, each of which must be drawn in the
+object levels (195-234) around its place, at about its size.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -24,6 +28,9 @@ CENTRE_TOLERANCE_IN = 4.0  # base centroid vs published position (odometry, pixe
 HEADING_TOLERANCE_DEG = 25.0  # marker bearing vs published heading (a small marker, few pixels)
 SEARCH_IN = 12.0  # how far from the published position a robot blob may start
 STRAY_PIXELS = 4  # robot-level pixels away from the robot tolerated (noise survivors)
+OBJECT_BAND = (195, 234)
+OBJECT_TOLERANCE_IN = 3.0  # footprint centroid vs where reset placed the object
+OBJECT_AREA_RATIO = 2.0  # drawn area within a factor of the footprint's (side-effect checks count pixels)
 _OPEN = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
 
 
@@ -104,3 +111,53 @@ def _blob_near(labels: np.ndarray, count: int, row: float, col: float, radius_px
         if float(np.min(np.hypot(rows - row, cols - col))) <= radius_px:
             return True
     return False
+
+
+@dataclass(frozen=True)
+class PlacedObject:
+    """An object a world file puts on the floor: its centre and footprint area."""
+
+    name: str
+    x_in: float
+    y_in: float
+    area_in2: float
+
+
+def check_objects_drawn(image: CameraImage, objects: Sequence[PlacedObject]) -> str:
+    """A one-line account of how far the drawn objects lie from their places;
+    MappingError naming the first object that is missing, off its place by more than
+    OBJECT_TOLERANCE_IN, or drawn at another size.
+
+    Each object is matched to the object-level blob nearest its centre (no opening:
+    an upright bottle is a handful of pixels, and no other level reaches this band
+    through the protocol's pixel noise)."""
+    pixels = undistorted(image)
+    count, labels = cv2.connectedComponents(_band(pixels, OBJECT_BAND), connectivity=8)
+    blobs = [np.nonzero(labels == label) for label in range(1, count)]
+    s = image.inches_per_pixel
+    worst = 0.0
+    for placed in objects:
+        row = (image.origin_y_in - placed.y_in) / s - 0.5
+        col = (placed.x_in - image.origin_x_in) / s - 0.5
+        gaps = [s * float(np.min(np.hypot(rows - row, cols - col))) for rows, cols in blobs]
+        mirrored = pixels.shape[0] - 1 - row
+        hint = (" (one is at the row-mirrored place: rows must count down from the high-y edge)"
+                if any(s * float(np.min(np.hypot(rows - mirrored, cols - col))) <= OBJECT_TOLERANCE_IN
+                       for rows, cols in blobs) else "")
+        if not gaps or min(gaps) > SEARCH_IN:
+            raise MappingError(f"{placed.name}: nothing drawn in the object levels {OBJECT_BAND[0]}-{OBJECT_BAND[1]} "
+                               f"within {SEARCH_IN:g} in of ({placed.x_in:g}, {placed.y_in:g}), where reset "
+                               f"placed it{hint}")
+        rows, cols = blobs[int(np.argmin(gaps))]
+        x, y = _world(image, rows, cols)
+        off_in = math.hypot(x - placed.x_in, y - placed.y_in)
+        if off_in > OBJECT_TOLERANCE_IN:
+            raise MappingError(f"{placed.name}: drawn at ({x:.1f}, {y:.1f}), {off_in:.1f} in from "
+                               f"({placed.x_in:g}, {placed.y_in:g}) where reset placed it; at most "
+                               f"{OBJECT_TOLERANCE_IN:g} in{hint}")
+        area_in2 = len(rows) * s * s
+        if not placed.area_in2 / OBJECT_AREA_RATIO <= area_in2 <= placed.area_in2 * OBJECT_AREA_RATIO:
+            raise MappingError(f"{placed.name}: drawn over {area_in2:.1f} sq in, its footprint is "
+                               f"{placed.area_in2:.1f} sq in (within a factor {OBJECT_AREA_RATIO:g} expected)")
+        worst = max(worst, off_in)
+    return f"{len(objects)} objects drawn where reset placed them, the farthest {worst:.1f} in off"

@@ -9,7 +9,13 @@ the check and the field named.
 
 The robot must start from its reset pose with nothing within contact range of the
 sonar; the suite only turns the robot in place, so it is safe to run on hardware.
-Against a robot nobody serves (no token, no answer) it stops after one line.
+Against a robot nobody serves (no token, no answer), and against a driver that names
+another robot profile than the one given, it stops after one line: every later check
+would only repeat that.
+
+:func:`shutdown_order` is the one check the suite cannot run by itself, since it needs
+the driver to stop: it pings while someone stops the driver and tells whether the
+liveliness token went before the queryables did.
 """
 
 from __future__ import annotations
@@ -42,14 +48,17 @@ from hero_driver.interface import (
     SenseResult,
 )
 from hero_driver.zenoh_link import codec
-from hero_driver.zenoh_link.camera_check import MappingError, check_robot_drawn
+from hero_driver.sim.catalogue import load_catalogue
+from hero_driver.sim.worldfile import WORLDS_DIR, load_world
+from hero_driver.zenoh_link.camera_check import MappingError, PlacedObject, check_objects_drawn, check_robot_drawn
 from hero_driver.zenoh_link.codec import CodecError
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
-from robot_profile import DEFAULT_PROFILE, load_profile
+from hero_driver.zenoh_link.versions import Greeting
+from robot_profile import DEFAULT_PROFILE, ProfileStamp, RobotProfile, load_profile
 
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
 MIN_STATE_PUBLICATIONS = 2  # ... and expect at least this many (the node sends 5 Hz)
@@ -59,6 +68,13 @@ POSE_TOLERANCE = 0.5  # inches or degrees between a move's reply and the next st
 NOT_HERE = (OUT_OF_RANGE, NO_TARGET)  # what sensing or grasping from the reset pose may answer
 BUSY_PROBE_S = 0.1  # while the busy check's turn runs, a release goes every this often
 BUSY_PROBES = 20  # ... at most this many
+KNOWN_WORLD = "lab"  # the shipped world the reset-objects check restores (hero_driver/worlds/lab.json)
+START_TOLERANCE_IN = 1.0  # the reset pose vs the world's start pose (inches, degrees)
+PING_PERIOD_S = 0.02  # the shutdown check sends a noop this often ...
+PING_TIMEOUT_S = 2.0  # ... each waiting this long for its reply
+WARM_PINGS = 5  # ... and stops the driver once this many were answered
+WARM_S = 1.0  # ... or this long after the first, whichever comes first
+SHUTDOWN_RACE_S = 0.25  # a noop sent this close before the token's DELETE arrived may miss the driver
 
 
 @dataclass(frozen=True)
@@ -79,9 +95,10 @@ class Procedures:
     grasp: str  # a contact grasp: out of range from the reset pose, so nothing is lifted
 
     @classmethod
-    def from_profile(cls, profile: str | Path | None = None) -> Procedures:
-        """Pick them from a knowledge profile (default: the HERO 2000's)."""
-        loaded = load_profile(DEFAULT_PROFILE if profile is None else profile)
+    def from_profile(cls, profile: str | Path | RobotProfile | None = None) -> Procedures:
+        """Pick them from a knowledge profile, loaded or its file (default: the HERO 2000's)."""
+        loaded = profile if isinstance(profile, RobotProfile) else load_profile(
+            DEFAULT_PROFILE if profile is None else profile)
         sensing = sorted(loaded.sensing, key=lambda p: (-p.range_in[1], p.time_s))
         grasping = sorted(loaded.grasping, key=lambda p: (p.range_in[1], p.time_s))
         near = min(sensing, key=lambda p: (p.range_in[1], p.time_s))
@@ -196,12 +213,14 @@ def _valid_states(bodies: Sequence[bytes]) -> list[RobotState]:
 class _Suite:
     """The checks, in the order they run; each returns a detail or raises CheckFailed."""
 
-    def __init__(self, probe: _Probe, procedures: Procedures) -> None:
+    def __init__(self, probe: _Probe, procedures: Procedures, profile: ProfileStamp | None = None) -> None:
         self.probe = probe
         self.procedures = procedures
+        self.profile = profile  # what the driver should serve; None: not compared
         self.last_state: RobotState | None = None
         self.moved: tuple[float, MoveResult] | None = None
         self.image: CameraImage | None = None
+        self.greeting: Greeting | None = None
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
         return [
@@ -209,12 +228,14 @@ class _Suite:
             ("state-published", self.state_published),
             ("noop", self.noop),
             ("hello", self.hello),
+            ("profile", self.profile_served),
             ("camera", self.camera),
             ("camera-mapping", self.camera_mapping),
             ("move", self.move),
             ("state-after-move", self.state_after_move),
             ("busy", self.busy),
             ("reset", self.reset),
+            ("reset-objects", self.reset_objects),
             ("sense", self.sense),
             ("grasp", self.grasp),
             ("release", self.release),
@@ -263,6 +284,7 @@ class _Suite:
             if outcome.code != UNKNOWN_VERB:
                 raise CheckFailed(f"expected a Hello or {UNKNOWN_VERB}, got {outcome.code}: {outcome.message}")
             return "no hello: used as protocol version 1 with no optional features"
+        self.greeting = outcome
         served = outcome.served
         try:
             agreement = agree(served)
@@ -273,6 +295,43 @@ class _Suite:
             f"; profile: {outcome.profile.name} (sha256 {outcome.profile.sha256[:12]})")
         return (f"serves versions {', '.join(map(str, served.versions))} (using {agreement.version}); "
                 f"features: {features}{profile}")
+
+    def profile_served(self) -> str:
+        """The robot profile the driver names in ``hello`` is the one the suite was
+        given (a mismatch has already stopped the suite in :func:`run_checks`)."""
+        named = None if self.greeting is None else self.greeting.profile
+        if named is None:
+            return "not checked: the driver does not offer the profile feature"
+        if self.profile is None:
+            return f"not compared (no profile given): the driver serves {_stamp_text(named)}"
+        problem = _profile_mismatch(named, self.profile)
+        if problem:
+            raise CheckFailed(problem)
+        return f"serves {_stamp_text(named)}, as given"
+
+    def reset_objects(self) -> str:
+        """Reset the shipped world KNOWN_WORLD and look: the robot at the world's start
+        pose and every object drawn where the world file puts it. A driver that cannot
+        restore that world refuses it ``bad_request`` (as the protocol asks), which
+        leaves the check to a driver that can."""
+        outcome = self.probe.outcome("reset", {"world": KNOWN_WORLD, "seed": None})
+        if isinstance(outcome, DriverError):
+            if outcome.code != BAD_REQUEST:
+                raise CheckFailed(f"reset to world {KNOWN_WORLD!r}: expected a state or {BAD_REQUEST}, "
+                                  f"got {outcome.code}: {outcome.message}")
+            return f"not checked: the driver cannot restore world {KNOWN_WORLD!r} ({outcome.message})"
+        start, placed = known_world()
+        pose = outcome.pose
+        turn = (pose.heading_deg - start.heading_deg + 180.0) % 360.0 - 180.0
+        if math.hypot(pose.x_in - start.x_in, pose.y_in - start.y_in) > START_TOLERANCE_IN or \
+                abs(turn) > START_TOLERANCE_IN:
+            raise CheckFailed(f"reset to world {KNOWN_WORLD!r} answered the pose {_pose_text(outcome)}, the "
+                              f"world's start is ({start.x_in:g}, {start.y_in:g}, {start.heading_deg:g} deg)")
+        image = self.probe.result("camera", {})
+        try:
+            return f"world {KNOWN_WORLD!r}: {check_objects_drawn(image, placed)}"
+        except MappingError as exc:
+            raise CheckFailed(f"world {KNOWN_WORLD!r}: {exc}") from None
 
     def reset(self) -> str:
         state = self.probe.result("reset", {"world": None, "seed": None})
@@ -504,6 +563,33 @@ def _same_pose(state: RobotState, result: MoveResult) -> bool:
             and abs(turn) <= POSE_TOLERANCE)
 
 
+def known_world(world: str = KNOWN_WORLD) -> tuple[Pose, tuple[PlacedObject, ...]]:
+    """The robot's start pose and the objects of a shipped world file (the installed
+    ``hero_driver/worlds/<world>.json``, whatever the working folder holds), with their
+    footprint areas from the object catalogue."""
+    catalogue = load_catalogue([g.name for g in load_profile(DEFAULT_PROFILE).grasping])
+    spec = load_world(WORLDS_DIR / f"{world}.json", catalogue)
+    placed = []
+    for item in spec.objects:
+        footprint = catalogue[item.entry_id].footprint
+        area = (math.pi * footprint.radius_in**2 if footprint.shape == "circle"
+                else footprint.length_in * footprint.width_in)
+        placed.append(PlacedObject(item.entry_id, item.x_in, item.y_in, area))
+    return Pose(*spec.robot), tuple(placed)
+
+
+def _stamp_text(stamp: ProfileStamp) -> str:
+    return f"{stamp.name} (sha256 {stamp.sha256[:12]})"
+
+
+def _profile_mismatch(named: ProfileStamp, given: ProfileStamp) -> str:
+    """One line when the driver serves another robot than ``given``; "" when the same."""
+    if named.sha256 == given.sha256:
+        return ""
+    return (f"the driver serves robot profile {_stamp_text(named)}, not {_stamp_text(given)} as given: "
+            "check it with its own profile (--profile FILE)")
+
+
 def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
     if isinstance(outcome, DriverError):
         if outcome.code not in NOT_HERE:
@@ -516,9 +602,12 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 
 
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
-               procedures: Procedures | None = None, zenoh_config: UserConfig | None = None) -> list[CheckResult]:
+               procedures: Procedures | None = None, zenoh_config: UserConfig | None = None,
+               profile: ProfileStamp | None = None) -> list[CheckResult]:
     """Run every check against the driver serving ``robot`` at ``connect``; ``zenoh_config``
-    is the user's zenoh file (credentials, TLS) for a driver that requires them."""
+    is the user's zenoh file (credentials, TLS) for a driver that requires them.
+    ``profile`` is the stamp of the robot profile the driver should serve: a driver
+    that names another in ``hello`` stops the suite with one line (None: not compared)."""
     robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
@@ -530,8 +619,11 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
             return [CheckResult("liveliness", False, f"nothing serves robot {robot} at {', '.join(connect)}: "
                                 f"no token on {probe.rpc.keys.alive} and no answer to noop within {timeout_s:g} s "
                                 "(is the driver running, under this robot name, at this endpoint?)")]
+        mismatch = _named_profile_mismatch(probe, profile)
+        if mismatch:
+            return [CheckResult("profile", False, mismatch)]
         results = []
-        for name, check in _Suite(probe, chosen).checks():
+        for name, check in _Suite(probe, chosen, profile).checks():
             try:
                 results.append(CheckResult(name, True, check()))
             except CheckFailed as exc:
@@ -540,6 +632,97 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
     finally:
         probe.close()
         session.close()
+
+
+def _named_profile_mismatch(probe: _Probe, profile: ProfileStamp | None) -> str:
+    """One line when the driver's ``hello`` names another profile than ``profile``;
+    "" otherwise, including when it names none or ``hello`` fails (its own checks say)."""
+    if profile is None:
+        return ""
+    try:
+        outcome = probe.outcome("hello", {})
+    except CheckFailed:
+        return ""
+    if isinstance(outcome, DriverError) or outcome.profile is None:
+        return ""
+    return _profile_mismatch(outcome.profile, profile)
+
+
+@dataclass(frozen=True)
+class _Ping:
+    """One noop of the shutdown check: when it went, and whether it was answered."""
+
+    sent: float
+    answered: threading.Event
+    ended: threading.Event
+
+
+def shutdown_order(robot: str, connect: Sequence[str], stop: Callable[[], None] | None = None, *,
+                   timeout_s: float = 30.0, zenoh_config: UserConfig | None = None) -> CheckResult:
+    """The ``shutdown-order`` check: ping ``noop`` every PING_PERIOD_S while the driver
+    stops (``stop()`` stops it, run on another thread; None: wait up to ``timeout_s``
+    for someone to stop it) and pass when every noop sent while the token was still
+    visible got its reply. A driver that undeclares its queryables (or closes its
+    session) before its token leaves clients sending into nothing while they still
+    see it alive; the protocol asks for the token first. A noop sent within
+    SHUTDOWN_RACE_S before the token's DELETE arrived may cross it and is not held
+    against the driver."""
+    keys = robot_keys(robot)
+    session = open_session(connect=connect, user=zenoh_config)
+    rpc = RpcClient(session, keys)
+    gone = threading.Event()
+    gone_at: list[float] = []
+
+    def on_change(alive: bool) -> None:
+        if not alive and not gone.is_set():
+            gone_at.append(time.monotonic())
+            gone.set()
+
+    watcher = rpc.watch_alive(on_change)
+    pings: list[_Ping] = []
+    try:
+        if not rpc.wait_alive(timeout_s):
+            return CheckResult("shutdown-order", False, f"no token on {keys.alive} within {timeout_s:g} s")
+        stopping = threading.Thread(target=stop or (lambda: None), name=f"stop-{robot}", daemon=True)
+        started = time.monotonic()
+        deadline = started + timeout_s
+        while not gone.wait(PING_PERIOD_S) and time.monotonic() < deadline:
+            pings.append(_send_ping(rpc))
+            warm = sum(p.answered.is_set() for p in pings) >= WARM_PINGS or time.monotonic() > started + WARM_S
+            if warm and stopping.ident is None:  # the driver stops while noops are under way
+                stopping.start()
+        for ping in pings:
+            ping.ended.wait(PING_TIMEOUT_S + 1.0)
+        if stopping.ident is not None:
+            stopping.join(timeout_s)  # the caller gets the driver stopped, as it asked
+    finally:
+        watcher.undeclare()
+        session.close()
+    if not gone_at:
+        return CheckResult("shutdown-order", False, f"the token on {keys.alive} was still there "
+                           f"{timeout_s:g} s later: the driver did not stop, or kept its token")
+    missed = [p for p in pings if not p.answered.is_set() and p.sent < gone_at[0] - SHUTDOWN_RACE_S]
+    if missed:
+        return CheckResult("shutdown-order", False, f"{len(missed)} noop(s) sent while the token was still "
+                           f"visible got no reply, the first {gone_at[0] - missed[0].sent:.2f} s before it went: "
+                           "undeclare the token first, then the queryables")
+    answered = sum(p.answered.is_set() for p in pings)
+    return CheckResult("shutdown-order", True, f"token went first: {answered} of {len(pings)} noops answered, "
+                       "none sent while it was visible went unanswered")
+
+
+def _send_ping(rpc: RpcClient) -> _Ping:
+    ping = _Ping(time.monotonic(), threading.Event(), threading.Event())
+
+    def on_reply(reply: Reply) -> None:
+        if reply.ok is not None and not reply.late:
+            ping.answered.set()
+
+    try:
+        rpc.send("noop", _message({}), PING_TIMEOUT_S, on_reply, lambda _late: ping.ended.set())
+    except zenoh.ZError:
+        ping.ended.set()
+    return ping
 
 
 def format_table(results: Sequence[CheckResult]) -> str:

@@ -1,12 +1,16 @@
 """The vendor's starting point (issue 11 §5): examples/driver_template/, run as its own
-process exactly as a vendor would, passes every check of ``csl driver check``; its
-camera image is read by the executive's vision where the toy world has things; it
-imports nothing of this project; its hardware stubs answer ``internal`` naming the
-stub; and the zenoh configs in docs/vendor-guide.md are ones zenoh accepts."""
+process exactly as a vendor would, passes every check of ``csl driver check
+--profile`` with its own profile, whose fingerprint it computes without this project
+exactly as ``robot_profile.profile_stamp`` does; it drops its token before its
+queryables at shutdown; its camera image is read by the executive's vision where the
+toy world has things; it imports nothing of this project; its hardware stubs answer
+``internal`` naming the stub; and the zenoh configs in docs/vendor-guide.md are ones
+zenoh accepts."""
 
 from __future__ import annotations
 
 import ast
+import importlib.util
 import re
 import subprocess
 import sys
@@ -19,15 +23,17 @@ import zenoh
 from behaviours.bridge import overhead
 from hero_driver.interface import INTERNAL, DriverError
 from hero_driver.zenoh_link.client import ZenohDriver
-from hero_driver.zenoh_link.conformance import Procedures, run_checks
+from hero_driver.zenoh_link.conformance import shutdown_order
 from planner.vision import look
-from tests.hero_driver.test_zenoh_conformance import ALL_CHECKS
+from robot_profile import load_profile, profile_stamp
+from tests.hero_driver.test_zenoh_conformance import ALL_CHECKS, ROVER, run_check_detailed
 from tests.zenoh_rpc.support import free_endpoint
 
 pytestmark = pytest.mark.zenoh
 
 REPO = Path(__file__).resolve().parents[2]
 TEMPLATE = REPO / "examples" / "driver_template"
+TEMPLATE_PROFILE = TEMPLATE / "hero2000.toml"
 GUIDE = REPO / "docs" / "vendor-guide.md"
 START_TIMEOUT_S = 20.0
 
@@ -66,17 +72,89 @@ def template(tmp_path: Path) -> Iterator[tuple[str, str]]:
         assert process.stop() == 0  # SIGTERM: a clean shutdown, token first
 
 
-def test_the_template_passes_every_conformance_check(template: tuple[str, str]) -> None:
+def _template_knowledge():  # noqa: ANN202 - the template's own module, loaded from its file
+    spec = importlib.util.spec_from_file_location("template_knowledge", TEMPLATE / "knowledge.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up while the file runs
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_template_passes_every_conformance_check(template: tuple[str, str],
+                                                     capsys: pytest.CaptureFixture[str]) -> None:
     robot, endpoint = template
-    results = {r.name: r for r in run_checks(robot, [endpoint], timeout_s=5.0, procedures=Procedures.from_profile())}
-    assert set(results) == ALL_CHECKS
-    assert {name for name, r in results.items() if not r.passed} == set(), results
-    assert "refused busy during a" in results["busy"].detail  # exercised, not skipped as too short
+    status, verdicts, details = run_check_detailed(endpoint, robot, capsys, 5.0, "--profile", str(TEMPLATE_PROFILE))
+    assert set(verdicts) == ALL_CHECKS
+    assert {name for name, verdict in verdicts.items() if verdict == "FAIL"} == set(), details
+    assert status == 0
+    stamp = profile_stamp(load_profile(TEMPLATE_PROFILE))
+    assert details["profile"] == f"serves hero2000 (sha256 {stamp.sha256[:12]}), as given"
+    assert details["reset-objects"].startswith("not checked: the driver cannot restore world 'lab'")
+    assert "refused busy during a" in details["busy"]  # exercised, not skipped as too short
     # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
     # a long sweep runs, the 6 in procedures are out of range
-    assert results["sense"].detail.startswith("SenseResult")
-    assert "56.0 in away" in results["out-of-range-target"].detail
-    assert "56.0 in away" in results["grasp"].detail
+    assert details["sense"].startswith("SenseResult")
+    assert "56.0 in away" in details["out-of-range-target"]
+    assert "56.0 in away" in details["grasp"]
+
+
+def test_the_template_checked_as_another_robot_fails_in_one_line(template: tuple[str, str],
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    robot, endpoint = template
+    status, verdicts, details = run_check_detailed(endpoint, robot, capsys, 5.0, "--profile", str(ROVER))
+    assert (status, verdicts) == (1, {"profile": "FAIL"})
+    assert details["profile"].startswith("the driver serves robot profile hero2000 (sha256 674f2bb96758), not rover")
+
+
+def _reordered(text: str) -> str:
+    """The same profile with its [[grasping]] entries in reverse order and every
+    integer range written as floats: neither may change the fingerprint."""
+    head, *grasps = text.split("[[grasping]]")
+    return (head + "".join("[[grasping]]" + g.rstrip("\n") + "\n\n" for g in reversed(grasps))).replace(
+        "range_in = [6, 6]", "range_in = [6.0, 6.0]")
+
+
+@pytest.mark.parametrize("source", [TEMPLATE_PROFILE, ROVER, "reordered"])
+def test_the_template_fingerprints_a_profile_as_the_project_does(source: Path | str, tmp_path: Path) -> None:
+    path = source if isinstance(source, Path) else tmp_path / "hero2000.toml"
+    if source == "reordered":
+        path.write_text(_reordered(TEMPLATE_PROFILE.read_text(encoding="utf-8")), encoding="utf-8")
+        assert path.read_text(encoding="utf-8") != TEMPLATE_PROFILE.read_text(encoding="utf-8")
+    ours = _template_knowledge().load(path)
+    assert (ours.name, ours.sha256) == tuple(vars(profile_stamp(load_profile(path))).values())
+
+
+def test_the_template_fingerprint_names_the_robot_not_the_learner(tmp_path: Path) -> None:
+    """A feature's error is the learner's business (same robot); a procedure's time is
+    the robot's (another robot)."""
+    text = TEMPLATE_PROFILE.read_text(encoding="utf-8")
+    learner_only, slower = tmp_path / "a.toml", tmp_path / "b.toml"
+    learner_only.write_text(text.replace("error = 5.0", "error = 6.0"), encoding="utf-8")
+    slower.write_text(text.replace("time_s = 45", "time_s = 46"), encoding="utf-8")
+    knowledge = _template_knowledge()
+    original = knowledge.load(TEMPLATE_PROFILE).sha256
+    assert knowledge.load(learner_only).sha256 == original
+    assert knowledge.load(slower).sha256 != original
+
+
+def test_the_template_drops_its_token_before_its_queryables(tmp_path: Path) -> None:
+    endpoint = free_endpoint()
+    process = Template("down", endpoint, cwd=tmp_path)
+    stopped: list[int] = []
+    result = shutdown_order("down", [endpoint], lambda: stopped.append(process.stop()), timeout_s=10.0)
+    assert result.passed, result.detail
+    assert int(result.detail.split()[3]) >= 5  # "token went first: N of M noops answered": pinged while it stopped
+    assert stopped == [0]
+
+
+def test_a_bad_profile_is_one_line(tmp_path: Path) -> None:
+    bad = tmp_path / "robot.toml"
+    bad.write_text("[robot]\nbase_radius_in = 9.0\n", encoding="utf-8")
+    done = subprocess.run([sys.executable, str(TEMPLATE / "driver.py"), "--profile", str(bad)], cwd=tmp_path,
+                          env={"PATH": "/usr/bin:/bin"}, capture_output=True, text=True, timeout=30)
+    assert done.returncode != 0
+    assert done.stderr.strip().splitlines() == [f"--profile {bad}: not a knowledge profile (KeyError: 'sensing')"]
 
 
 def test_the_vision_finds_the_toy_box_and_robot_where_they_are(template: tuple[str, str]) -> None:

@@ -8,29 +8,38 @@ import re
 import pytest
 
 from executive.cli import main
-from hero_driver.zenoh_link.conformance import Procedures
-from tests.hero_driver.test_zenoh_support import DriverProcess
+from hero_driver.zenoh_link.conformance import Procedures, known_world
+from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
+from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
 from tests.zenoh_rpc.support import free_endpoint
 from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
-    "liveliness", "state-published", "noop", "hello", "reset", "camera", "camera-mapping", "move",
-    "state-after-move", "busy", "sense", "grasp", "release", "out-of-range-target", "unknown-verb",
+    "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
+    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "out-of-range-target", "unknown-verb",
     "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
 }
+ROVER = REPO / "hero_driver" / "profiles" / "rover.toml"
 
 
 def run_check(endpoint: str, robot: str, capsys: pytest.CaptureFixture[str],
-              timeout_s: float = 10.0) -> tuple[int, dict[str, str]]:
+              timeout_s: float = 10.0, *extra: str) -> tuple[int, dict[str, str]]:
     """Exit status and each named check's PASS/FAIL from the printed table."""
-    status = main(["driver", "check", "--robot", robot, "--connect", endpoint,
-                   "--timeout", str(timeout_s)])
-    table = capsys.readouterr().out
-    verdicts = dict(re.findall(r"^(\S+)\s+(PASS|FAIL)\s", table, re.MULTILINE))
+    status, verdicts, _details = run_check_detailed(endpoint, robot, capsys, timeout_s, *extra)
     return status, verdicts
+
+
+def run_check_detailed(endpoint: str, robot: str, capsys: pytest.CaptureFixture[str], timeout_s: float = 10.0,
+                       *extra: str) -> tuple[int, dict[str, str], dict[str, str]]:
+    """Exit status, each named check's PASS/FAIL and its detail, from the printed table."""
+    status = main(["driver", "check", "--robot", robot, "--connect", endpoint,
+                   "--timeout", str(timeout_s), *extra])
+    table = capsys.readouterr().out
+    rows = re.findall(r"^(\S+)\s+(PASS|FAIL)\s+(.*)$", table, re.MULTILINE)
+    return status, {name: verdict for name, verdict, _ in rows}, {name: detail for name, _, detail in rows}
 
 
 def failed(verdicts: dict[str, str]) -> set[str]:
@@ -41,10 +50,14 @@ def test_the_simulated_hero_passes_every_check(capsys: pytest.CaptureFixture[str
     endpoint = free_endpoint()
     with DriverProcess.sim(endpoint, robot="conf") as process:
         process.ready()
-        status, verdicts = run_check(endpoint, "conf", capsys)
+        status, verdicts, details = run_check_detailed(endpoint, "conf", capsys)
     assert set(verdicts) == ALL_CHECKS
     assert failed(verdicts) == set()
     assert status == 0
+    hero = profile_stamp(load_profile(DEFAULT_PROFILE))
+    assert details["profile"] == f"serves hero2000 (sha256 {hero.sha256[:12]}), as given"
+    # the lab's seven objects, each drawn within a pixel or so of its place
+    assert details["reset-objects"].startswith("world 'lab': 7 objects drawn where reset placed them")
 
 
 def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixture[str]) -> None:
@@ -55,7 +68,9 @@ def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixtur
     # Text feature values (from a sonar that never refuses, so nothing is out of
     # range either), a crash on an unknown procedure, a clock that survives reset,
     # and (as every FakeHero) an image without the robot in it.
-    assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset", "camera-mapping"}
+    # and a reset that accepts the world 'lab' but restores none of it.
+    assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset", "camera-mapping",
+                                "reset-objects"}
     assert status == 1
 
 
@@ -67,6 +82,39 @@ def test_a_driver_without_token_or_state_fails_those_checks(capsys: pytest.Captu
     assert {"liveliness", "state-published", "reset", "unknown-verb"} <= failed(verdicts)
     assert verdicts["noop"] == "PASS"
     assert status == 1
+
+
+def test_a_driver_of_another_robot_profile_stops_the_suite_in_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    endpoint = free_endpoint()
+    with DriverProcess.sim(endpoint, robot="hero") as process:
+        process.ready()
+        status, verdicts, details = run_check_detailed(endpoint, "hero", capsys, 10.0, "--profile", str(ROVER))
+    hero, rover = (profile_stamp(load_profile(path)) for path in (DEFAULT_PROFILE, ROVER))
+    assert verdicts == {"profile": "FAIL"}
+    assert details["profile"] == (f"the driver serves robot profile hero2000 (sha256 {hero.sha256[:12]}), not rover "
+                                  f"(sha256 {rover.sha256[:12]}) as given: check it with its own profile "
+                                  "(--profile FILE)")
+    assert status == 1
+
+
+def test_a_driver_of_the_given_profile_passes_with_its_procedures(capsys: pytest.CaptureFixture[str]) -> None:
+    endpoint = free_endpoint()
+    argv = ["-m", "executive.cli", "driver", "sim", "--robot", "rover", "--listen", endpoint, "--profile", str(ROVER)]
+    with DriverProcess(argv) as process:
+        process.ready()
+        status, verdicts, details = run_check_detailed(endpoint, "rover", capsys, 10.0, "--profile", str(ROVER))
+    assert failed(verdicts) == set()
+    assert details["profile"].startswith("serves rover (sha256 ")
+    assert status == 0
+
+
+def test_the_known_world_is_read_from_the_shipped_lab_file() -> None:
+    start, placed = known_world()
+    assert (start.x_in, start.y_in, start.heading_deg) == (30.0, 30.0, 0.0)  # hero_driver/worlds/lab.json
+    assert len(placed) == 7
+    box = placed[0]
+    assert (box.name, box.x_in, box.y_in, box.area_in2) == ("closed-box-2x2x2/upright", 70.0, 60.0, 4.0)
+    assert placed[1].area_in2 == pytest.approx(3.14159 * 1.35**2, rel=1e-4)  # an upright bottle, r 1.35 in
 
 
 def test_procedures_come_from_the_knowledge_profile() -> None:
@@ -88,7 +136,8 @@ def test_procedures_come_from_the_knowledge_profile() -> None:
 def test_bad_arguments_exit_2_with_one_line(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert err.startswith("csl: error: ") and err.count("\n") == 1
+    # "csl: error: ..." from the command, or argparse's "csl driver sim: error: argument ...": one line either way
+    assert re.match(r"csl( driver \w+)?: error: ", err) and err.count("\n") == 1, err
 
 
 def test_a_taken_port_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
@@ -96,3 +145,40 @@ def test_a_taken_port_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     with open_session(listen=[endpoint]):
         assert main(["driver", "sim", "--listen", endpoint]) == 2
     assert "Address already in use" in capsys.readouterr().err
+
+
+def _documented_bands() -> dict[str, tuple[int, int, int]]:
+    """docs/driver-protocol.md's grey-level table: what -> (level rendered, band lo, band hi)."""
+    text = (REPO / "docs" / "driver-protocol.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| ([^|]+?) \| (\d+) \| (\d+)-(\d+) \|$", text, re.MULTILINE)
+    keys = {"floor": "floor", "walls": "walls", "robot's base": "base", "heading marker": "marker",
+            "object's footprint": "object"}
+    table = {}
+    for what, level, lo, hi in rows:
+        (key,) = [name for word, name in keys.items() if word in what]
+        table[key] = (int(level), int(lo), int(hi))
+    assert set(table) == set(keys.values())
+    return table
+
+
+def test_the_suite_the_vision_and_the_page_read_the_same_grey_bands() -> None:
+    """Until one leaf module holds the bands (camera_check may not import the planner),
+    the conformance suite's copy, the vision's, the simulator's levels and the protocol
+    page's are held equal."""
+    from hero_driver.sim import camera as sim_camera
+    from hero_driver.zenoh_link import camera_check
+    from planner import vision
+
+    table = _documented_bands()
+    for key, suite, seen in [("base", camera_check.ROBOT_BAND, vision.ROBOT_BAND),
+                             ("marker", camera_check.MARKER_BAND, vision.MARKER_BAND),
+                             ("object", camera_check.OBJECT_BAND, vision.OBJECT_BAND)]:
+        assert suite == seen == table[key][1:], key
+    assert vision.WALL_BAND == table["walls"][1:]
+    rendered = (sim_camera.FLOOR, sim_camera.WALL, sim_camera.BASE, sim_camera.MARKER, sim_camera.OBJECT)
+    assert rendered == tuple(table[key][0] for key in ("floor", "walls", "base", "marker", "object"))
+    # the bands tile 0-255 in order, each rendered level inside its own band
+    ordered = sorted(table.values(), key=lambda row: row[1])
+    assert [row[1] for row in ordered] == [0] + [row[2] + 1 for row in ordered[:-1]]
+    assert ordered[-1][2] == 255
+    assert all(lo <= level <= hi for level, lo, hi in ordered)

@@ -10,19 +10,22 @@ import time
 from collections.abc import Sequence
 from concurrent.futures import Future
 
+import numpy as np
 import pytest
 import zenoh
 
 from hero_driver.interface import CameraImage, MoveResult, Pose
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link import verbs
-from hero_driver.zenoh_link.conformance import CheckResult, Procedures, run_checks
+from hero_driver.zenoh_link.conformance import CheckResult, Procedures, run_checks, shutdown_order
 from hero_driver.zenoh_link.node import DriverNode
 from zenoh_rpc.server import RpcServer
 
 pytestmark = pytest.mark.zenoh
 
 SLOW_TURN_S = 0.5
+SHIFT_PX = 10  # 8 in at the simulator's 0.8 in per pixel
+PARKING_S = 1.0  # what a driver that parks its arm between queryables and token leaves open
 
 
 class RowsFromBottom(SimulatedHero):
@@ -41,6 +44,18 @@ class ObjectsAt180(SimulatedHero):
         pixels = image.pixels.copy()
         objects = (pixels >= 195) & (pixels <= 234)
         pixels[objects] -= 40
+        return _done(dataclasses.replace(image, pixels=pixels))
+
+
+class ObjectsShifted(SimulatedHero):
+    """Draws every object 8 in along +x of where it is (a camera calibrated off by 10 px)."""
+
+    def camera(self) -> Future[CameraImage]:
+        image = super().camera().result()
+        pixels = image.pixels.copy()
+        objects = (pixels >= 195) & (pixels <= 234)
+        pixels[objects] = 30
+        pixels[np.roll(objects, SHIFT_PX, axis=1)] = 220
         return _done(dataclasses.replace(image, pixels=pixels))
 
 
@@ -72,14 +87,58 @@ def failed(results: dict[str, CheckResult]) -> set[str]:
 
 def test_rows_counted_from_the_bottom_fail_the_camera_mapping(server: zenoh.Session, endpoint: str) -> None:
     results = check(RowsFromBottom("flip"), server, endpoint)
-    assert failed(results) == {"camera-mapping"}
+    assert failed(results) == {"camera-mapping", "reset-objects"}
     assert "row-mirrored place" in results["camera-mapping"].detail
+    assert "one is at the row-mirrored place" in results["reset-objects"].detail
 
 
 def test_objects_at_grey_180_fail_the_camera_mapping(server: zenoh.Session, endpoint: str) -> None:
     results = check(ObjectsAt180("grey"), server, endpoint)
-    assert failed(results) == {"camera-mapping"}
+    assert failed(results) == {"camera-mapping", "reset-objects"}
     assert "objects belong at 195-234" in results["camera-mapping"].detail
+    assert "nothing drawn in the object levels 195-234" in results["reset-objects"].detail
+
+
+def test_objects_drawn_off_their_place_fail_reset_objects(server: zenoh.Session, endpoint: str) -> None:
+    results = check(ObjectsShifted("shift"), server, endpoint)
+    assert failed(results) == {"reset-objects"}
+    # the lab's first object, a 2 x 2 in box at (70, 60), drawn 10 px = 8 in along +x
+    assert results["reset-objects"].detail == ("world 'lab': closed-box-2x2x2/upright: drawn at (78.0, 60.0), 8.0 in "
+                                               "from (70, 60) where reset placed it; at most 3 in")
+
+
+def test_a_driver_that_drops_its_token_first_passes_shutdown_order(server: zenoh.Session, endpoint: str) -> None:
+    node = DriverNode(SimulatedHero("down"), server)
+    result = shutdown_order("down", [endpoint], node.close, timeout_s=5.0)
+    assert result.passed, result.detail
+    assert int(result.detail.split()[3]) >= 5  # "token went first: N of M noops answered": pinged while it stopped
+
+
+def test_queryables_gone_before_the_token_fail_shutdown_order(server: zenoh.Session, endpoint: str,
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    """A node that undeclares its queryables, parks the arm for a second, and only
+    then drops its token: clients see it alive and get no answers meanwhile."""
+    def queryables_first(self: RpcServer) -> None:
+        for queryable in self._queryables:
+            queryable.undeclare()
+        time.sleep(PARKING_S)
+        self._token.undeclare()
+
+    monkeypatch.setattr(RpcServer, "close", queryables_first)
+    node = DriverNode(SimulatedHero("late"), server)
+    result = shutdown_order("late", [endpoint], node.close, timeout_s=5.0)
+    assert not result.passed
+    assert "noop(s) sent while the token was still visible got no reply" in result.detail
+    missed = int(result.detail.split()[0])
+    assert missed >= 10  # about (PARKING_S - SHUTDOWN_RACE_S) / PING_PERIOD_S = 37 on an idle machine
+
+
+def test_a_driver_that_never_stops_fails_shutdown_order(server: zenoh.Session, endpoint: str) -> None:
+    with DriverNode(SimulatedHero("stays"), server):
+        result = shutdown_order("stays", [endpoint], None, timeout_s=1.0)
+    assert not result.passed
+    assert result.detail == "the token on hero/stays/alive was still there 1 s later: the driver did not stop, " \
+                            "or kept its token"
 
 
 @pytest.mark.parametrize("when", [lambda _result: True, lambda result: result.centred],
