@@ -1,5 +1,7 @@
 """Overhead vision: object regions, furniture and the robot's own pose from one image.
 
+Real camera images (a calibrated :class:`~planner.segmentation.Camera` given) are cut
+up by :mod:`planner.segmentation`; the rest of this docstring is about band images.
 The camera cannot identify objects; it tells things apart by the intensity bands of
 docs/conventions.md (floor 30, walls/furniture 110, robot 170, heading marker 250,
 objects 220, noise within ±12). Band limits sit halfway between neighbouring levels,
@@ -13,6 +15,7 @@ object (2 in) is only 2-3 pixels across.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -21,6 +24,7 @@ import numpy as np
 
 from planner.geometry import Pose, wrap_360
 from planner.image import OverheadImage
+from planner.segmentation import Camera, segment
 
 # Inclusive intensity bands (lo, hi), halfway between the rendered levels.
 WALL_BAND = (70, 139)
@@ -53,7 +57,8 @@ class Region:
     for a round footprint, whose reference axis is world +x by convention);
     ``length_in`` and ``width_in`` are the footprint's extents along and across the
     reference axis. ``pixel_count`` is what the side-effect check after a failed grasp
-    compares (pushed: about the same; changed: clearly different). ``area_in2`` (pixels
+    compares (pushed: about the same; changed: clearly different); on a real image it
+    is the covered area in pixels, to a fraction of one. ``area_in2`` (pixels
     times pixel area) and ``elongation`` (major over minor axis of the pixels' second
     moments) are the footprint's rotation-invariant measures, the object's appearance
     (docs/library-format.md); None on a region not measured from pixels.
@@ -94,23 +99,31 @@ class Scene:
     objects: np.ndarray
 
 
-def look(image: OverheadImage) -> Scene:
-    """Segment an overhead image (undistorting it first when it is fish-eye)."""
-    flat = image.undistorted()
-    pixels = np.ascontiguousarray(flat.pixels, dtype=np.uint8)
-    robot_body = _robot_body(pixels)
-    robot_zone = cv2.dilate(robot_body, _CROSS, iterations=ROBOT_RIM_PX)
-    not_robot = robot_zone == 0
+def look(image: OverheadImage, camera: Camera | None = None) -> Scene:
+    """Segment an overhead image: by the grey bands (undistorting it first when it is
+    fish-eye), or, given a calibrated ``camera``, rectified onto the floor and compared
+    with its empty floor (:mod:`planner.segmentation`, docs/camera.md)."""
+    if camera is not None:
+        flat = camera.calibration.rectify(image.pixels)
+        masks = segment(flat, camera.empty_floor)
+        body, marker = masks.robot_body, masks.robot_marker
+        furniture, objects, brightness = masks.obstacles, masks.objects, masks.brightness
+    else:
+        flat = image.undistorted()
+        pixels = np.ascontiguousarray(flat.pixels, dtype=np.uint8)
+        body_mask = _robot_body(pixels)
+        not_robot = cv2.dilate(body_mask, _CROSS, iterations=ROBOT_RIM_PX) == 0
+        body = body_mask > 0
+        marker = (_band(pixels, MARKER_BAND) > 0) & body
+        furniture = (cv2.morphologyEx(_band(pixels, WALL_BAND), cv2.MORPH_OPEN, _CROSS) > 0) & not_robot
+        objects = (_band(pixels, OBJECT_BAND) > 0) & not_robot
+        brightness = None
 
-    furniture = cv2.morphologyEx(_band(pixels, WALL_BAND), cv2.MORPH_OPEN, _CROSS)
-    furniture = (furniture > 0) & not_robot
-    objects = (_band(pixels, OBJECT_BAND) > 0) & not_robot
-
-    regions, region_pixels = _regions(flat, objects)
+    regions, region_pixels = _regions(flat, objects, brightness)
     return Scene(
         image=flat,
         regions=regions,
-        robot=_robot_pose(flat, pixels, robot_body),
+        robot=_robot_pose(flat, body, marker),
         furniture=furniture,
         objects=region_pixels,
     )
@@ -136,14 +149,11 @@ def _robot_body(pixels: np.ndarray) -> np.ndarray:
     return filled
 
 
-def _robot_pose(image: OverheadImage, pixels: np.ndarray, body: np.ndarray) -> Pose | None:
+def _robot_pose(image: OverheadImage, body: np.ndarray, marker: np.ndarray) -> Pose | None:
     """Base centre from the body's centroid, heading towards the marker's centroid."""
-    body_m = cv2.moments(body, binaryImage=True)
-    if body_m["m00"] == 0:
-        return None
-    marker = cv2.bitwise_and(_band(pixels, MARKER_BAND), body)
-    marker_m = cv2.moments(marker, binaryImage=True)
-    if marker_m["m00"] == 0:
+    body_m = cv2.moments(body.astype(np.uint8), binaryImage=True)
+    marker_m = cv2.moments(marker.astype(np.uint8), binaryImage=True)
+    if body_m["m00"] == 0 or marker_m["m00"] == 0:
         return None
     (cx, cy), (mx, my) = (
         image.to_world(body_m["m01"] / body_m["m00"], body_m["m10"] / body_m["m00"])[0],
@@ -153,8 +163,11 @@ def _robot_pose(image: OverheadImage, pixels: np.ndarray, body: np.ndarray) -> P
     return Pose(float(cx), float(cy), heading)
 
 
-def _regions(image: OverheadImage, objects: np.ndarray) -> tuple[tuple[Region, ...], np.ndarray]:
-    """Object regions and the mask of the pixels that belong to a kept region."""
+def _regions(image: OverheadImage, objects: np.ndarray,
+             brightness: np.ndarray | None = None) -> tuple[tuple[Region, ...], np.ndarray]:
+    """Object regions and the mask of the pixels that belong to a kept region; given a
+    real image's ``brightness``, pixel counts are its sub-pixel object areas
+    (:func:`_covered_pixels`)."""
     mask = objects.astype(np.uint8) * 255
     contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     kept = np.zeros(mask.shape, dtype=bool)
@@ -168,9 +181,40 @@ def _regions(image: OverheadImage, objects: np.ndarray) -> tuple[tuple[Region, .
         if count < MIN_OBJECT_PIXELS:
             continue
         kept[row:row + height, col:col + width] |= roi.astype(bool)
-        regions.append(_describe(image, roi, row, col))
+        region = _describe(image, roi, row, col)
+        if brightness is not None:
+            covered = _covered_pixels(brightness, mask > 0, roi, row, col)
+            region = dataclasses.replace(region, pixel_count=covered,
+                                         area_in2=covered * image.inches_per_pixel ** 2)
+        regions.append(region)
     regions.sort(key=lambda r: (r.centroid[0], r.centroid[1]))
     return tuple(regions), kept
+
+
+def _covered_pixels(brightness: np.ndarray, objects: np.ndarray, roi: np.ndarray, row0: int, col0: int) -> int:
+    """How many pixels' worth of the image the object covers, to a fraction of a pixel.
+
+    On a real image a pixel is lighter over the floor in proportion to how much of it
+    the object covers, so each pixel of the region and of the one-pixel rim around it
+    (what the threshold left out) counts ``(b - 1) / (peak - 1)``, clipped to 0..1, with
+    ``b`` its brightness over the empty floor and ``peak`` the region's (90th
+    percentile). A count of whole pixels over the threshold jumps by a pixel or two as
+    a small object moves across the grid (a 2 in box covers ~6 pixels, so by a third):
+    the side-effect check would call a pushed object "changed". The object's shading
+    is its own wherever it stands, so the count follows the object, not the grid; the
+    shading also makes it read low (edges darker than the peak: ~0.83 of the true
+    area on the realistic preset, BENCHMARKS.md), the same for the object everywhere.
+    """
+    rows, cols = brightness.shape
+    r0, c0 = max(row0 - 1, 0), max(col0 - 1, 0)
+    r1, c1 = min(row0 + roi.shape[0] + 1, rows), min(col0 + roi.shape[1] + 1, cols)
+    region = np.zeros((r1 - r0, c1 - c0), bool)
+    region[row0 - r0:row0 - r0 + roi.shape[0], col0 - c0:col0 - c0 + roi.shape[1]] = roi > 0
+    rim = (cv2.dilate(region.astype(np.uint8), _CROSS) > 0) & ~objects[r0:r1, c0:c1]
+    window = brightness[r0:r1, c0:c1]
+    peak = float(np.percentile(window[region], 90))
+    share = np.clip((window - 1.0) / max(peak - 1.0, 1e-3), 0.0, 1.0)
+    return max(int(round(float(share[region].sum() + share[rim].sum()))), 1)
 
 
 def _describe(image: OverheadImage, roi: np.ndarray, row0: int, col0: int) -> Region:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from executive.commands import experiment, learner_cmd, library, log, offline, run
+from executive.commands import camera, experiment, learner_cmd, library, log, offline, run
 from hero_driver import cli as driver
 
-MODULES: list[ModuleType] = [run, experiment, log, offline, library, learner_cmd, driver]
+MODULES: list[ModuleType] = [run, experiment, log, offline, library, learner_cmd, driver, camera]

@@ -1,6 +1,8 @@
 """The overhead camera: a top-down grayscale image of the room with the fixed
 intensity bands of docs/conventions.md, optionally seen through a fish-eye lens, with
-pixel noise and with each object's orientation misjudged by a few degrees.
+pixel noise and with each object's orientation misjudged by a few degrees. This is
+the ``simple`` preset; ``realistic`` (:mod:`hero_driver.sim.render_realistic`) draws
+what a real ceiling camera would see instead (docs/camera.md).
 
 A pixel takes a layer's intensity when the layer covers at least half of it (each
 layer is drawn SUPERSAMPLE times finer and area-averaged), so a region's pixel count
@@ -19,6 +21,7 @@ import cv2
 import numpy as np
 
 from hero_driver.interface import CameraImage, Pose
+from hero_driver.sim import render_realistic
 from hero_driver.sim.catalogue import Footprint
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.physics import WALL_IN
@@ -31,6 +34,7 @@ SHIFT = 4  # fillPoly fractional bits
 SUPERSAMPLE = 5
 FISHEYE_D = (0.05, 0.01, 0.0, 0.0)  # mild barrel on top of the equidistant projection
 FISHEYE_FOCAL_FRACTION = 0.8  # focal length as a fraction of the image width
+PRESETS = ("simple", "realistic")
 
 
 @dataclass(frozen=True)
@@ -114,9 +118,13 @@ def _distortion_maps(width_px: int, height_px: int) -> tuple[np.ndarray, np.ndar
 
 def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, float]], robot: Pose,
            base_radius_in: float, noise: NoiseConfig, rng: np.random.Generator,
-           clock_s: float) -> CameraImage:
+           clock_s: float, preset: str = "simple") -> CameraImage:
     """Draw the room, furniture, the objects on the floor as (footprint, x, y, yaw)
-    and the robot, then apply the lens and pixel noise."""
+    and the robot, then apply the lens and pixel noise; ``preset`` names the look."""
+    if preset == "realistic":
+        return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s)
+    if preset != "simple":
+        raise ValueError(f"camera preset {preset!r}: expected one of {', '.join(PRESETS)}")
     frame = Frame.for_room(spec)
     img = np.full((frame.height_px, frame.width_px), WALL, dtype=np.uint8)
     _paint(img, frame, [rect_polygon(spec.room_width_in / 2, spec.room_depth_in / 2,
