@@ -9,12 +9,18 @@ is their own (and the share left behind by a wrong No-Grab, if any). Under each 
 what one root decision takes per criterion (the slowest over the start poses): the
 rollouts' price.
 
-    python bench/bench_optimum.py [--synthetic 12] [--seed 0]
+With ``--noisy SEEDS`` it also runs the experiment's execution episodes (the unseen test
+objects, the ``paper`` noise preset, strategies on, the library trained in the
+simulator as ``csl experiment paper`` trains it) for cs-id3 against the failure-priced
+rules, seeds 0..SEEDS-1, and prints mean cost per object and success per criterion.
+
+    python bench/bench_optimum.py [--synthetic 12] [--seed 0] [--noisy 0] [--jobs 1] [--only-noisy]
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import sys
 import time
 from pathlib import Path
@@ -33,6 +39,7 @@ from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
 
+NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout")
 STARTS = [Position(d, o) for d, o in ((6, 0), (16, 90), (24, 180), (40, 270), (40, 0), (16, 180))]
 
 
@@ -59,11 +66,62 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
     print("root decision, ms: " + ", ".join(f"{name} {ms:.0f}" for name, ms in root_ms.items()))
 
 
+def noisy(seeds: int, jobs: int) -> None:
+    """cs-id3 against the failure-priced rules in the experiment's noisy execution episodes."""
+    from executive.experiment.conditions import EXECUTION_NOISE
+    from executive.experiment.episodes import EpisodeSpec, install_worker
+    from executive.experiment.paper import perform
+    from executive.experiment.runner import run_all
+    from executive.experiment.study_training import run_training
+    from robot_profile import load_profile
+
+    profile = load_profile()
+    trained = run_training(profile)
+    specs = [EpisodeSpec("noisy", name, seed, criterion=name, noise=EXECUTION_NOISE)
+             for name in NOISY_CRITERIA for seed in range(seeds)]
+    results = run_all(specs, perform, workers=jobs, group=lambda spec: spec.variant, initializer=install_worker,
+                      initargs=({"trained": trained.descriptions}, profile))
+    print(f"\nnoisy execution ({EXECUTION_NOISE} preset, test objects, {seeds} seeds, "
+          f"{len(trained.descriptions)} trained descriptions)")
+    print("| criterion | objects | success | mean cost per object, min | against cs-id3 per seed, min "
+          "(mean ± sd) | seeds cheaper / dearer | seeds more / fewer successes |")
+    print("|---|---|---|---|---|---|---|")
+
+    def per_seed(name: str) -> list[tuple[float, int]]:
+        """(mean minutes per object, successes) of each seed, in seed order: the same floors
+        for every criterion, so seeds pair up."""
+        return [(statistics.fmean(r.robot_s for r in results[spec]) / 60, sum(r.success for r in results[spec]))
+                for spec in specs if spec.criterion == name]
+
+    base = per_seed(NOISY_CRITERIA[0])
+    for name in NOISY_CRITERIA:
+        rows = [row for spec in specs if spec.criterion == name for row in results[spec]]
+        mine = per_seed(name)
+        diff = [m - b for (m, _), (b, _) in zip(mine, base)]
+        spread = statistics.stdev(diff) if len(diff) > 1 else 0.0
+        cheaper, dearer = sum(d < -1e-9 for d in diff), sum(d > 1e-9 for d in diff)
+        more = sum(m > b for (_, m), (_, b) in zip(mine, base))
+        fewer = sum(m < b for (_, m), (_, b) in zip(mine, base))
+        print(f"| {name} | {len(rows)} | {sum(r.success for r in rows) / len(rows):.1%} | "
+              f"{statistics.fmean(r.robot_s for r in rows) / 60:.2f} | {statistics.fmean(diff):+.2f} ± {spread:.2f} | "
+              f"{cheaper} / {dearer} | {more} / {fewer} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--synthetic", type=int, default=12, help="descriptions in the synthetic library (default 12)")
     ap.add_argument("--seed", type=int, default=0, help="seed of the synthetic library and of random ties")
+    ap.add_argument("--noisy", type=int, default=0, metavar="SEEDS",
+                    help="also run noisy execution episodes over this many seeds (default 0: none)")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes for the noisy episodes (default 1)")
+    ap.add_argument("--only-noisy", action="store_true", help="skip the optimum tables")
     args = ap.parse_args()
+    if args.noisy < 0 or args.jobs < 1:
+        ap.error("--noisy must be >= 0 and --jobs >= 1")
+    if args.noisy:
+        noisy(args.noisy, args.jobs)
+    if args.only_noisy:
+        return
     knowledge = load_knowledge(KNOWLEDGE)
     shipped = read_library_json(EXAMPLE_LIBRARY)
     estimator = ModelMoveCost(knowledge.move)

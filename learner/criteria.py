@@ -11,7 +11,9 @@ and ``-lookahead`` adds a one-step lookahead (with joint gain): the formula is a
 to the gain and the cost expected over the test and the best test after it.
 ``cs-id3-rollout`` and ``idx-rollout`` rank their rule's best few tests by the expected
 cost of taking the test and then finishing the object with the rule itself
-(learner/rollout.py).
+(learner/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its chance
+of failing (it is paid only then), and ``cs-id3-failure-rollout`` rolls that rule out with
+an estimate that follows the session's walk (learner/rollout_walk.py).
 
 :data:`CRITERIA` is the one registry of them: command-line help, the benches and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
@@ -44,6 +46,12 @@ class Criterion:
     and the best test after it in each branch.
     ``rollout``: the best few tests by this formula are ranked by expected cost: the
     test's, plus finishing the object with the formula alone (learner/rollout.py).
+    ``grasp_paid_on_failure``: a grasp tried as a feature is priced at what it is
+    expected to cost, its failure share of the node times its move and feature cost: when
+    it holds, the object's own grasp has been executed and nothing more is paid.
+    ``rollout_follows_walk``: the rollout's estimate follows the session's walk (rows
+    weighted by how likely they reached a node, a wrong grasp rebuilding from the root:
+    learner/rollout_walk.py) rather than the learner's view of a node.
     """
 
     name: str
@@ -53,6 +61,8 @@ class Criterion:
     joint_gain: bool = False
     lookahead: bool = False
     rollout: bool = False
+    grasp_paid_on_failure: bool = False
+    rollout_follows_walk: bool = False
 
 
 @dataclass(frozen=True)
@@ -92,6 +102,8 @@ class CriterionSpec:
     joint_gain: bool = False
     lookahead: bool = False
     rollout: bool = False
+    grasp_paid_on_failure: bool = False
+    rollout_follows_walk: bool = False
 
     def build(self, *values: float, **given: float) -> Criterion:
         """The criterion with parameters given by position (in declared order) or by
@@ -166,16 +178,29 @@ _BASES = (
                   (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
 )
 
+
+def _failure_priced(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
+    """``base`` with a grasp test priced at its chance of failing, alone and rolled out
+    with an estimate that follows the session's walk (docs/method.md §3.7)."""
+    priced = dataclasses.replace(base, name=f"{base.name}-failure", formula=f"{base.formula}, grasp C x P(fail)",
+                                 help="a grasp test costs only when it fails", grasp_paid_on_failure=True)
+    rolled = dataclasses.replace(priced, name=f"{priced.name}-rollout", formula=f"{priced.formula}, walk rollout",
+                                 help="least expected cost, as walked", rollout=True, rollout_follows_walk=True)
+    return priced, rolled
+
+
 DEFAULT_CRITERION = "cs-id3"
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
         *_BASES, *(refined for base in _BASES if base.cost_sensitive for refined in _refined(base)),
-        *(_rolled_out(base) for base in _BASES if base.name in ("cs-id3", "idx")))
+        *(_rolled_out(base) for base in _BASES if base.name in ("cs-id3", "idx")),
+        *_failure_priced(_BASES[0]))
 })
 """Every criterion by name, in the order help and benches list them (the bases, the
 refined forms of the cost-sensitive ones, then the rollouts of CSL's rule and Norton's;
-eg2's would not fit the one help line). Iterating it gives the names, so it also serves
+eg2's would not fit the one help line; last CSL's rule with grasp tests priced by their
+failure, alone and rolled out). Iterating it gives the names, so it also serves
 as argparse ``choices``."""
 
 

@@ -45,6 +45,15 @@ class Node:
 
     rows: tuple[int, ...]
     carried: tuple[bool, ...]
+    # each row's chance of having come this way, relative to a row measured all along:
+    # ``1/k`` for every ``k``-branch test it lacked (the walk forks there); None: all 1
+    likelihood: tuple[float, ...] | None = None
+
+    def weights(self) -> tuple[float, ...]:
+        """Each row's probability of being the object at hand, given the node."""
+        raw = self.likelihood or (1.0,) * len(self.rows)
+        total = sum(raw)
+        return tuple(w / total for w in raw) if total > 0 else raw
 
     @staticmethod
     def root(n: int, exclude: Sequence[int] = ()) -> Node:
@@ -152,7 +161,9 @@ def rank(
     joint gain of its procedure application, for a ``joint_gain`` criterion) and its
     cost from ``current``; a ``lookahead`` criterion then rescores the paid ones over two
     steps (of the best :data:`LOOKAHEAD_WIDTH` by one step; the rest follow them), and a
-    ``rollout`` one ranks its best few by expected cost to the end (learner/rollout.py). Ties go
+    ``rollout`` one ranks its best few by expected cost to the end (learner/rollout.py, or
+    learner/rollout_walk.py). A ``grasp_paid_on_failure`` criterion prices a grasp test
+    at its failure probability times its cost (``scored_on``). Ties go
     to the nearer, then the cheaper test, or, for a criterion with
     ``cost_blind_choices``, are ordered at random from ``ctx.rng``.
     """
@@ -187,7 +198,9 @@ def rank(
         scored_on = None
         if joint is not None and move + sense > 0 and not test.is_grasp:
             scored_on = (joint.of(test, target), move + sense)
-        score = ctx.criterion.score(gain if scored_on is None else scored_on[0], move + sense)
+        elif test.is_grasp and ctx.criterion.grasp_paid_on_failure:
+            scored_on = (gain, _failure_share(node, matrix, test) * (move + sense))
+        score = ctx.criterion.score(*(scored_on or (gain, move + sense)))
         scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(found.ranges[j]),
                                  float(matrix.errors[columns[j]]), scored_on))
     ranked = _ordered(scored, ctx)
@@ -198,9 +211,20 @@ def rank(
         ranked = _ordered(shortlist, ctx) + ranked[LOOKAHEAD_WIDTH:]
     if ctx.criterion.rollout:
         # imported here: the rollout finishes by the leaf rule (decision_tree), built on this module
-        from learner.rollout import rolled_out
+        if ctx.criterion.rollout_follows_walk:
+            from learner.rollout_walk import rolled_out
+        else:
+            from learner.rollout import rolled_out
         ranked = rolled_out(node, ranked, current, ctx, measurements, exclude)
     return ranked
+
+
+def _failure_share(node: Node, matrix: DescriptionMatrix, test: Test) -> float:
+    """The probability that a grasp tried as a feature fails at ``node``: the weight of
+    its rows whose grasp column is 0 (a grasp column is known for every description),
+    each row weighted by how likely it came this way (``Node.weights``)."""
+    values = matrix.values[list(node.rows), matrix.column[test]]
+    return float(sum(w for w, v in zip(node.weights(), values.tolist()) if v < 0.5))
 
 
 class _JointGains:
@@ -327,20 +351,25 @@ def _cheaper(a: ScoredTest, b: ScoredTest) -> int:
 
 def split(node: Node, scored: ScoredTest, matrix: DescriptionMatrix) -> list[Node]:
     """The node of each branch: rows in its range, plus every row lacking the value
-    (carried, so it does not decide a leaf)."""
+    (carried, so it does not decide a leaf, and ``1/k`` as likely: ``Node.likelihood``)."""
     j = matrix.column[scored.test]
+    k = len(scored.ranges)
     rows: list[list[int]] = [[] for _ in scored.ranges]
     carried: list[list[bool]] = [[] for _ in scored.ranges]
-    for r, c in zip(node.rows, node.carried):
+    likely: list[list[float]] = [[] for _ in scored.ranges]
+    for r, c, w in zip(node.rows, node.carried, node.likelihood or (1.0,) * len(node.rows)):
         v = matrix.values[r, j]
         if np.isnan(v):
             for b in range(len(rows)):
                 rows[b].append(r)
                 carried[b].append(True)
+                likely[b].append(w / k)
             continue
         for b, (lo, hi) in enumerate(scored.ranges):
             if lo - _EPS <= v <= hi + _EPS:
                 rows[b].append(r)
                 carried[b].append(c)
+                likely[b].append(w)
                 break
-    return [Node(tuple(r), tuple(c)) for r, c in zip(rows, carried)]
+    return [Node(tuple(r), tuple(c), None if all(x == 1.0 for x in w) else tuple(w))
+            for r, c, w in zip(rows, carried, likely)]

@@ -29,6 +29,9 @@ HAND_WORKED = [
     # a rollout ranks its rule's best few by expected cost; the formula is its rule's
     ("cs-id3-rollout", 2.0, 8.0, 0.5),
     ("idx-rollout", 2.0, 8.0, 0.25),
+    # the failure-priced forms keep I^2 / C; what changes is the C a grasp test is given
+    ("cs-id3-failure", 2.0, 8.0, 0.5),
+    ("cs-id3-failure-rollout", 2.0, 8.0, 0.5),
 ]
 
 
@@ -62,14 +65,20 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
     assert joint == {"cs-id3-joint", "cs-id3-lookahead", "idx-joint", "idx-lookahead", "eg2-joint", "eg2-lookahead"}
     assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
     # a rollout finishes with its base rule itself: plain gain, no lookahead inside
-    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout"}
+    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout", "cs-id3-failure-rollout"}
     rolled = criterion("idx-rollout")
-    assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices)
+    assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices
+                                   or rolled.grasp_paid_on_failure or rolled.rollout_follows_walk)
+    # only the failure-priced forms price a grasp test by its failure, and only their
+    # rollout follows the walk
+    assert {n for n, s in CRITERIA.items() if s.grasp_paid_on_failure} == {"cs-id3-failure", "cs-id3-failure-rollout"}
+    assert {n for n, s in CRITERIA.items() if s.rollout_follows_walk} == {"cs-id3-failure-rollout"}
     built = criterion("eg2-lookahead", w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
     default = criterion(DEFAULT_CRITERION)
-    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout)
+    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout
+                or default.grasp_paid_on_failure or default.rollout_follows_walk)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:
@@ -106,5 +115,5 @@ def test_parameters_are_checked_by_name() -> None:
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
                        r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead, "
-                       r"cs-id3-rollout, idx-rollout\)"):
+                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout\)"):
         criterion("c4.5")

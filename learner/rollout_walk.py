@@ -1,0 +1,151 @@
+"""A rollout whose estimate follows the walk: rows weighted, a wrong grasp rebuilds from the root.
+
+The rollout of learner/rollout.py estimates what finishing with the one-step rule costs
+from the learner's view of a node: every row counts as one, and after a wrong leaf grasp
+the rows of other grasps go on from that node. The session the estimate stands for
+(``RecognitionSession``, walked by learner/optimum.py) differs in two ways, and where
+they matter the least estimate is not the least cost:
+
+- a row carried down a test it lacks follows each of the ``k`` branches with ``1/k``
+  (the walk forks there), so deeper down it is less likely than the rows that were
+  measured there; its weight here is multiplied by ``1/k`` at every such test;
+- after a wrong grasp the session rebuilds its tree from the root without that grasp's
+  descriptions, the measured values re-used for free, and its choices there are made
+  over every description left, also those the object's values already ruled out. Here
+  too: the rebuilt root holds every row of a grasp present where the decision is made
+  and not yet failed, those already ruled out at weight 0 (they steer the choices, they
+  cost nothing).
+
+The decision's node starts from what ``Node.likelihood`` records (a session's nodes come
+by ``selection.split``, which keeps it). What stays approximate: a row lacking a value
+re-used after a rebuild is spread over the branches again rather than following its
+first fork. The accounting is otherwise learner/rollout.py's: a test is paid once, its
+procedure's siblings are then free, a grasp tried as a feature is paid only when it
+fails, a wrong leaf grasp costs its move and ``feature_cost_s``; a wrong No-Grab, which
+leaves the object behind, is priced at :data:`LEFT_BEHIND_S`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from learner.decision_tree import grasp_options, leaf_at
+from learner.matrix import Test
+from learner.position import Position
+from learner.rollout import ROLLOUT_WIDTH
+from learner.selection import Context, Measurements, Node, ScoredTest, rank, split, yielded
+
+_EPS = 1e-9
+LEFT_BEHIND_S = 5400.0
+"""What an object left behind by a wrong No-Grab is priced at: the walk stops charging
+there, but the object was never grasped, and a rollout that counted it as free would
+steer towards leaving objects behind. 1.5 h, what the paper reports measuring every
+feature of an object costs: far above any route that grasps it."""
+
+Weights = tuple[float, ...]
+_Measured = frozenset[tuple[str, Position]]
+
+
+def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
+               exclude: frozenset[Test]) -> list[ScoredTest]:
+    """The best :data:`ROLLOUT_WIDTH` of ``ranked`` rescored by the walk's expected total
+    cost (score ``-total``, ``scored_on`` = (gain, total)), least first; the rest follow
+    in their one-step order."""
+    rollout = WalkRollout(ctx, node)
+    weights = node.weights()
+    measured = frozenset(measurements)
+    shortlist = []
+    for test in ranked[:ROLLOUT_WIDTH]:
+        total = rollout.after(node, weights, test, measured, exclude, frozenset())
+        shortlist.append(dataclasses.replace(test, score=-total, scored_on=(test.gain, total)))
+    shortlist.sort(key=lambda s: -s.score)  # stable: ties keep the one-step order
+    return shortlist + ranked[ROLLOUT_WIDTH:]
+
+
+def walk_finishing_cost(node: Node, current: Position, ctx: Context, measurements: Measurements,
+                        exclude: frozenset[Test] = frozenset()) -> float:
+    """Expected seconds of finishing the object at ``node`` from ``current`` with
+    ``ctx``'s one-step rule, as the session would walk it (the module's accounting)."""
+    return WalkRollout(ctx, node).finish(node, node.weights(), current, frozenset(measurements), exclude, frozenset())
+
+
+class WalkRollout:
+    """The one-step rule's expected cost as the session would walk it, memoised per
+    (node, weights, position, measured, excluded, failed grasps) for one decision."""
+
+    def __init__(self, ctx: Context, decision_node: Node) -> None:
+        self.ctx = dataclasses.replace(ctx, criterion=dataclasses.replace(ctx.criterion, rollout=False))
+        matrix = ctx.matrix
+        grasps = {matrix.descriptions[r].grasp for r in decision_node.rows}
+        self.universe = tuple(r for r, d in enumerate(matrix.descriptions) if d.grasp in grasps)
+        self.memo: dict[tuple[object, ...], float] = {}
+
+    def finish(self, node: Node, weights: Weights, at: Position, measured: _Measured, exclude: frozenset[Test],
+               failed: frozenset[str]) -> float:
+        """Expected seconds of finishing from ``node`` (its rows' probabilities
+        ``weights``, summing to 1) with the one-step rule."""
+        key = (node, tuple(round(w, 12) for w in weights), at, measured, exclude, failed)
+        if key not in self.memo:
+            self.memo[key] = self._finish(node, weights, at, measured, exclude, failed)
+        return self.memo[key]
+
+    def _finish(self, node: Node, weights: Weights, at: Position, measured: _Measured, exclude: frozenset[Test],
+                failed: frozenset[str]) -> float:
+        leaf = leaf_at(node, at, self.ctx)
+        if leaf is None:
+            ranked = rank(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
+            if ranked:
+                return self.after(node, weights, ranked[0], measured, exclude, failed)
+            leaf = grasp_options(node, at, self.ctx)[0]  # ambiguous: its first option, as the session
+        descriptions = self.ctx.matrix.descriptions
+        wrong = sum(w for r, w in zip(node.rows, weights) if descriptions[r].grasp != leaf.grasp)
+        grasp = self.ctx.knowledge.grasp(leaf.grasp)
+        if wrong <= _EPS:
+            return 0.0  # right for every likely row
+        if not grasp.verifiable:
+            return wrong * LEFT_BEHIND_S  # a wrong No-Grab leaves the object behind
+        # the session rebuilds from the root without the failed grasp, keeping what was measured
+        now_failed = failed | {leaf.grasp}
+        rows = tuple(r for r in self.universe if descriptions[r].grasp not in now_failed)
+        if not rows:
+            return wrong * (leaf.move_cost + grasp.feature_cost_s)
+        likely = {r: w / wrong for r, w in zip(node.rows, weights) if descriptions[r].grasp != leaf.grasp}
+        root = Node(rows, (False,) * len(rows))
+        again = self.finish(root, tuple(likely.get(r, 0.0) for r in rows), leaf.position, measured, frozenset(),
+                            now_failed)
+        return wrong * (leaf.move_cost + grasp.feature_cost_s + again)
+
+    def after(self, node: Node, weights: Weights, test: ScoredTest, measured: _Measured, exclude: frozenset[Test],
+              failed: frozenset[str]) -> float:
+        """``test``'s expected cost at ``node`` plus, per branch, finishing greedily."""
+        branches = weighted_split(node, weights, test, self.ctx)
+        held = [test.test.is_grasp and lo >= 1.0 for lo, _ in test.ranges]
+        paid = sum(mass for (_, mass, _), h in zip(branches, held) if not h)  # a grasp that holds is not counted
+        total = paid * test.cost
+        if test.cost > 0:
+            now_measured = measured | frozenset(yielded(test, self.ctx))
+        else:  # a free re-use records just that feature where the robot stands, as the session does
+            now_measured = measured | {(test.test.feature, test.target)}
+        now_excluded = exclude | {test.test}
+        for (child, mass, child_weights), h in zip(branches, held):
+            if mass > _EPS and not h:
+                total += mass * self.finish(child, child_weights, test.target, now_measured, now_excluded, failed)
+        return total
+
+
+def weighted_split(node: Node, weights: Weights, test: ScoredTest,
+                   ctx: Context) -> list[tuple[Node, float, Weights]]:
+    """Each branch of ``test`` at ``node``: its node (``selection.split``), its
+    probability, and its rows' probabilities given the branch. A row lacking the value
+    goes down each of the ``k`` branches with ``1/k`` of its weight."""
+    matrix = ctx.matrix
+    column = matrix.column[test.test]
+    own = dict(zip(node.rows, weights))
+    k = len(test.ranges)
+    out = []
+    for child in split(node, test, matrix):
+        raw = [own[r] / k if math.isnan(matrix.values[r, column]) else own[r] for r in child.rows]
+        mass = sum(raw)
+        out.append((child, mass, tuple(w / mass for w in raw) if mass > _EPS else tuple(raw)))
+    return out
