@@ -17,6 +17,7 @@ from behaviours.base import DriverAction
 from behaviours.bridge import overhead, to_driver_pose
 from behaviours.events import Event
 from hero_driver.interface import CameraImage, DriverError, GraspResult, MoveResult, RobotState, SenseResult
+from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.position import Position
 from planner import PlanResult
 
@@ -62,6 +63,7 @@ class MoveTo(DriverAction):
             raise ValueError(f"MoveTo target must be 'test' or 'grasp', got {target!r}")
         self.target = target
         self._goal: Position | None = None
+        self._path: tuple[DriverPose, ...] = ()  # the waypoints sent, logged with the move
 
     def goal(self) -> Position | None:
         """Where to go: the step's test position, or its grasp's."""
@@ -86,8 +88,8 @@ class MoveTo(DriverAction):
         return self.timed(lambda: nav.plan(self.robot_pose(), obj.estimator.pose(goal)))
 
     def drive(self, plan: PlanResult) -> Future[MoveResult]:
-        return self.services.driver.move([to_driver_pose(p) for p in plan.path or ()],
-                                         face=self.obj.region.centroid)
+        self._path = tuple(to_driver_pose(p) for p in plan.path or ())
+        return self.services.driver.move(list(self._path), face=self.obj.region.centroid)
 
     def no_path(self, goal: Position, plan: PlanResult) -> Status:
         self.note(Event.NO_PATH, to=goal.to_json(), reason=plan.reason)
@@ -100,8 +102,8 @@ class MoveTo(DriverAction):
         self.bb.pose = result.pose
         obj.ledger.moving_s += result.duration_s
         self.note(Event.MOVE, to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
-                  collided=result.collided,
-                  pose=[round(result.pose.x_in, 1), round(result.pose.y_in, 1), round(result.pose.heading_deg, 1)])
+                  collided=result.collided, pose=_pose_json(result.pose),
+                  path=[_pose_json(p) for p in self._path])  # as planned: the map draws it as driven
         if result.collided:
             return self._unusable()
         assert self._goal is not None
@@ -229,6 +231,11 @@ class Learn(DriverAction):
 
     def finish(self, result: RobotState) -> Status:
         return Status.SUCCESS
+
+
+def _pose_json(pose: DriverPose) -> list[float]:
+    """A pose as the log writes it: ``[x_in, y_in, heading_deg]`` to a tenth."""
+    return [round(pose.x_in, 1), round(pose.y_in, 1), round(pose.heading_deg, 1)]
 
 
 def _rounded(values: object) -> dict[str, float | None]:

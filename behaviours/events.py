@@ -48,6 +48,7 @@ class Event(str, Enum):
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
+    CHARGE = "charge", "the battery ran low: the robot drove to its dock and charged (levels, seconds), then resumed"
     EPISODE_END = "episode_end", "the tree finished (status, ticks)"
 
 

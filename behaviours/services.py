@@ -10,12 +10,13 @@ the robot stands) lives on the blackboard (``behaviours.records``).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
 from hero_driver.interface import Driver
 from learner.criteria import Criterion
+from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.matrix import DescriptionMatrix
 from learner.service.interface import LearnerService
@@ -40,6 +41,7 @@ class Params:
     pushed_in: float = 1.0  # centroid shift meaning "pushed"
     seed: int = 0  # for choices the criterion leaves to chance; object i draws from seed + i
     use_appearance: bool = False  # rule candidates out by the camera's area and elongation, free
+    battery_low: float = 0.2  # below this charge the guard sends the robot to its dock; 0: guard off
 
 
 class EventSink(Protocol):
@@ -49,8 +51,9 @@ class EventSink(Protocol):
 
 
 class LibraryMatrix:
-    """The learner's library as a description matrix, rebuilt only when its version
-    changed: every object of an episode shares one matrix until something is learned."""
+    """The learner's library as a description matrix, changed only when its version
+    changed: every object of an episode shares one matrix until something is learned,
+    and what was learned is appended to it (the library only grows), not rebuilt."""
 
     def __init__(self, learner: LearnerService, knowledge: Knowledge) -> None:
         self._learner, self._knowledge = learner, knowledge
@@ -60,8 +63,14 @@ class LibraryMatrix:
         version = self._learner.version()
         if self._built is None or self._built[0] != version:
             snapshot = self._learner.library()
-            self._built = (snapshot.version, DescriptionMatrix(snapshot.descriptions, self._knowledge))
+            self._built = (snapshot.version, self._grown(snapshot.descriptions))
         return self._built[1]
+
+    def _grown(self, descriptions: Sequence[ObjectDescription]) -> DescriptionMatrix:
+        """The current matrix with the new descriptions appended when ``descriptions``
+        extends what it holds; built anew otherwise (a first library, a swapped one)."""
+        grown = None if self._built is None else self._built[1].extended_to(descriptions)
+        return grown if grown is not None else DescriptionMatrix(descriptions, self._knowledge)
 
 
 @dataclass(frozen=True)

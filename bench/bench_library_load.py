@@ -4,7 +4,7 @@ Synthetic libraries (``synthetic_library`` perturbed from the shipped one) of 1k
 and 100k descriptions are written as JSON and into a SQLite store in a temporary
 folder, then loaded by:
 
-- ``baseline``: a copy of the reader before issue 13 (every position parsed and
+- ``baseline``: a copy of the reader before the faster reader (every position parsed and
   validated, every field's error text built, observations sorted by ``__lt__``);
 - ``now``: ``read_library_json`` / ``LibraryStore.descriptions``;
 
@@ -42,7 +42,7 @@ from learner.synthetic import synthetic_library  # noqa: E402
 SIZES = (1_000, 10_000, 100_000)
 
 
-# -- the reader before issue 13, kept verbatim in spirit for the comparison ----------
+# -- the reader before the faster reader, kept verbatim in spirit for the comparison ----------
 def _baseline_slot(value: object, where: str) -> float | None:
     if value == "*" or value is None:
         return None

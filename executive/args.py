@@ -4,10 +4,13 @@ any long work (a training run must not end in 'cannot write the output')."""
 from __future__ import annotations
 
 import argparse
+import json
+import math
 import os
 from collections.abc import Callable
 from pathlib import Path
 
+from executive import defaults
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, CriterionSpec, Parameter
 from zenoh_rpc.endpoints import check_endpoint
 
@@ -39,6 +42,56 @@ def endpoint(text: str) -> str:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def verb_timeout(text: str) -> tuple[str, float]:
+    """argparse type for ``--verb-timeout VERB=SECONDS``: a positive, finite number of
+    seconds (the verb itself is checked against the protocol's verbs when the driver
+    client is built, so ``csl --help`` need not import the driver link)."""
+    verb, equals, seconds = text.partition("=")
+    if not equals or not verb:
+        raise argparse.ArgumentTypeError(f"expected VERB=SECONDS, such as sense=60, got {text!r}")
+    try:
+        value = float(seconds)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{verb}: expected a number of seconds, got {seconds!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{verb}: must be a positive number of seconds, got {seconds}")
+    return verb, value
+
+
+def add_verb_timeout_option(p: argparse.ArgumentParser) -> None:
+    """Add ``--verb-timeout VERB=SECONDS`` (repeatable) to a command that drives a
+    robot over zenoh."""
+    p.add_argument("--verb-timeout", type=verb_timeout, action="append", default=None, metavar="VERB=SECONDS",
+                   help="with --driver zenoh: how long to wait for one verb's reply before the object it "
+                        "serves is given up (repeatable, e.g. --verb-timeout sense=60 --verb-timeout move=600; "
+                        "defaults in docs/driver-protocol.md, Verbs)")
+
+
+def shipped_worlds() -> list[str]:
+    """The names of the shipped worlds (``hero_driver/worlds``): the files there that
+    place objects (not the catalogue, not the calibration board)."""
+    from hero_driver.sim.worldfile import WORLDS_DIR
+
+    names = []
+    for path in sorted(WORLDS_DIR.glob("*.json")):
+        try:
+            document = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if isinstance(document, dict) and "objects" in document:
+            names.append(path.stem)
+    return names
+
+
+def world_argument(text: str) -> str:
+    """argparse type for ``--world``: a world file, or the name of a shipped world; an
+    unknown name is refused while parsing, listing the shipped ones."""
+    if Path(text).is_file() or text in shipped_worlds():
+        return text
+    raise argparse.ArgumentTypeError(f"{text!r} is neither a world file nor a shipped world "
+                                     f"(shipped: {', '.join(shipped_worlds())})")
+
+
 def writable_file(path: Path, option: str) -> Path:
     """Check that ``path`` can be written (its folder exists and is writable, it is not
     a folder) before the work that produces it starts."""
@@ -50,6 +103,30 @@ def writable_file(path: Path, option: str) -> Path:
     if not os.access(folder, os.W_OK):
         raise ValueError(f"{option}: cannot write into {folder}")
     return path
+
+
+def library_path(path: Path | None, option: str) -> Path:
+    """The library database ``option`` names, or the user's default one.
+
+    A folder the user named is never created behind their back (a typo would start an
+    empty library somewhere unexpected): a missing one is a one-line error. Only the
+    default's folder, ``$CSL_HOME``, is created when the store is opened."""
+    if path is None:
+        return defaults.library_db()
+    if path.is_dir():
+        raise ValueError(f"{option}: {path} is a folder, not a library database")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise ValueError(f"{option}: folder {folder} does not exist (create it first, or choose another path)")
+    return path
+
+
+def add_retrain_option(p: argparse.ArgumentParser) -> None:
+    """Add ``--retrain`` to ``csl demo``: train even when a library trained on the same
+    inputs is stored (executive/demo_library.py)."""
+    p.add_argument("--retrain", action="store_true",
+                   help="train on the Table 3 objects even when a library trained on the same knowledge, "
+                        "world, seed and code is stored ($CSL_HOME/trained/)")
 
 
 def output_folder(path: Path, option: str) -> Path:
@@ -120,3 +197,51 @@ def criterion_from_args(args: argparse.Namespace) -> Criterion:
                 raise ValueError(f"{_parameter_option(spec, parameter)} goes with --criterion {spec.name}")
             given[parameter.name] = value
     return chosen.build(**given)
+
+
+def port(text: str) -> int:
+    """argparse type: a TCP port, 0 for any free one."""
+    value = non_negative_int(text)
+    if value > 65535:
+        raise argparse.ArgumentTypeError(f"a port is at most 65535, got {value}")
+    return value
+
+
+def non_negative_seconds(text: str) -> float:
+    """argparse type: a finite number of seconds >= 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number of seconds >= 0, got {text}")
+    return value
+
+
+def battery_level(text: str) -> float:
+    """argparse type: a battery level from 0 (empty) to 1 (full)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a battery level from 0 to 1, got {text!r}") from None
+    if not 0.0 <= value <= 1.0:  # NaN fails this too
+        raise argparse.ArgumentTypeError(f"must be a battery level from 0 to 1, got {text}")
+    return value
+
+
+def add_recording_options(p: argparse.ArgumentParser) -> None:
+    """Add ``--record``, ``--live``, ``--live-port``, ``--live-pace`` and ``--show-status``
+    (docs/recording.md): watching an episode in Foxglove or on the terminal."""
+    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap",
+                   help="record the episode as MCAP with Foxglove's schemas: robot pose, planned paths, sonar rays, "
+                        "camera, map, objects, the tree's status per tick (docs/recording.md)")
+    p.add_argument("--live", action="store_true",
+                   help="serve the same channels live through the Foxglove WebSocket server on 127.0.0.1; the "
+                        "episode starts when a client subscribes")
+    p.add_argument("--live-port", type=port, default=None, metavar="N",
+                   help="with --live: the port (default 8765, Foxglove's; 0 for any free one)")
+    p.add_argument("--live-pace", type=non_negative_seconds, default=None, metavar="SECONDS",
+                   help="with --live: wall seconds between ticks, so an in-process simulator is watchable "
+                        "(default 0.2; 0 runs flat out)")
+    p.add_argument("--show-status", action="store_true",
+                   help="print py_trees' tree with every behaviour's status after each object (colour on a terminal)")

@@ -5,7 +5,8 @@ and the shape snapshot build the tree alone. Every recovery is a branch you can 
 reselection (gated by ``Unreliable?``), backtracking and nearest neighbour under
 "choose a test" / "step"; the ambiguous leaf under "choose a grasp"; the other end
 under "reach the grasp"; and, gated by ``GraspFailed?``, side effects or dropping a
-failed grasp under "recover".
+failed grasp under "recover". Above it all, the low-battery guard ("battery check",
+``behaviours.battery``) sends the robot to its dock and lets the work resume where it was.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import py_trees
 from py_trees.composites import Selector, Sequence
 
 from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
+from behaviours.battery import guarded
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
@@ -45,7 +47,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         UntilHandled(step, robot, name="recognize and grasp"),
         Learn(robot),
     ])
-    return Sequence("retrieve objects", memory=True, children=[
+    return guarded(Sequence("retrieve objects", memory=True, children=[
         LocateObjects(robot),
         ForEachObject(per_object, robot, name="each object"),
-    ])
+    ]), robot)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import IO
 
@@ -17,11 +18,13 @@ from behaviours.events import Event
 
 
 class EpisodeLog:
-    """Collects events in memory and, given a path, appends them to a JSON-lines file."""
+    """Collects events in memory and, given a path, appends them to a JSON-lines file;
+    listeners (a recording) get each event as it is logged."""
 
     def __init__(self, path: str | Path | None = None) -> None:
         self.events: list[dict[str, object]] = []
         self.tick = 0
+        self.listeners: list[Callable[[dict[str, object]], None]] = []
         self._file: IO[str] | None = None
         if path is not None:
             path = Path(path)
@@ -40,6 +43,8 @@ class EpisodeLog:
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False, default=str, allow_nan=False) + "\n")
             self._file.flush()  # followable while the episode runs (tail -f), complete if it dies
+        for listener in self.listeners:
+            listener(record)
 
     def close(self) -> None:
         if self._file is not None:
@@ -59,9 +64,14 @@ def _json_safe(value: object) -> object:
 
 
 def read_log(path: str | Path) -> list[dict[str, object]]:
-    """Read an episode log back (for replay and analysis)."""
+    """Read an episode log back (for replay and analysis): an ``episode.jsonl``, or the
+    events channel of a ``--record`` MCAP file."""
     path = Path(path)
     try:
+        if _is_mcap(path):
+            from executive.recording.reader import read_recorded_events  # the mcap library: only for a recording
+
+            return read_recorded_events(path)
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise ValueError(f"{path}: episode log not found") from None
@@ -76,3 +86,11 @@ def read_log(path: str | Path) -> list[dict[str, object]]:
         except json.JSONDecodeError as exc:
             raise ValueError(f"{path}:{n}: not a JSON event: {exc.msg}") from None
     return events
+
+
+def _is_mcap(path: Path) -> bool:
+    with path.open("rb") as f:
+        return f.read(len(_MCAP_MAGIC)) == _MCAP_MAGIC
+
+
+_MCAP_MAGIC = b"\x89MCAP"  # how every MCAP file begins

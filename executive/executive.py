@@ -24,6 +24,8 @@ from hero_driver.interface import Driver
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
 from learner.service.interface import LearnerService
 from planner import Navigator
+from planner.calibration import MarkerBoard
+from planner.segmentation import Camera
 from robot_profile import RobotProfile, load_profile
 
 
@@ -42,15 +44,22 @@ class Executive:
     """One robot's behaviour tree over a driver and a learner service."""
 
     def __init__(self, driver: Driver, learner: LearnerService, *, profile: RobotProfile | None = None,
-                 params: Params = Params(), criterion: Criterion | None = None, log: EpisodeLog | None = None) -> None:
+                 params: Params = Params(), criterion: Criterion | None = None, log: EpisodeLog | None = None,
+                 on_tick: Callable[[int, py_trees.behaviour.Behaviour], None] | None = None,
+                 camera: Camera | None = None, board: MarkerBoard | None = None) -> None:
         """``profile``: the robot (default: the shipped HERO 2000); the planner plans for
         its ``[robot]`` table and the learner knows its procedures, both from this one
-        reading."""
+        reading. ``on_tick(tick, root)`` sees the tree after every tick (a recording
+        of its status). ``camera``: the calibrated overhead camera when the driver's
+        images are real ones, or ``board`` to calibrate it from the first image
+        (docs/camera.md); neither for band images."""
         self.log = log or EpisodeLog()
+        self.on_tick = on_tick
         profile = profile or load_profile()
         knowledge = knowledge_of(profile)
         self.services = Services(
-            driver=driver, navigator=Navigator(profile.robot), learner=learner, knowledge=knowledge,
+            driver=driver, navigator=Navigator(profile.robot, camera=camera, board=board), learner=learner,
+            knowledge=knowledge,
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
             library=LibraryMatrix(learner, knowledge))
         self.namespace = namespace(driver.robot)
@@ -99,6 +108,8 @@ class Executive:
         """One tick; True when the tree has finished."""
         self.log.tick = tick
         self.tree.tick()
+        if self.on_tick is not None:
+            self.on_tick(tick, self.root)
         if trace:
             lines.append(self._trace_line(tick))
         if self.root.status != Status.RUNNING:

@@ -3,7 +3,9 @@ the behaviour tree. PNG files, drawn with matplotlib (no display needed)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import matplotlib
@@ -12,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Patch, Rectangle  # noqa: E402
+from matplotlib.patches import Circle, Patch, Rectangle  # noqa: E402
 import py_trees  # noqa: E402
 
 from behaviours.records import ObjectRecord  # noqa: E402
@@ -23,10 +25,39 @@ from hero_driver.interface import CameraImage  # noqa: E402
 _COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
 
 
+@dataclass(frozen=True)
+class Leg:
+    """One move as the map draws it: from where the previous move stopped (or the start)
+    along the waypoints the planner gave, to where the base really stopped."""
+
+    number: int  # move order, from 1
+    origin: tuple[float, float] | None  # None when the episode's start is unknown
+    waypoints: tuple[tuple[float, float], ...]
+    stop: tuple[float, float, float]  # x_in, y_in, heading_deg
+    collided: bool
+
+
+def legs(events: Sequence[dict], start: tuple[float, float] | None) -> list[Leg]:
+    """The moves of an episode log in order, each joined to the stop before it: the
+    planner starts every path from the pose the last move reported."""
+    out: list[Leg] = []
+    origin = start
+    for e in events:
+        if e.get("event") != "move":
+            continue
+        stop = (float(e["pose"][0]), float(e["pose"][1]), float(e["pose"][2]))
+        waypoints = tuple((float(p[0]), float(p[1])) for p in e["path"])
+        out.append(Leg(len(out) + 1, origin, waypoints, stop, bool(e.get("collided"))))
+        origin = stop[:2]
+    return out
+
+
 def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], events: Sequence[dict],
-             labels: Sequence[str], start: tuple[float, float] | None = None) -> None:
+             labels: Sequence[str], start: tuple[float, float] | None = None, *, base_radius_in: float) -> None:
     """The overhead image at the start, each object's region where it was first seen
-    (coloured by outcome), and where the robot went."""
+    (coloured by outcome), and where the robot went: every move's planned path (a
+    straight line between stops would cut through boxes the planner went round), its
+    order number, and the base's footprint and heading where it stopped."""
     h, w = image.pixels.shape
     extent = (image.origin_x_in, image.origin_x_in + w * image.inches_per_pixel,
               image.origin_y_in - h * image.inches_per_pixel, image.origin_y_in)
@@ -40,18 +71,18 @@ def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], ev
         ax.annotate(f"{record.index}: {label}\n{record.grasp or '-'} ({record.outcome})",
                     region.centroid, xytext=(8, 8), textcoords="offset points", fontsize=7, color=colour,
                     bbox={"facecolor": "white", "alpha": 0.75, "edgecolor": "none"})
-    ends = [tuple(e["pose"][:2]) for e in events if e.get("event") == "move" and "pose" in e]
-    route = ([start] if start else []) + ends
-    if route:
-        ax.plot([p[0] for p in route], [p[1] for p in route], "-", color="tab:orange", linewidth=1, alpha=0.8)
-        ax.plot([p[0] for p in ends], [p[1] for p in ends], "o", color="tab:orange", markersize=3)
+    for leg in legs(events, start):
+        _draw_leg(ax, leg, base_radius_in)
     if start:
-        ax.plot(*start, marker="*", color="tab:orange", markersize=14, markeredgecolor="black")
+        ax.plot(*start, marker="*", color="tab:orange", markersize=14, markeredgecolor="black", zorder=6)
     handles = [
         Line2D([], [], color="tab:green", linewidth=2, label="grasped"),
         Line2D([], [], color="tab:blue", linewidth=2, label="left (No-Grab)"),
         Line2D([], [], color="tab:red", linewidth=2, label="failed"),
-        Line2D([], [], color="tab:orange", marker="o", markersize=3, label="robot: where each move ended"),
+        Line2D([], [], color="tab:orange", linewidth=1.2,
+               label="each move's path as planned (number: move order; red: stopped on contact)"),
+        Line2D([], [], color="tab:orange", linestyle=":", linewidth=1, label="last waypoint to where the base stopped"),
+        Patch(facecolor="none", edgecolor="tab:orange", label="the base's footprint and heading at each stop"),
         Line2D([], [], color="tab:orange", marker="*", markersize=10, linestyle="none", markeredgecolor="black",
                label="robot start"),
         Patch(facecolor="#6e6e6e", label="walls, furniture (light grey: the robot's base)"),
@@ -59,10 +90,27 @@ def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], ev
     ax.legend(handles=handles, loc="lower right", fontsize=7, framealpha=0.9)
     ax.set_xlabel("x (in)")
     ax.set_ylabel("y (in)")
-    ax.set_title("The lab from the overhead camera: objects where first seen, outcomes, the robot's route")
+    ax.set_title("The lab from the overhead camera: objects where first seen, outcomes, the robot's moves as planned")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _draw_leg(ax: Axes, leg: Leg, base_radius_in: float) -> None:
+    colour = "tab:red" if leg.collided else "tab:orange"
+    line = ([leg.origin] if leg.origin else []) + list(leg.waypoints)
+    if len(line) > 1:
+        ax.plot([p[0] for p in line], [p[1] for p in line], "-", color=colour, linewidth=1.2, alpha=0.9, zorder=3)
+    x, y, heading = leg.stop
+    if line and math.dist(line[-1], (x, y)) > 0.05:  # odometry, centring or contact moved it off the path
+        ax.plot([line[-1][0], x], [line[-1][1], y], ":", color=colour, linewidth=1, zorder=3)
+    ax.add_patch(Circle((x, y), base_radius_in, facecolor="none", edgecolor=colour, linewidth=0.8, alpha=0.8,
+                        zorder=4))
+    h = math.radians(heading)
+    ax.plot([x, x + base_radius_in * math.cos(h)], [y, y + base_radius_in * math.sin(h)], "-", color=colour,
+            linewidth=1.2, zorder=4)
+    ax.annotate(str(leg.number), (x, y), ha="center", va="center", fontsize=6, color="black", zorder=5,
+                bbox={"boxstyle": "circle,pad=0.15", "facecolor": "white", "edgecolor": colour, "linewidth": 0.6})
 
 
 def plot_object_tree(path: Path, record: ObjectRecord, label: str, events: Sequence[dict]) -> None:

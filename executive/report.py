@@ -1,13 +1,16 @@
-"""Per-object results as a table a person reads, with the simulator's truth when known."""
+"""Per-object results as a table a person reads (and a JSON document a script reads),
+with the simulator's truth when known."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from behaviours.records import ObjectRecord
 from executive.exit_status import HANDLED_OUTCOMES
+from executive.tables import Column, print_paragraph, print_table
 
 
 @dataclass(frozen=True)
@@ -32,6 +35,8 @@ class Row:
     computing_ms: float
     tests: int
     recoveries: str
+    index: int  # the object's number in the episode (``csl log --object N``)
+    recovery_counts: tuple[tuple[str, int], ...]  # ``recoveries`` by kind, for --json
 
     @property
     def robot_s(self) -> float:
@@ -57,23 +62,44 @@ def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[
             correct = (r.grasp in truth.grasps) if r.outcome == "grasped" else ("No-Grab" in truth.grasps)
         elif truth is not None:
             correct = False
-        recov = ", ".join(f"{k} ×{v}" for k, v in sorted(r.ledger.recoveries.items())) or "-"
+        counts = tuple(sorted(r.ledger.recoveries.items()))
+        recov = ", ".join(f"{k} ×{v}" for k, v in counts) or "-"
         out.append(Row(name, r.grasp or "-", r.outcome or "unfinished", correct, r.ledger.moving_s,
                        r.ledger.sensing_s, r.ledger.grasping_s, r.ledger.computing_s * 1000.0,
-                       len(r.ledger.tests), recov))
+                       len(r.ledger.tests), recov, r.index, counts))
     return out
 
 
-HEADERS = ["object", "grasp", "outcome", "ok", "cost s", "min", "cpu ms", "tests", "recoveries"]
-CAPTION = ("cost s: robot seconds moving/sensing/grasping; min: robot minutes in all; "
-           "cpu ms: learner + planner computation")
+TITLE = "approach and recognize: one row per object"
+COLUMNS = (Column("#", numeric=True), Column("object", fold=True), Column("grasp"), Column("outcome"),
+           Column("ok"), Column("min", numeric=True), Column("ms", numeric=True),
+           Column("tests", numeric=True))
+"""Fits 80 columns with the longest catalogue name: the seconds moving, sensing and
+grasping go to the summary (per object in ``--json``), the recoveries below the table."""
+CAPTION = "min: robot minutes moving, sensing and grasping; ms: learner + planner computation"
 
 
 def table_cells(row: Row) -> list[str]:
     ok = {True: "yes", False: "NO", None: "?"}[row.correct]
-    cost = f"{row.moving_s:.0f}/{row.sensing_s:.0f}/{row.grasping_s:.0f}"
-    return [row.object, row.grasp, row.outcome, ok, cost, f"{row.robot_s / 60:.1f}", f"{row.computing_ms:.0f}",
-            str(row.tests), row.recoveries]
+    return [str(row.index), row.object, row.grasp, row.outcome, ok, f"{row.robot_s / 60:.1f}",
+            f"{row.computing_ms:.0f}", str(row.tests)]
+
+
+def recovery_lines(table: Sequence[Row]) -> list[str]:
+    """One line per object that needed a recovery, by its number in the table."""
+    return [f"  {r.index} {r.object}: {r.recoveries}" for r in table if r.recovery_counts]
+
+
+def print_report(table: Sequence[Row]) -> None:
+    """The per-object table, its recoveries and the summary, on standard output."""
+    print_table(COLUMNS, [table_cells(r) for r in table], title=TITLE, caption=CAPTION)
+    lines = recovery_lines(table)
+    if lines:
+        print("recoveries:")
+        for line in lines:
+            print_paragraph(line, indent=4)
+    print_paragraph(summary(table))
+    print_paragraph(time_split(table))
 
 
 def summary(table: Sequence[Row]) -> str:
@@ -84,3 +110,39 @@ def summary(table: Sequence[Row]) -> str:
     rate = f"{ok}/{len(judged)} handled correctly ({100 * ok / len(judged):.0f}%)" if judged else "no truth to judge by"
     return (f"{len(table)} objects: {rate}; {mean_min:.1f} robot minutes and "
             f"{mean_ms:.0f} ms of computation per object (paper: ~12 min, ~20 s)")
+
+
+def time_split(table: Sequence[Row]) -> str:
+    """Where the robot's time went, over the whole episode."""
+    moving, sensing, grasping = (sum(getattr(r, f) for r in table) / 60
+                                 for f in ("moving_s", "sensing_s", "grasping_s"))
+    return (f"robot time: {moving + sensing + grasping:.1f} min in all, {moving:.1f} moving, "
+            f"{sensing:.1f} sensing, {grasping:.1f} grasping")
+
+
+def row_json(row: Row) -> dict[str, object]:
+    """One object for ``--json``: seconds unrounded, recoveries by kind."""
+    return {"index": row.index, "object": row.object, "grasp": None if row.grasp == "-" else row.grasp,
+            "outcome": row.outcome, "correct": row.correct, "robot_s": row.robot_s, "moving_s": row.moving_s,
+            "sensing_s": row.sensing_s, "grasping_s": row.grasping_s, "computing_ms": row.computing_ms,
+            "tests": row.tests, "recoveries": dict(row.recovery_counts)}
+
+
+def summary_json(table: Sequence[Row]) -> dict[str, object]:
+    """The summary line's numbers for ``--json``."""
+    judged = [r for r in table if r.correct is not None]
+    n = max(len(table), 1)
+    return {"objects": len(table), "judged": len(judged), "correct": sum(bool(r.correct) for r in judged),
+            "mean_robot_s": sum(r.robot_s for r in table) / n,
+            "mean_computing_ms": sum(r.computing_ms for r in table) / n}
+
+
+def episode_json(table: Sequence[Row], *, ticks: int, wall_s: float, out: Path, plots: bool, library: Path | None,
+                 library_created: bool, status: int, why: str) -> dict[str, object]:
+    """``csl demo/run --json``: everything the human report says, as one document."""
+    drawn = ([out / "map.png", *(out / f"tree-{r.index}.png" for r in table), out / "behaviour-tree.png"]
+             if plots else [])
+    return {"objects": [row_json(r) for r in table], "summary": summary_json(table),
+            "episode": {"ticks": ticks, "wall_s": wall_s, "log": str(out / "episode.jsonl")},
+            "plots": [str(p) for p in drawn], "library": None if library is None else str(library),
+            "library_created": library_created, "exit_status": status, "why": why}

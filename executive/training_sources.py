@@ -17,8 +17,8 @@ from dataclasses import dataclass
 from behaviours.appearance import appearance_of
 from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
-from hero_driver.sim.probe import probe, probe_world
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.probe import approach_pose, probe, probe_world
+from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
 from planner.vision import Region, look
@@ -36,20 +36,36 @@ class SimulatorSource:
     robot from the catalogue's axis; ``axis_offsets_deg[object]`` is where the axis the
     training positions were chosen from (the camera's, see :func:`camera_objects`) lies
     relative to it, so the robot stands where the training position means.
+
+    Each noisy measurement is made in a fresh one-object world, so its noise is drawn
+    from ``seed`` alone and does not depend on what was measured before. Without noise a
+    measurement is a function of the object and the pose only (sensing moves nothing,
+    and exact values draw nothing from the random stream), so one world per object
+    serves them all: building a world costs more than sensing in it. ``reuse=False``
+    builds one per measurement anyway (the reference the reuse is checked against).
     """
 
     def __init__(self, seed: int = 0, noise: bool = False, profile: RobotProfile | None = None,
-                 axis_offsets_deg: Mapping[str, float] | None = None) -> None:
+                 axis_offsets_deg: Mapping[str, float] | None = None, reuse: bool = True) -> None:
         self.seed, self.noise, self.profile = seed, noise, profile
         self.axis_offsets_deg = dict(axis_offsets_deg or {})
+        self.reuse = reuse and not noise
+        self._worlds: dict[str, SimWorld] = {}
 
     def measure(self, object_id: str, procedure: str, position: Position) -> Mapping[str, float | None]:
         if position.distance_in is None or position.orientation_deg is None:
             raise ValueError(f"training position {position} must be concrete to stage the robot")
         orientation = (position.orientation_deg + self.axis_offsets_deg.get(object_id, 0.0)) % 360.0
         try:
-            result = probe(object_id, procedure, position.distance_in, orientation,
-                           seed=self.seed, noise=self.noise, profile=self.profile)
+            if self.reuse:
+                if object_id not in self._worlds:
+                    self._worlds[object_id] = probe_world(object_id, self.seed, False, self.profile)
+                sim = self._worlds[object_id]
+                sim.pose = approach_pose(sim, 0, position.distance_in, orientation)
+                result = sim.sense(procedure)
+            else:
+                result = probe(object_id, procedure, position.distance_in, orientation,
+                               seed=self.seed, noise=self.noise, profile=self.profile)
         except DriverError as exc:
             raise ValueError(f"simulator: {procedure} of {object_id!r} at {position}: {exc.message}") from None
         return dict(result.values)

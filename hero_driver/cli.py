@@ -8,14 +8,19 @@ the executive, so the driver side stays usable on a robot's own computer.
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import json
 import sys
+from pathlib import Path
 
+from hero_driver.inspect_cli import register_inspect
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
+CAMERA_PRESETS = ("simple", "realistic")  # hero_driver.sim.camera.PRESETS, without importing OpenCV
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -45,11 +50,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--world", default=None, metavar="FILE",
                      help="world file, or the name of a shipped world such as 'lab' or "
                           "'training' (default: the lab)")
+    sim.add_argument("--worlds-dir", type=Path, default=None, metavar="DIR",
+                     help="the folder whose <name>.json worlds 'reset' may load by name; 'reset' takes "
+                          "names only, never paths, and the --world file is also served under its file's "
+                          "stem (default: the shipped worlds, hero_driver/worlds)")
     sim.add_argument("--seed", type=int, default=0, metavar="N",
                      help="seed of the simulator's random stream (default 0)")
     sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
                      help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
                           "(docs/simulator.md, Noise; default: the world file's noise table, else mild)")
+    sim.add_argument("--camera", default="simple", choices=CAMERA_PRESETS,
+                     help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
+                          "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
+                          "default simple)")
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "
@@ -81,14 +94,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="knowledge profile of the robot: its procedures are the ones exercised, "
                             "and a driver whose hello names another profile fails in one line "
                             "(default: the HERO 2000's)")
+    check.add_argument("--json", action="store_true",
+                       help="print the results as one JSON document: checks (name, passed, detail), passed, failed")
     add_zenoh_config_option(check)
     check.set_defaults(handler=_run_check)
+    register_inspect(actions)
 
 
 def _run_sim(args: argparse.Namespace) -> int:
     keys = robot_keys(args.robot)
     if args.listen is not None:
         check_endpoint(args.listen)
+    if args.worlds_dir is not None and not args.worlds_dir.is_dir():
+        raise ValueError(f"--worlds-dir {args.worlds_dir}: not a folder")
     zenoh_config = user_config(args.zenoh_config)
     listen = endpoint_of("--listen", args.listen, DRIVER_ENDPOINT, LISTEN_KEY, zenoh_config)
     # Imported here: the simulator pulls in pymunk and the world files, which
@@ -101,7 +119,8 @@ def _run_sim(args: argparse.Namespace) -> int:
 
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     noise = None if args.noise is None else NoiseConfig.preset(args.noise)
-    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, profile=profile, noise=noise)
+    driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, profile=profile, noise=noise,
+                           worlds_dir=args.worlds_dir, camera=args.camera)
 
     def on_ready() -> None:
         print(f"serving {keys.rpc('*')} on {where(listen, LISTEN_KEY, zenoh_config)} (Ctrl-C to stop)",
@@ -131,5 +150,10 @@ def _run_check(args: argparse.Namespace) -> int:
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
                          zenoh_config=zenoh_config, profile=profile_stamp(profile))
-    print(format_table(results))
+    if args.json:
+        failed = sum(not r.passed for r in results)
+        print(json.dumps({"robot": args.robot, "checks": [dataclasses.asdict(r) for r in results],
+                          "passed": len(results) - failed, "failed": failed}, indent=2, ensure_ascii=False))
+    else:
+        print(format_table(results))
     return 0 if all(r.passed for r in results) else 1

@@ -35,11 +35,12 @@ OUT_OF_RANGE = "out_of_range"  # procedure refused: object not within its distan
 NO_TARGET = "no_target"  # nothing in front of the sonar to sense or grasp
 BUSY = "busy"  # another verb is still executing
 UNAVAILABLE = "unavailable"  # the driver is gone (client side) or not ready
-TIMEOUT = "timeout"  # no reply within the client's deadline
+TIMEOUT = "timeout"  # no reply within the client's deadline, or the driver cancelled a verb past its bound
 INTERNAL = "internal"  # the driver failed; it keeps serving
+BATTERY_EMPTY = "battery_empty"  # the battery feature: flat, nothing moves until it charges
 ERROR_CODES = frozenset(
     {BAD_REQUEST, UNKNOWN_VERB, UNKNOWN_PROCEDURE, OUT_OF_RANGE, NO_TARGET, BUSY,
-     UNAVAILABLE, TIMEOUT, INTERNAL}
+     UNAVAILABLE, TIMEOUT, INTERNAL, BATTERY_EMPTY}
 )
 
 
@@ -177,4 +178,20 @@ class Driver(Protocol):
 
     def close(self) -> None:
         """Release the driver's resources; further calls fail with ``unavailable``."""
+        ...
+
+
+@runtime_checkable
+class Charger(Protocol):
+    """A driver with the optional ``battery`` feature: it names its charging dock and
+    can charge there. A driver without it still works; the executive's low-battery
+    guard is then off."""
+
+    def dock(self) -> Pose | None:
+        """Where the base charges, in the frame of ``state().pose`` (None: no dock here)."""
+        ...
+
+    def charge(self) -> Future[RobotState]:
+        """With the base at the dock, charge until full and answer the new state;
+        ``out_of_range`` anywhere else."""
         ...

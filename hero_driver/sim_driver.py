@@ -8,6 +8,7 @@ world's ground truth for reports and training; the executive must not decide on 
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from pathlib import Path
@@ -18,10 +19,11 @@ from hero_driver.interface import (
 )
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld
-from hero_driver.sim.worldfile import load_world
+from hero_driver.sim.worldfile import WorldRefused, shelf_for
 from robot_profile import RobotProfile
 
 T = TypeVar("T")
+log = logging.getLogger(__name__)
 
 
 class SimulatedHero:
@@ -30,12 +32,21 @@ class SimulatedHero:
     ``profile`` is the robot it simulates (None: the shipped HERO 2000 profile): the
     executive passes the one it plans with, so procedure times, ranges and the base's
     size and speeds agree on both sides.
+
+    ``world`` is trusted (it comes from whoever starts the driver) and may be a path;
+    ``reset`` takes only a name from ``worlds_dir`` (None: the shipped worlds) or the
+    start world's file stem (:class:`~hero_driver.sim.worldfile.WorldShelf`).
+
+    ``camera`` is the overhead camera's preset: ``simple`` (grey bands) or
+    ``realistic`` (what a real ceiling camera shows; docs/camera.md).
     """
 
     def __init__(self, robot: str = "r1", world: str | Path | None = None, seed: int = 0,
-                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None) -> None:
+                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
+                 worlds_dir: Path | None = None, camera: str = "simple") -> None:
         self.robot = robot
-        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise)
+        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise, camera)
+        self.worlds = shelf_for(world, worlds_dir)
 
     def _live(self) -> SimWorld:
         if self._sim is None:
@@ -72,11 +83,26 @@ class SimulatedHero:
     def camera(self) -> Future[CameraImage]:
         return self._done(lambda sim: sim.camera())
 
+    def dock(self) -> Pose | None:
+        """The battery feature (:class:`~hero_driver.interface.Charger`): where the dock is."""
+        return self._live().dock()
+
+    def charge(self) -> Future[RobotState]:
+        """The battery feature: charge at the dock."""
+        return self._done(lambda sim: sim.charge())
+
     def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
-        """Restore ``world`` (None: the current one) with ``seed`` (None: the current)."""
+        """Restore the world named ``world`` (None: the current one) with ``seed``
+        (None: the current); a name the shelf refuses is ``bad_request``."""
         def work(sim: SimWorld) -> RobotState:
-            spec = sim.spec if world is None else load_world(world, sim.catalogue)
-            sim.load(spec, sim.seed if seed is None else seed)
+            spec = sim.spec if world is None else self.worlds.load(world, sim.catalogue)
+            try:
+                sim.load(spec, sim.seed if seed is None else seed)
+            except ValueError as exc:  # the robot's start overlaps something: the message holds the path
+                if world is None:
+                    raise
+                log.warning("world %r cannot be loaded: %s", world, exc)
+                raise WorldRefused(f"world: {world!r} cannot be loaded on this driver (see the driver's log)") from None
             return sim.state()
         return self._done(work)
 

@@ -7,8 +7,10 @@ others, so "missing" is the normal case, not an error.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import itertools
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import overload
 
 from learner.appearance import Appearance
 from learner.position import Position
@@ -81,3 +83,72 @@ def _specificity(position: Position) -> int:
 
 def _num(value: float) -> str:
     return str(int(value)) if float(value).is_integer() else f"{value:g}"
+
+
+class Descriptions(Sequence[ObjectDescription]):
+    """An append-only run of descriptions, where adding one costs the same at 100 and at
+    100,000 entries.
+
+    A library only grows, and every snapshot and every matrix holds all of it: copying a
+    100,000-entry tuple for each learned object would make learning cost grow with the
+    library. So each value is a view of a prefix of one shared list. :meth:`plus` on
+    the longest view extends the list in place, which changes no view already handed
+    out (each stops at its own length); on any other view it copies that prefix first.
+    Seen from outside a value never changes, like a tuple, and compares equal to a
+    tuple or list with the same entries. Views of one list are extended by one thread
+    at a time (the learner's lock, or the executive's single tick thread).
+    """
+
+    __slots__ = ("_items", "_n")
+
+    def __init__(self, items: Iterable[ObjectDescription] = ()) -> None:
+        self._items = list(items)
+        self._n = len(self._items)
+
+    def plus(self, new: Iterable[ObjectDescription]) -> Descriptions:
+        """These descriptions followed by ``new``."""
+        out = object.__new__(Descriptions)
+        if len(self._items) == self._n:  # nobody appended past this view: extend in place
+            self._items.extend(new)
+            out._items = self._items
+        else:
+            out._items = [*self._items[:self._n], *new]
+        out._n = len(out._items)
+        return out
+
+    def extends(self, other: Sequence[ObjectDescription]) -> bool:
+        """Whether ``other`` is a prefix of these descriptions (at once when ``other``
+        is a view of the same list)."""
+        if isinstance(other, Descriptions) and other._items is self._items:
+            return other._n <= self._n
+        return len(other) <= self._n and all(a == b for a, b in zip(self, other))
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, index: int) -> ObjectDescription: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> tuple[ObjectDescription, ...]: ...
+
+    def __getitem__(self, index: int | slice) -> ObjectDescription | tuple[ObjectDescription, ...]:
+        if isinstance(index, slice):
+            return tuple(self._items[i] for i in range(self._n)[index])
+        return self._items[range(self._n)[index]]  # IndexError beyond this view
+
+    def __iter__(self) -> Iterator[ObjectDescription]:
+        return itertools.islice(self._items, self._n)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, (Descriptions, tuple, list)):
+            return NotImplemented
+        return len(other) == self._n and (
+            (isinstance(other, Descriptions) and other._items is self._items)
+            or all(a == b for a, b in zip(self, other)))
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"Descriptions({list(self)!r})"
+

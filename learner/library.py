@@ -8,6 +8,7 @@ description behind.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sqlite3
 import sys
@@ -220,6 +221,24 @@ CREATE TABLE IF NOT EXISTS observations (
 CREATE INDEX IF NOT EXISTS observations_by_description ON observations(description_seq);
 """
 
+_LEARN_KEYS = "CREATE UNIQUE INDEX IF NOT EXISTS descriptions_by_learn_key ON descriptions(learn_key)"
+"""Each learn's idempotency key is stored on its row (NULL for imported descriptions),
+unique, so a retried learn finds what the first attempt stored."""
+
+NEXT_SUFFIX = "next_suffix:"
+"""``meta`` keys ``next_suffix:<stem>``: where :meth:`LibraryStore.unique_id` starts
+looking for a free ``stem#n``, so naming the 100,000th encounter of an object costs
+what naming the second did."""
+
+
+def durable_and_quick(db: sqlite3.Connection) -> None:
+    """Write-ahead logging with a sync on every commit: a committed learn survives a
+    crash or power loss as before, for one fsync instead of the rollback journal's
+    several (a one-row commit on the development machine, idle: 1.2 ms against 5.9 ms),
+    and readers never wait for the writer."""
+    db.execute("PRAGMA journal_mode = WAL")
+    db.execute("PRAGMA synchronous = FULL")
+
 
 class LibraryStore:
     """A persistent library in one SQLite file (``NULL`` stands for ``*``)."""
@@ -228,8 +247,11 @@ class LibraryStore:
         self.path = Path(path)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._db = sqlite3.connect(self.path)
+            # one connection used from whichever thread holds the owner's lock (the zenoh
+            # node answers from zenoh's threads); LocalLearner serialises every call
+            self._db = sqlite3.connect(self.path, check_same_thread=False, timeout=10.0)
             self._db.execute("PRAGMA foreign_keys = ON")
+            durable_and_quick(self._db)
             with self._db:
                 self._db.executescript(_SCHEMA)
                 self._db.execute("INSERT OR IGNORE INTO meta VALUES ('format', ?)", (f"{FORMAT}/{VERSION}",))
@@ -237,6 +259,8 @@ class LibraryStore:
                 if fmt == f"{FORMAT}/1":
                     self._upgrade_from_1()
                     fmt = f"{FORMAT}/{VERSION}"
+                if fmt == f"{FORMAT}/{VERSION}":
+                    self._add_learn_keys()
         except sqlite3.DatabaseError as exc:
             raise ValueError(f"{self.path}: not a csl library database: {exc}") from None
         if fmt != f"{FORMAT}/{VERSION}":
@@ -250,6 +274,15 @@ class LibraryStore:
                              ("appearance_elongation", "REAL")):
             self._db.execute(f"ALTER TABLE descriptions ADD COLUMN {column} {kind}")
         self._db.execute("UPDATE meta SET value = ? WHERE key = 'format'", (f"{FORMAT}/{VERSION}",))
+
+    def _add_learn_keys(self) -> None:
+        """A store from before idempotent learning gains the ``learn_key`` column (NULL:
+        no key) and its unique index, in the opening transaction; an older csl still
+        reads and writes the upgraded file (it names its columns)."""
+        columns = {row[1] for row in self._db.execute("PRAGMA table_info(descriptions)")}
+        if "learn_key" not in columns:
+            self._db.execute("ALTER TABLE descriptions ADD COLUMN learn_key TEXT")
+        self._db.execute(_LEARN_KEYS)
 
     def close(self) -> None:
         self._db.close()
@@ -278,6 +311,41 @@ class LibraryStore:
                                   None if r is None else Appearance(bool(r), a, e))
                 for seq, i, g, d, o, r, a, e in rows]
 
+    def meta_int(self, key: str) -> int:
+        """An integer kept in ``meta`` (0 when absent)."""
+        row = self._db.execute("SELECT value FROM meta WHERE key = ?", (key,)).fetchone()
+        return 0 if row is None else int(row[0])
+
+    def set_meta(self, key: str, value: str) -> None:
+        """Write one ``meta`` row in its own committed transaction."""
+        with self._db:
+            self._db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (key, value))
+
+    def learned(self, key: str) -> str | None:
+        """The id a learn with idempotency ``key`` was stored under, or None."""
+        row = self._db.execute("SELECT id FROM descriptions WHERE learn_key = ?", (key,)).fetchone()
+        return None if row is None else str(row[0])
+
+    def append_learned(self, description: ObjectDescription, key: str | None,
+                       meta: Iterable[tuple[str, str]] = ()) -> tuple[str, bool]:
+        """Store one learned description under a free id (:meth:`unique_id`) and return
+        ``(id, True)``; or, when a learn with ``key`` is already stored, store nothing
+        and return ``(its id, False)``.
+
+        The key, the row, its observations and the ``meta`` rows (the service's version)
+        are one transaction: a crash leaves either all of them or none, so a retry after
+        any failure either finds the key or stores the description for the first time.
+        """
+        with self._db:
+            if key is not None:
+                stored = self.learned(key)
+                if stored is not None:
+                    return stored, False
+            object_id = self.unique_id(description.object_id)
+            self._insert(dataclasses.replace(description, object_id=object_id), key)
+            self._db.executemany("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", meta)
+        return object_id, True
+
     def add(self, descriptions: Sequence[ObjectDescription], *, replace: bool = False) -> int:
         """Add descriptions in one transaction; an existing id is an error unless ``replace``.
 
@@ -291,31 +359,43 @@ class LibraryStore:
                                      "(use --replace to overwrite)")
                 if exists:
                     self._db.execute("DELETE FROM descriptions WHERE seq = ?", exists)
-                look = d.appearance
-                seq = self._db.execute(
-                    "INSERT INTO descriptions (id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round,"
-                    " appearance_area_in2, appearance_elongation) VALUES (?,?,?,?,?,?,?)",
-                    (d.object_id, d.grasp, d.grasp_position.distance_in, d.grasp_position.orientation_deg,
-                     None if look is None else int(look.round), None if look is None else look.area_in2,
-                     None if look is None else look.elongation),
-                ).lastrowid
-                self._db.executemany(
-                    "INSERT INTO observations VALUES (?,?,?,?,?)",
-                    [(seq, o.feature, o.position.distance_in, o.position.orientation_deg, o.value)
-                     for o in d.observations],
-                )
+                self._insert(d, None)
         return len(descriptions)
 
+    def _insert(self, d: ObjectDescription, key: str | None) -> None:
+        """One description's rows, inside the caller's transaction."""
+        look = d.appearance
+        seq = self._db.execute(
+            "INSERT INTO descriptions (id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round,"
+            " appearance_area_in2, appearance_elongation, learn_key) VALUES (?,?,?,?,?,?,?,?)",
+            (d.object_id, d.grasp, d.grasp_position.distance_in, d.grasp_position.orientation_deg,
+             None if look is None else int(look.round), None if look is None else look.area_in2,
+             None if look is None else look.elongation, key),
+        ).lastrowid
+        self._db.executemany(
+            "INSERT INTO observations VALUES (?,?,?,?,?)",
+            [(seq, o.feature, o.position.distance_in, o.position.orientation_deg, o.value) for o in d.observations],
+        )
+
     def unique_id(self, stem: str) -> str:
-        """``stem`` if free, else ``stem#2``, ``stem#3``...: new encounters of an object."""
-        taken = {r[0] for r in self._db.execute("SELECT id FROM descriptions WHERE id = ? OR id LIKE ?",
-                                                (stem, f"{stem}#%"))}
-        if stem not in taken:
+        """``stem`` if free, else the first free ``stem#n`` from where the last one was
+        found (``stem#2``, ``stem#3``...): new encounters of an object.
+
+        Each probe is one look-up in the id index, and the place to start is kept in
+        ``meta`` (written in the caller's transaction when there is one), so the cost
+        does not grow with the number of encounters already stored.
+        """
+        if not self._taken(stem):
             return stem
-        n = 2
-        while f"{stem}#{n}" in taken:
+        hint = self._db.execute("SELECT value FROM meta WHERE key = ?", (NEXT_SUFFIX + stem,)).fetchone()
+        n = 2 if hint is None else int(hint[0])
+        while self._taken(f"{stem}#{n}"):
             n += 1
+        self._db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (NEXT_SUFFIX + stem, str(n + 1)))
         return f"{stem}#{n}"
+
+    def _taken(self, object_id: str) -> bool:
+        return self._db.execute("SELECT 1 FROM descriptions WHERE id = ?", (object_id,)).fetchone() is not None
 
 
 def load_library(path: str | Path) -> list[ObjectDescription]:

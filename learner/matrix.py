@@ -4,6 +4,12 @@ Choosing a test scores every feature-position against every description at the n
 doing that description by description in Python costs far more than the robot can wait
 for (the benchmark's 1,000 descriptions x 100 tests). Building the matrix once per
 library turns each choice into a few array operations.
+
+A robot learns one object at a time into a library of up to 100,000 descriptions, so a
+learned description is *appended* (:meth:`DescriptionMatrix.appended`): its row is
+written into spare capacity shared with the matrix it grew from, and each column's
+sort order takes the new rows by binary search when a choice first needs it. Nothing
+is re-read or rebuilt, and the result equals the matrix built from scratch.
 """
 
 from __future__ import annotations
@@ -15,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance
-from learner.description import ObjectDescription
+from learner.description import Descriptions, ObjectDescription
 from learner.knowledge import Knowledge
 from learner.position import Position
 
@@ -42,7 +48,7 @@ class DescriptionMatrix:
 
     def __init__(self, descriptions: Sequence[ObjectDescription], knowledge: Knowledge,
                  grasps_as_features: bool = True) -> None:
-        self.descriptions = tuple(descriptions)
+        self.descriptions = descriptions if isinstance(descriptions, Descriptions) else Descriptions(descriptions)
         self.knowledge = knowledge
         self.classes = tuple(sorted({d.grasp for d in self.descriptions}))
         class_index = {c: i for i, c in enumerate(self.classes)}
@@ -57,16 +63,122 @@ class DescriptionMatrix:
         self.is_grasp = np.array([t.is_grasp for t in self.tests], dtype=bool)
         self.span_lo = np.array([0.0 if f is None else f.span[0] for f in specs])
         self.span_hi = np.array([1.0 if f is None else f.span[1] for f in specs])
+        self.grasps_as_features = grasps_as_features
         # each column's rows sorted by value (NaN last), once: a node's sorted values are
         # then a filter of this order instead of a sort per choice
-        self.values_by_test = np.ascontiguousarray(self.values.T)
-        self.order = np.argsort(self.values_by_test, axis=1, kind="stable")
-        self.sorted_values = np.take_along_axis(self.values_by_test, self.order, axis=1)
+        values_by_test = np.ascontiguousarray(self.values.T)
+        self._order = np.argsort(values_by_test, axis=1, kind="stable")
+        self._sorted_values = np.take_along_axis(values_by_test, self._order, axis=1)
+        self._sorted_rows = len(self.descriptions)  # rows the two arrays above cover
         self.class_of = self.class_of.astype(np.int32)
         # each description's appearance as equivalent-ellipse axes (NaN: not recorded), so
         # ruling candidates out by what the camera saw is two comparisons per row
-        axes = [d.appearance.axes_in if d.appearance is not None else (np.nan, np.nan) for d in self.descriptions]
+        axes = [_axes(d) for d in self.descriptions]
         self.appearance_axes = np.array(axes, dtype=float).reshape(len(self.descriptions), 2)
+        self._rows: _Rows | None = None  # spare capacity, made by the first append
+
+    @property
+    def order(self) -> np.ndarray:
+        """Each column's rows by value, NaN last, ties by row (a stable argsort)."""
+        self._merge_appended()
+        return self._order
+
+    @property
+    def sorted_values(self) -> np.ndarray:
+        """Each column's values in :attr:`order`."""
+        self._merge_appended()
+        return self._sorted_values
+
+    def appended(self, new: Sequence[ObjectDescription]) -> DescriptionMatrix:
+        """This matrix with ``new`` descriptions added as its last rows; ``self`` is left
+        as it was (a decision under way keeps its matrix). See :meth:`extended_to`."""
+        grown = self.extended_to(self.descriptions.plus(new))
+        assert grown is not None  # the descriptions extend ours by construction
+        return grown
+
+    def extended_to(self, descriptions: Sequence[ObjectDescription]) -> DescriptionMatrix | None:
+        """The matrix of ``descriptions`` grown from this one, when they are this
+        matrix's descriptions followed by new ones (a library only grows); else None.
+
+        The cost is that of the new rows, not of the library: each row is written into
+        capacity shared with ``self`` (doubled when full, so a copy every doubling), and
+        the columns' sort orders take the rows when first read. Only a description that
+        needs a column or a grasp class the matrix lacks (a feature at a position no
+        description had, a new grasp) makes it build the matrix anew, as it must: every
+        row then gains a value in the new column.
+        """
+        if not isinstance(descriptions, Descriptions):
+            descriptions = Descriptions(descriptions)
+        if not descriptions.extends(self.descriptions):
+            return None
+        n, k = len(self.descriptions), len(descriptions) - len(self.descriptions)
+        if k == 0:
+            return self
+        new = descriptions[n:]
+        if not self._fits(new):
+            return DescriptionMatrix(descriptions, self.knowledge, self.grasps_as_features)
+        rows = self._rows
+        if rows is None or rows.used != n or rows.capacity < n + k:
+            rows = _Rows.grown(self.values, self.class_of, self.appearance_axes, n + k)
+        rows.values[n:n + k] = [self._row(d) for d in new]
+        rows.class_of[n:n + k] = [self.classes.index(d.grasp) for d in new]
+        rows.axes[n:n + k] = [_axes(d) for d in new]
+        rows.used = n + k
+        grown = object.__new__(DescriptionMatrix)
+        grown.__dict__.update(self.__dict__)
+        grown.descriptions = descriptions
+        grown.values, grown.class_of, grown.appearance_axes = rows.values[:n + k], rows.class_of[:n + k], rows.axes[:n + k]
+        grown._rows = rows
+        self._rows = None  # the capacity now belongs to the grown matrix
+        return grown
+
+    def _fits(self, new: Sequence[ObjectDescription]) -> bool:
+        """Whether ``new`` needs no column and no class the matrix lacks."""
+        classes = set(self.classes)
+        for d in new:
+            if d.grasp not in classes:
+                return False
+            for o in d.observations:
+                if self.knowledge.has_feature(o.feature) and \
+                        Test(o.feature, o.position, self.knowledge.procedure_for(o.feature).name) not in self.column:
+                    return False
+            if (self.grasps_as_features and self.knowledge.has_grasp(d.grasp)
+                    and self.knowledge.grasp(d.grasp).verifiable
+                    and Test(d.grasp, d.grasp_position, d.grasp, is_grasp=True) not in self.column):
+                return False
+        return True
+
+    def _row(self, d: ObjectDescription) -> np.ndarray:
+        """One description's values, as :meth:`_fill` gives them (for a matrix that has
+        every column the description needs)."""
+        row = np.full(len(self.tests), np.nan)
+        for j, t in enumerate(self.tests):
+            if t.is_grasp:
+                row[j] = 1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
+        for j, v in self._sense_values(d):
+            row[j] = v
+        return row
+
+    def _merge_appended(self) -> None:
+        """Take the rows appended since the sort orders were made into them: per column,
+        the new rows sorted among themselves, then placed by binary search after any
+        equal value (their rows come last, as a stable argsort would put them); the
+        old entries fill the other slots in one masked copy."""
+        n, done = len(self.descriptions), self._sorted_rows
+        if done == n:
+            return
+        new_values = self.values[done:n].T  # (tests, new rows)
+        new_order = np.argsort(new_values, axis=1, kind="stable")
+        new_sorted = np.take_along_axis(new_values, new_order, axis=1)
+        at = np.array([np.searchsorted(self._sorted_values[j], new_sorted[j], side="right")
+                       for j in range(len(self.tests))], dtype=np.int64).reshape(new_values.shape)
+        is_new = np.zeros((len(self.tests), n), dtype=bool)
+        np.put_along_axis(is_new, at + np.arange(n - done), True, axis=1)  # slots ascend along each column
+        order = np.empty(is_new.shape, dtype=self._order.dtype)
+        order[~is_new], order[is_new] = self._order.ravel(), (new_order + done).ravel()
+        sorted_values = np.empty(is_new.shape)
+        sorted_values[~is_new], sorted_values[is_new] = self._sorted_values.ravel(), new_sorted.ravel()
+        self._order, self._sorted_values, self._sorted_rows = order, sorted_values, n
 
     def unlike(self, appearance: Appearance, tolerance_in: float = AXIS_TOLERANCE_IN) -> np.ndarray:
         """Rows whose recorded appearance disagrees with ``appearance`` (an axis off by more
@@ -92,26 +204,56 @@ class DescriptionMatrix:
 
     def _fill(self) -> np.ndarray:
         values = np.full((len(self.descriptions), len(self.tests)), np.nan)
-        exact: dict[tuple[str, object], int] = {}
-        general: dict[str, list[int]] = defaultdict(list)  # columns at positions holding "*"
+        self._exact: dict[tuple[str, object], int] = {}
+        self._general: dict[str, list[int]] = defaultdict(list)  # columns at positions holding "*"
         for j, t in enumerate(self.tests):
             if t.is_grasp:
                 values[:, j] = [1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
                                 for d in self.descriptions]
             else:
-                exact[(t.feature, t.position)] = j
-                general[t.feature].append(j)
+                self._exact[(t.feature, t.position)] = j
+                self._general[t.feature].append(j)
         for i, d in enumerate(self.descriptions):
-            if all(o.position.distance_in is not None and o.position.orientation_deg is not None
-                   for o in d.observations):
-                # concrete values cover only their own column: a direct look-up
-                for o in d.observations:
-                    j = exact.get((o.feature, o.position))
-                    if j is not None:
-                        values[i, j] = o.value
-                continue
-            for j in {j for o in d.observations for j in general.get(o.feature, [])}:
-                v = d.value_at(self.tests[j].feature, self.tests[j].position)
-                if v is not None:
-                    values[i, j] = v
+            for j, v in self._sense_values(d):
+                values[i, j] = v
         return values
+
+    def _sense_values(self, d: ObjectDescription) -> list[tuple[int, float]]:
+        """``(column, value)`` of each sensing test ``d`` has a value for."""
+        if all(o.position.distance_in is not None and o.position.orientation_deg is not None
+               for o in d.observations):
+            # concrete values cover only their own column: a direct look-up
+            return [(j, o.value) for o in d.observations
+                    if (j := self._exact.get((o.feature, o.position))) is not None]
+        out = []
+        for j in {j for o in d.observations for j in self._general.get(o.feature, [])}:
+            v = d.value_at(self.tests[j].feature, self.tests[j].position)
+            if v is not None:
+                out.append((j, v))
+        return out
+
+def _axes(d: ObjectDescription) -> tuple[float, float]:
+    return d.appearance.axes_in if d.appearance is not None else (np.nan, np.nan)
+
+
+class _Rows:
+    """Row arrays with spare capacity, shared by a matrix and the one appended to it:
+    each matrix views its own prefix, so writing rows past it changes no matrix already
+    handed out. Only the matrix whose length is ``used`` may write past it."""
+
+    def __init__(self, values: np.ndarray, class_of: np.ndarray, axes: np.ndarray, used: int) -> None:
+        self.values, self.class_of, self.axes, self.used = values, class_of, axes, used
+
+    @property
+    def capacity(self) -> int:
+        return len(self.values)
+
+    @classmethod
+    def grown(cls, values: np.ndarray, class_of: np.ndarray, axes: np.ndarray, needed: int) -> _Rows:
+        """Fresh arrays holding the given rows and room for at least ``needed`` rows."""
+        n = len(values)
+        capacity = max(needed, 2 * n, 16)
+        out = cls(np.full((capacity, values.shape[1]), np.nan), np.zeros(capacity, dtype=np.int32),
+                  np.full((capacity, 2), np.nan), n)
+        out.values[:n], out.class_of[:n], out.axes[:n] = values, class_of, axes
+        return out

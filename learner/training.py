@@ -16,15 +16,11 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from learner.costs import MoveCostEstimator
-from learner.criteria import DEFAULT_CRITERION, criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge, SensingProcedure
-from learner.partition import match, nearest
 from learner.position import Position
-from learner.selection import Context, Node
-from learner.matrix import DescriptionMatrix
 from learner.training_data import MeasurementSource, TrainingObject
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grow
+from learner.training_trees import PhaseTree, TrainingTrees, predicted_grasp
 
 ORIENTATION_TOLERANCE_DEG = 20.0  # face normals closer than this are one training orientation
 DISTANCE_TOLERANCE = 0.3  # candidate distances within 30% of a cluster's nearest are one
@@ -159,6 +155,8 @@ class TrainingLog:
     sensing_s: float = 0.0
     moving_s: float = 0.0
     unresolved: list[tuple[str, Position]] = field(default_factory=list)
+    trees_asked: int = 0  # trees phase 2 classified with (one per object per pass)
+    trees_grown: int = 0  # of them, grown rather than reused: the distinct ones
 
     @property
     def total_s(self) -> float:
@@ -174,11 +172,12 @@ class _Recorder:
     description holds only what was needed to classify the object (docs/method.md §4).
     """
 
-    def __init__(self, source: MeasurementSource, knowledge: Knowledge, log: TrainingLog) -> None:
-        self.source, self.knowledge, self.log = source, knowledge, log
+    def __init__(self, source: MeasurementSource, knowledge: Knowledge, log: TrainingLog, reuse: bool = True) -> None:
+        self.source, self.knowledge, self.log, self.reuse = source, knowledge, log, reuse
         self.applied: dict[tuple[str, Position], set[str]] = defaultdict(set)
         self.values: dict[str, dict[tuple[str, Position], float]] = defaultdict(dict)
         self._measured: dict[tuple[str, str, Position], Mapping[str, float | None]] = {}
+        self._at: dict[tuple[str, Position], ObjectDescription] = {}  # description at a position, until it grows
 
     def measure(self, obj: TrainingObject, proc: SensingProcedure, at: Position, why: str,
                 record_at: Position) -> Mapping[str, float | None]:
@@ -194,6 +193,7 @@ class _Recorder:
         if proc.name in self.applied[(obj.object_id, record_at)]:
             return
         self.applied[(obj.object_id, record_at)].add(proc.name)
+        self._at.pop((obj.object_id, record_at), None)
         values = self.measure(obj, proc, at, why, record_at)
         for feat in proc.features:
             v = values.get(feat.name)
@@ -205,35 +205,30 @@ class _Recorder:
         return sum(len(p) for p in self.applied.values())
 
     def description(self, obj: TrainingObject, at: Position | None = None) -> ObjectDescription:
+        """What was recorded of ``obj`` at ``at`` (everywhere: None).
+
+        Phase 2 asks for every object's description at a position before each
+        prediction, yet only :meth:`apply` changes one: it is kept until then (unless
+        ``reuse`` is off: the simple path rebuilds it every time).
+        """
+        if at is not None and (obj.object_id, at) in self._at:
+            return self._at[(obj.object_id, at)]
         obs = tuple(sorted(Observation(f, p, v) for (f, p), v in self.values[obj.object_id].items()
                            if at is None or p == at))
-        return ObjectDescription(obj.object_id, obj.grasp, obj.grasp_position, obs)
+        description = ObjectDescription(obj.object_id, obj.grasp, obj.grasp_position, obs)
+        if at is not None and self.reuse:
+            self._at[(obj.object_id, at)] = description
+        return description
 
 
-class _ZeroMove:
-    """At one training position nothing moves: only sensing costs count."""
-
-    def move_cost(self, start: Position, goal: Position) -> float:
-        return 0.0
-
-
-def _predict(tree: TreeNode, obj: TrainingObject, at: Position, recorder: _Recorder) -> str | None:
+def _predict(tree: PhaseTree, obj: TrainingObject, at: Position, recorder: _Recorder) -> str | None:
     """Familiarize: classify ``obj`` with ``tree``, measuring any tested feature it lacks."""
-    node = tree
-    while isinstance(node, TestNode):
-        feature = node.test.test.feature
+    def value_of(feature: str) -> float | None:
         proc = recorder.knowledge.procedure_for(feature)
         recorder.apply(obj, proc, sensed_at(obj, at), at, f"familiarize: tree tests {feature}")
-        value = recorder.values[obj.object_id].get((feature, at))
-        if value is None:
-            return None
-        ranges = [r for r, _ in node.branches]
-        idx = match(value, ranges, node.test.error)
-        node = node.branches[nearest(value, ranges) if idx is None else idx][1]
-    if isinstance(node, GraspLeaf):
-        return node.grasp
-    assert isinstance(node, AmbiguousLeaf)
-    return None
+        return recorder.values[obj.object_id].get((feature, at))
+
+    return predicted_grasp(tree, value_of)
 
 
 def sensed_at(obj: TrainingObject, at: Position) -> Position:
@@ -254,6 +249,7 @@ def train_position(
     knowledge: Knowledge,
     recorder: _Recorder,
     progress: Callable[[str], None] | None = None,
+    trees: TrainingTrees | None = None,
 ) -> None:
     """Phase 2 at one training position (Table 6): familiarize every object with the
     current tree, discriminate a misclassified one with the cheapest procedure not yet
@@ -263,12 +259,13 @@ def train_position(
     procs = sorted((p for p in knowledge.sensing if p.applicable_at(at.distance_in)), key=lambda p: (p.time_s, p.name))
     if not procs:
         return
+    trees = trees or TrainingTrees(knowledge)
     while True:
         before = recorder.count
         wrong = []
         for obj in objects:
             where = _record_at(obj, at)
-            tree = _tree([recorder.description(o, _record_at(o, at)) for o in objects], knowledge)
+            tree = trees.tree([recorder.description(o, _record_at(o, at)) for o in objects])
             if _predict(tree, obj, where, recorder) == obj.grasp:
                 continue
             wrong.append(obj)
@@ -280,12 +277,6 @@ def train_position(
         if recorder.count == before:  # a pass that measured nothing new: done
             recorder.log.unresolved.extend((o.object_id, _record_at(o, at)) for o in wrong)
             return
-
-
-def _tree(descriptions: Sequence[ObjectDescription], knowledge: Knowledge) -> TreeNode:
-    matrix = DescriptionMatrix(descriptions, knowledge, grasps_as_features=False)
-    ctx = Context(matrix, criterion(DEFAULT_CRITERION), _ZeroMove())
-    return grow(Node.root(len(descriptions)), Position(0.0, 0.0), ctx)
 
 
 # -- Merging ------------------------------------------------------------------------------
@@ -354,10 +345,18 @@ def train(
     source: MeasurementSource,
     estimator: MoveCostEstimator,
     progress: Callable[[str], None] | None = None,
+    reuse: bool = True,
 ) -> TrainingResult:
-    """Both phases: positions, per-position descriptions, then merged descriptions."""
+    """Both phases: positions, per-position descriptions, then merged descriptions.
+
+    ``reuse=False`` is the method as written: every phase-2 prediction rebuilds the
+    descriptions at its position and grows its whole tree anew
+    (:mod:`learner.training_trees`). The same result, slower; kept as the reference for
+    tests and the benchmark.
+    """
     log = TrainingLog()
-    recorder = _Recorder(source, knowledge, log)
+    recorder = _Recorder(source, knowledge, log, reuse)
+    trees = TrainingTrees(knowledge, reuse)
     log.orientations = training_orientations(objects)
     scan_distances = sorted({p.range_in[0] for p in knowledge.sensing if p.range_in[0] == p.range_in[1]})
     linear = {f.angular_of for p in knowledge.sensing for f in p.features if f.angular_of}
@@ -375,8 +374,9 @@ def train(
         log.distance_reasons += candidate_distances(objects, sizes, knowledge)
     log.distances = cluster_distances([*scan_distances, *(r.distance_in for r in log.distance_reasons)])
     for at in (Position(d, o) for d in sorted(log.distances, reverse=True) for o in log.orientations):
-        train_position(objects, at, knowledge, recorder, progress)
+        train_position(objects, at, knowledge, recorder, progress, trees)
     log.moving_s = _moving_cost(objects, recorder, estimator)
+    log.trees_asked, log.trees_grown = trees.asked, trees.grown
     merged = []
     for obj in objects:
         d = recorder.description(obj)

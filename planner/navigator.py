@@ -7,6 +7,10 @@ fields) is cached on the obstacles alone: the robot is not an obstacle, so a new
 after a move reuses all of it, and only a changed world (an object pushed, knocked
 over or picked up) builds a new map. Recent worlds are kept, so going back to one
 reuses its map.
+
+Band images need nothing else; a real camera's images need a calibrated ``camera``
+(docs/camera.md), given, or made from the first image when only the marker ``board``
+is known (the in-process realistic simulator: no calibration step before the run).
 """
 
 from __future__ import annotations
@@ -14,13 +18,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from planner.cache import LruCache
+from planner.calibration import MarkerBoard
 from planner.geometry import Pose
 from planner.image import OverheadImage
 from planner.move_cost import CostEstimator, MoveCost, arrived, price_plan
 from planner.paths import OK, PathPlanner, PlanResult
-from planner.positions import pose_for_position, position_of
+from planner.positions import free_pose_for_position, position_of
 from planner.vision import Region, Scene, look
 from planner.roadmap import Roadmap
+from planner.segmentation import Camera, calibrated_camera
 from planner.vision_map import VisionMap, build_vision_map, map_key
 from robot_profile import Robot
 
@@ -44,9 +50,14 @@ class _World:
 class Navigator:
     """Vision, paths and move costs on the latest overhead image."""
 
-    def __init__(self, robot: Robot, *, time_limit_s: float = 0.25, optimise_time_s: float = 0.5,
-                 spacing_in: float = 6.0, worlds_kept: int = 4) -> None:
+    def __init__(self, robot: Robot, *, camera: Camera | None = None, board: MarkerBoard | None = None,
+                 time_limit_s: float = 0.25, optimise_time_s: float = 0.5, spacing_in: float = 6.0,
+                 worlds_kept: int = 4) -> None:
+        """``camera``: the calibrated camera of real images (None: band images);
+        ``board``: calibrate one from the first image instead (docs/camera.md)."""
         self.robot = robot
+        self.camera = camera
+        self._board = board
         self._time_limit_s = time_limit_s
         self._optimise_time_s = optimise_time_s
         self._spacing_in = spacing_in
@@ -57,7 +68,9 @@ class Navigator:
 
     def observe(self, image: OverheadImage) -> Scene:
         """Look at a new overhead image; later calls plan on it."""
-        scene = self._scenes.get_or_make(image.content_key(), lambda: look(image))
+        if self.camera is None and self._board is not None:
+            self.camera = calibrated_camera(image.pixels, self._board)
+        scene = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))
         key = map_key(scene, self.robot.geometry)
         self._current = self._worlds.get_or_make(key, lambda: self._build(scene))
         self._scene = scene
@@ -76,9 +89,12 @@ class Navigator:
         return self._world().map
 
     def pose_for(self, region: Region, distance_in: float, orientation_deg: float) -> Pose:
-        """The base pose for a learner position of ``region`` (docs/conventions.md)."""
+        """The base pose for a learner position of ``region`` (docs/conventions.md),
+        moved within the range tolerance when an obstacle is in the way
+        (:func:`~planner.positions.free_pose_for_position`)."""
         self._require_on_map(region)
-        return pose_for_position(region, distance_in, orientation_deg, self.robot.geometry)
+        return free_pose_for_position(region, distance_in, orientation_deg, self.robot.geometry,
+                                      self._world().map.is_free)
 
     def position_of(self, region: Region, pose: Pose) -> tuple[float, float]:
         """The learner position ``(distance_in, orientation_deg)`` of a robot pose."""

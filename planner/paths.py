@@ -159,7 +159,7 @@ class PathPlanner:
         bounds.setLow(1, y_min)
         bounds.setHigh(1, y_max)
         self._space.setBounds(bounds)
-        self._valid_holder: list[np.ndarray] = [vision_map.free_strict]
+        self._valid_holder: list[bytes] = [_cells(vision_map.free_strict)]
         self._roadmap: Roadmap | None = roadmap  # one still valid on this map, or grown on demand
         self._tree_setup = self._new_setup()
 
@@ -215,7 +215,7 @@ class PathPlanner:
         if self.map.segment_is_free(a, b):
             return _result(escape + [a, b], start, goal, spacing, STRAIGHT, escape_in)
         if self._roadmap is None and not optimise:
-            self._valid_holder[0] = self.map.free_strict  # no query's endpoint exemptions
+            self._valid_holder[0] = _cells(self.map.free_strict)  # no query's endpoint exemptions
             _reseed()
             self._roadmap = Roadmap.grow(self._new_setup(), self.roadmap_milestones, ROADMAP_MAX_S)
         self._exempt_endpoints([start_cell, goal_cell])
@@ -238,7 +238,7 @@ class PathPlanner:
         for row, col in cells:
             window = (slice(max(row - m, 0), row + m + 1), slice(max(col - m, 0), col + m + 1))
             valid[window] |= self.map.free[window]
-        self._valid_holder[0] = valid
+        self._valid_holder[0] = _cells(valid)
 
     def _roadmap_route(self, a: tuple[float, float], b: tuple[float, float]) -> Polyline | None:
         """The roadmap's shortest route, with needless vertices removed, or None."""
@@ -314,17 +314,32 @@ class PathPlanner:
         return None
 
 
-def _validity_checker(vision_map: VisionMap, holder: list[np.ndarray]) -> Callable[[Any], bool]:
-    """A state is valid when its cell is in ``holder[0]`` (a closure, not a method, so
-    that OMPL's reference to it does not keep the planner alive)."""
+def _cells(grid: np.ndarray) -> bytes:
+    """A boolean grid as the validity checker reads it: one byte per cell, row-major."""
+    return np.ascontiguousarray(grid, dtype=bool).tobytes()
+
+
+def _validity_checker(vision_map: VisionMap, holder: list[bytes]) -> Callable[[Any], bool]:
+    """A state is valid when its cell is set in ``holder[0]`` (:func:`_cells`; a closure,
+    not a method, so that OMPL's reference to it does not keep the planner alive).
+
+    OMPL calls it from C++ for every state it checks, ~180,000 times to grow a roadmap
+    on the lab's map: indexing a byte string with plain comparisons for the clamping
+    costs about half of indexing the numpy grid with ``min``, for the same answers.
+    """
     image = vision_map.image
     x0, y1, inv = image.origin_x_in, image.origin_y_in, 1.0 / image.inches_per_pixel
-    last_row, last_col = vision_map.free.shape[0] - 1, vision_map.free.shape[1] - 1
+    cols = vision_map.free.shape[1]
+    last_row, last_col = vision_map.free.shape[0] - 1, cols - 1
 
     def is_valid(state: Any) -> bool:
-        col = min(int((state[0] - x0) * inv), last_col)
-        row = min(int((y1 - state[1]) * inv), last_row)
-        return bool(holder[0][row, col])
+        col = int((state[0] - x0) * inv)
+        row = int((y1 - state[1]) * inv)
+        if col > last_col:
+            col = last_col
+        if row > last_row:
+            row = last_row
+        return holder[0][row * cols + col] == 1
 
     return is_valid
 

@@ -9,12 +9,19 @@ conversion because it owns the region polygons it depends on.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
 from planner.geometry import Pose, ray_exit_distance, unit, wrap_360
 from planner.vision import Region
 from robot_profile import RobotGeometry
+
+# docs/conventions.md: every driver accepts a procedure within 1.5 in of its range, so a
+# sonar up to this far from the asked distance still applies the procedure.
+RANGE_TOLERANCE_IN = 1.5
+# Distances tried, nearest to the asked one first, when its pose is blocked.
+TOLERANCE_STEP_IN = 0.1
 
 
 def face_distance_in(region: Region, orientation_deg: float) -> float:
@@ -51,3 +58,33 @@ def position_of(region: Region, pose: Pose, robot: RobotGeometry) -> tuple[float
     orientation = wrap_360(world_deg - region.reference_axis_deg)
     distance = float(np.hypot(rel[0], rel[1])) - face_distance_in(region, orientation)
     return distance, orientation
+
+
+def free_pose_for_position(region: Region, distance_in: float, orientation_deg: float, robot: RobotGeometry,
+                           is_free: Callable[[float, float], bool]) -> Pose:
+    """The pose for ``(distance_in, orientation_deg)``, or, when its base would stand in
+    an (inflated) obstacle, the nearest one on the same ray whose sonar distance stays
+    within :data:`RANGE_TOLERANCE_IN` of it and whose base ``is_free``.
+
+    A wall or another object just behind a test position need not rule the test out:
+    the procedure still applies an inch nearer or farther (the range tolerance every
+    driver grants), on the same face, so its value is recorded for the asked position.
+    Distances are tried in :data:`TOLERANCE_STEP_IN` steps, nearest first, farther
+    before nearer at equal shifts; when none is free the asked pose is returned and the
+    move costs price it as blocked, so the learner does not use the test.
+    """
+    pose = pose_for_position(region, distance_in, orientation_deg, robot)
+    if is_free(pose.x_in, pose.y_in):
+        return pose
+    u = unit(region.reference_axis_deg + orientation_deg)
+    out = face_distance_in(region, orientation_deg) + robot.sensor_offset_in
+    steps = int(round(RANGE_TOLERANCE_IN / TOLERANCE_STEP_IN))
+    for k in range(1, steps + 1):
+        for shift in (k * TOLERANCE_STEP_IN, -k * TOLERANCE_STEP_IN):
+            distance = distance_in + shift
+            if distance < 0:
+                continue
+            base = np.asarray(region.centroid) + (out + distance) * u
+            if is_free(float(base[0]), float(base[1])):
+                return Pose(float(base[0]), float(base[1]), pose.heading_deg)
+    return pose

@@ -34,6 +34,7 @@ MIN_ROBOT_PIXELS = 40
 ROBOT_SOLIDITY = 0.75  # a disc less its white disc (1/16 of it) and blurred edges
 MIN_PRINT_PIXELS = 30
 INPAINT_MARGIN_PX = 5  # paint out a rim too: blur and shadows reach ~4 in past an edge
+MIN_BRIGHT_PIXELS = 3  # fewer is a speck of noise or texture (the 2 in box shows ~6)
 PRINT_INK_SHARE = 0.1  # a printed marker is at least this much ink; a light object has none
 # The empty floor is smoothed to about halve its own sensor noise, edge-preserving
 # (bilateral): a plain blur would darken a strip of floor between dark walls and
@@ -120,9 +121,13 @@ def empty_floor(image: OverheadImage) -> EmptyFloor:
     printed = _printed_marks(ratio)
     dark = ratio < OBSTACLE_RATIO
     body, _ = _robot(ratio)
-    bright = (ratio > OBJECT_RATIO) & ~printed
+    bright = _without_specks((ratio > OBJECT_RATIO) & ~printed)
     painted_out = cv2.dilate(((body > 0) | bright).astype(np.uint8), _CROSS, iterations=INPAINT_MARGIN_PX)
-    filled = cv2.inpaint(np.clip(level, 0, 255).astype(np.uint8), painted_out, 3, cv2.INPAINT_TELEA)
+    # Filled from the floor around, never from a wall: a wall's dark pixels drawn into
+    # the floor there would make the bare floor read as an object on every image.
+    source = np.where(dark & ~printed, light, level)
+    filled = cv2.inpaint(np.clip(source, 0, 255).astype(np.uint8), painted_out, 3, cv2.INPAINT_TELEA)
+    filled = np.where(painted_out > 0, filled, level)
     obstacles = dark & ~printed & (painted_out == 0)
     obstacles = cv2.morphologyEx(obstacles.astype(np.uint8), cv2.MORPH_OPEN, _CROSS) > 0
     return EmptyFloor(level=_smooth(filled), obstacles=obstacles, printed=printed)
@@ -144,6 +149,14 @@ def segment(image: OverheadImage, floor: EmptyFloor) -> Masks:
     new_dark = cv2.morphologyEx(((ratio < ROBOT_RATIO) & ~robot_zone).astype(np.uint8), cv2.MORPH_OPEN, _CROSS)
     return Masks(robot_body=body > 0, robot_marker=marker > 0, obstacles=floor.obstacles | (new_dark > 0),
                  objects=objects, brightness=ratio)
+
+
+def _without_specks(mask: np.ndarray) -> np.ndarray:
+    """``mask`` less its regions of fewer than MIN_BRIGHT_PIXELS pixels."""
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask.astype(np.uint8), connectivity=8)
+    keep = stats[:, cv2.CC_STAT_AREA] >= MIN_BRIGHT_PIXELS
+    keep[0] = False
+    return keep[labels]
 
 
 def _smooth(pixels: np.ndarray) -> np.ndarray:

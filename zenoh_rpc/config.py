@@ -5,7 +5,10 @@ clients connect to them, so nothing is discovered by accident on a shared networ
 and tests on 127.0.0.1 run side by side on their own ports. The lease is short so
 that a peer that vanishes without closing its socket (power cut, cable pulled, a
 killed process) is noticed in about a second, and reconnection is retried quickly
-so that a restarted server is picked up again within a fraction of a second.
+so that a restarted server is picked up again within a fraction of a second. A
+connection handshake is bounded by a second too: a peer that accepts TCP but never
+answers (a frozen process, SIGSTOP) would otherwise hold every ``close`` of this
+session for zenoh's default ten seconds, and end it in an error.
 
 Security is zenoh's own: a user's zenoh config file (:class:`UserConfig`, given as
 ``--zenoh-config`` or ``CSL_ZENOH_CONFIG``) turns on user/password authentication,
@@ -16,6 +19,7 @@ leaves zenoh's default in place (:data:`OUR_SETTINGS`; docs/security.md).
 from __future__ import annotations
 
 import json
+import logging
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -25,12 +29,15 @@ import zenoh
 
 from zenoh_rpc.endpoints import CONNECT_KEY, LISTEN_KEY, check_endpoint
 
+log = logging.getLogger(__name__)
+
 LEASE_MS = 1000  # a silent peer is dropped after this; keep-alives go 4x as often
 RETRY_PERIOD_MS = (100, 500)  # first and longest wait between connection attempts
+OPEN_TIMEOUT_MS = 1000  # a handshake with a peer that accepts but never answers (SIGSTOP) gives up after this
 
 OUR_SETTINGS = ("mode", "scouting/multicast/enabled", "scouting/delay", LISTEN_KEY, CONNECT_KEY,
                 "connect/retry", "connect/timeout_ms", "connect/exit_on_failure",
-                "transport/link/tx/lease")
+                "transport/link/tx/lease", "transport/unicast/open_timeout")
 """Every key :func:`make_config` sets; a user's file that sets one keeps its own value."""
 
 _ZENOH_DEFAULTS = zenoh.Config()
@@ -92,6 +99,7 @@ def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
         "connect/retry": json.dumps({"period_init_ms": RETRY_PERIOD_MS[0], "period_max_ms": RETRY_PERIOD_MS[1],
                                      "period_increase_factor": 2}),
         "transport/link/tx/lease": str(LEASE_MS),
+        "transport/unicast/open_timeout": str(OPEN_TIMEOUT_MS),
     }
     if connect_timeout_s is not None:
         ours["connect/timeout_ms"] = str(max(1, round(connect_timeout_s * 1000)))
@@ -140,3 +148,14 @@ def _one_line(reason: str) -> str:
         lines = [f"line {line}, column {column}: {said[-1] if said else 'syntax error'}"]
     text = " ".join(lines).split(" at /")[0]  # zenoh's Rust source location, and what it wraps
     return _SERDE_MESSAGE.sub(r"line \2, column \3: \1", text)
+
+
+def close_session(session: zenoh.Session) -> None:
+    """Close ``session``; a close that zenoh reports as failed (it timed out on a peer
+    that stopped answering) is one warning in the log, never an exception: closing is
+    what a command does on its way out, and a traceback there hides the real reason
+    it is leaving."""
+    try:
+        session.close()
+    except zenoh.ZError as exc:
+        log.warning("zenoh session close: %s", _one_line(str(exc)))

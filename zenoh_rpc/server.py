@@ -6,20 +6,65 @@ own (``<prefix>/<name>/rpc/*`` reaches every verb). Running a verb for such a qu
 would let one careless ``get`` move a robot or write a library, so a verb's
 queryable answers only its exact key; the catch-all on ``rpc/**`` gives wildcards
 and unknown verbs one error reply each, so a client always learns why nothing ran.
+
+Every query a server answers is logged at INFO, one line when it is answered: the
+key, how long it took and the outcome (``ok`` or the error code), so an operator of
+``csl driver sim`` or ``csl learner serve`` sees who asked what and what came of it.
 """
 
 from __future__ import annotations
 
+import logging
+import time
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import zenoh
 
 from zenoh_rpc.keys import KeySpace
 
 JSON = zenoh.Encoding.APPLICATION_JSON
+log = logging.getLogger(__name__)
 
 Handler = Callable[[str, zenoh.Query], None]
 ErrorEncoder = Callable[[str, str], bytes]
+
+
+class _Logged:
+    """A query on its way through a server: what a handler sees in place of the
+    :class:`zenoh.Query`, answered through it, and logged once when it is finished
+    (:func:`reply` and :func:`reply_err` both finish a query with ``drop``)."""
+
+    def __init__(self, query: zenoh.Query) -> None:
+        self._query = query
+        self._key = str(query.key_expr)  # a dropped query no longer has one to read
+        self._started = time.perf_counter()
+        self.outcome = "dropped"  # unless answered
+        self._logged = False
+
+    @property
+    def key_expr(self) -> zenoh.KeyExpr:
+        return self._query.key_expr
+
+    @property
+    def payload(self) -> zenoh.ZBytes | None:
+        return self._query.payload
+
+    def reply(self, key_expr: Any, body: bytes, **options: Any) -> None:
+        self._query.reply(key_expr, body, **options)
+        self.outcome = "ok"
+
+    def reply_err(self, body: bytes, **options: Any) -> None:
+        self._query.reply_err(body, **options)
+        if self.outcome == "dropped":  # a protocol's reply_error names the code first
+            self.outcome = "error"
+
+    def drop(self) -> None:
+        self._query.drop()
+        if not self._logged:
+            self._logged = True
+            log.info("%s: %s in %.1f ms", self._key, self.outcome,
+                     (time.perf_counter() - self._started) * 1000)
 
 
 def payload_of(query: zenoh.Query) -> bytes:
@@ -69,6 +114,8 @@ class RpcServer:
 
     def reply_error(self, query: zenoh.Query, code: str, message: str) -> None:
         """Answer ``query`` with this protocol's error body and finish it."""
+        if isinstance(query, _Logged):
+            query.outcome = code
         reply_err(query, self._encode_error(code, message))
 
     def close(self) -> None:
@@ -87,16 +134,18 @@ class RpcServer:
             if str(query.key_expr) != exact_key:
                 query.drop()  # a wildcard: the catch-all answers it
                 return
-            self._handle(verb, query)
+            self._handle(verb, _Logged(query))  # type: ignore[arg-type]  # quacks as a Query
 
         return on_query
 
-    def _on_other_key(self, query: zenoh.Query) -> None:
-        key = str(query.key_expr)
+    def _on_other_key(self, raw: zenoh.Query) -> None:
+        key = str(raw.key_expr)
         verb = key.removeprefix(self.keys.rpc_root)
         if verb in self.verbs:
-            query.drop()  # answered by the verb's own queryable
-        elif any(c in key for c in "*$"):
+            raw.drop()  # answered by the verb's own queryable
+            return
+        query = _Logged(raw)
+        if any(c in key for c in "*$"):
             self.reply_error(query, self._bad_request, f"{key}: verbs must be addressed by their exact key")
         else:
             self.reply_error(query, self._unknown_verb,

@@ -16,7 +16,7 @@ from types import FrameType
 
 from zenoh import Session
 
-from zenoh_rpc.config import UserConfig, open_session
+from zenoh_rpc.config import UserConfig, close_session, open_session
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -56,4 +56,4 @@ def serve_until(stop: threading.Event, listen: Sequence[str],
                 on_ready()
             stop.wait()
     finally:
-        session.close()
+        close_session(session)

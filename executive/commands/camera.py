@@ -25,7 +25,8 @@ DEFAULT_BOARD = Path(hero_driver.worlds.__file__).parent / "lab-board.json"  # t
 
 
 def default_calibration(robot: str) -> Path:
-    """``$CSL_HOME/camera/ROBOT.json``: where calibrate writes and episodes look."""
+    """``$CSL_HOME/camera/ROBOT.json``: where calibrate writes unless ``--out`` says
+    otherwise (an episode reads the file ``--camera-calibration`` names)."""
     return defaults.library_db().parent / "camera" / f"{robot}.json"
 
 

@@ -16,29 +16,35 @@ from typing import TYPE_CHECKING
 import py_trees
 from rich.console import Console
 
+from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.services import Params
 from executive import defaults
-from executive.args import criterion_from_args, output_folder
+from executive.args import criterion_from_args, library_path, output_folder
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from executive.profile import knowledge_of
-from executive.report import CAPTION, HEADERS, Truth, match_truth, rows, summary, table_cells
-from executive.tables import print_table
-from hero_driver.interface import UNAVAILABLE, CameraImage, Driver, DriverError
+from executive.recording.options import check_recording_options, open_recording
+from executive.recording.status import status_tree
+from executive.report import Truth, episode_json, match_truth, print_report, rows
+from executive.tables import print_json
+from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
 from learner.criteria import Criterion
 from learner.knowledge import Knowledge
 from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
+from planner.calibration import MarkerBoard, load_board
+from planner.segmentation import Camera, load_camera
 from robot_profile import RobotProfile, load_profile, profile_stamp
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import endpoint_of, user_config, where
 
 if TYPE_CHECKING:  # zenoh is imported only when a run uses it
+    from hero_driver.zenoh_link.client import VerbTimeouts
     from zenoh_rpc.config import UserConfig
 
 
@@ -46,21 +52,56 @@ if TYPE_CHECKING:  # zenoh is imported only when a run uses it
 class Setup:
     """What the arguments choose, read and checked before anything runs: the robot's
     profile (one reading serves the learner, the planner and the simulator), the
-    control parameters and the criterion."""
+    control parameters and the criterion; for real camera images the calibrated
+    ``camera`` (--camera-calibration), or the ``board`` to calibrate it from on the
+    first image (--camera realistic without a file; docs/camera.md)."""
 
     profile: RobotProfile
     knowledge: Knowledge
     params: Params
     criterion: Criterion
+    camera: Camera | None = None
+    board: MarkerBoard | None = None
 
 
 def _setup(args: argparse.Namespace) -> Setup:
+    check_recording_options(args)  # before training or robot time
     profile = load_profile(args.knowledge)
     return Setup(profile, knowledge_of(profile),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=getattr(args, "seed", None) or 0,
-                        use_appearance=args.appearance),
-                 criterion_from_args(args))
+                        use_appearance=args.appearance, battery_low=args.battery_low),
+                 criterion_from_args(args), *_camera(args))
+
+
+def _camera(args: argparse.Namespace) -> tuple[Camera | None, MarkerBoard | None]:
+    """The calibration file, read and checked now (a bad one is one line, before any
+    training or robot time); else, for the simulator's realistic camera, the board of
+    the world it prints (the first image calibrates it)."""
+    if args.camera_calibration is not None:
+        try:
+            return load_camera(args.camera_calibration), None
+        except ValueError as exc:
+            raise ValueError(f"--camera-calibration: {exc}") from None
+    if args.camera != "realistic":
+        return None, None
+    from hero_driver.sim.render_board import board_path
+
+    try:
+        return None, load_board(board_path(args.world or "lab"))
+    except ValueError as exc:
+        raise ValueError(f"--camera realistic: {exc}; or give --camera-calibration FILE") from None
+
+
+def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Namespace) -> None:
+    """A calibration is for one camera: an image of another size is another camera."""
+    if camera is None:
+        return
+    height, width = image.pixels.shape[:2]
+    if (width, height) != camera.calibration.image_size:
+        raise ValueError(f"--camera-calibration: {args.camera_calibration} is for {camera.calibration.image_size[0]}x"
+                         f"{camera.calibration.image_size[1]} images, the driver's camera gives {width}x{height} "
+                         "(another camera, or the simulator without --camera realistic)")
 
 
 def _only_with(args: argparse.Namespace, mode: str, value: str, options: tuple[str, ...]) -> None:
@@ -78,19 +119,19 @@ def run_demo(args: argparse.Namespace) -> int:
     from hero_driver.sim_driver import SimulatedHero
 
     driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile,
-                           noise=_noise(args))  # a bad world fails first
+                           noise=_noise(args), camera=args.camera or "simple")  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
-        from executive.sim_training import train_in_simulator  # the simulator: csl demo only
+        from executive.demo_library import trained_library  # the simulator: csl demo only
 
-        trained = train_in_simulator(knowledge, setup.profile, args.seed)
+        trained = trained_library(knowledge, setup.profile, args.world, args.seed,
+                                  retrain=args.retrain, say=console.print)
     summary = trained.summary
     console.print(f"trained: {summary.descriptions} descriptions at distances "
                   f"{', '.join(f'{d:g}' for d in summary.distances_in)} in and orientations "
                   f"{', '.join(f'{o:g}' for o in summary.orientations_deg)}°; {summary.robot_hours:.1f} h of robot time")
-    result = trained.result
     store = args.out / "library.sqlite"
     store.unlink(missing_ok=True)
-    learner = LocalLearner(store, seed_library=list(result.descriptions))
+    learner = LocalLearner(store, seed_library=list(trained.descriptions))
     return _episode(args, driver, learner, setup, console)
 
 
@@ -100,9 +141,10 @@ def run_run(args: argparse.Namespace) -> int:
     if args.driver == "sim":
         _only_with(args, "--driver", "zenoh", ("--connect",))
     else:
-        _only_with(args, "--driver", "sim", ("--world", "--seed", "--noise"))
+        _only_with(args, "--driver", "sim", ("--world", "--seed", "--noise", "--camera"))
+    timeouts = _verb_timeouts(args)  # a bad verb name fails before anything connects
     if args.learner == "local":
-        _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect"))
+        _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect", "--outbox"))
     else:
         _only_with(args, "--learner", "local", ("--library",))
     if args.driver == "sim" and args.learner == "local":
@@ -111,7 +153,7 @@ def run_run(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
     learner = _learner(args, zenoh_config)
     try:
-        driver = _driver(args, setup.profile, zenoh_config)
+        driver = _driver(args, setup.profile, zenoh_config, timeouts)
     except BaseException:
         learner.close()
         raise
@@ -125,26 +167,52 @@ def _noise(args: argparse.Namespace) -> NoiseConfig | None:
 
 def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None) -> LearnerService:
     if args.learner == "zenoh":
+        from learner.service.outbox import Outbox, OutboxLearner
         from learner.service.zenoh_client import ZenohLearner
 
         connect = endpoint_of("--learner-connect", args.learner_connect, LEARNER_ENDPOINT, CONNECT_KEY, zenoh_config)
-        return ZenohLearner(args.learner_name or "default", connect=[connect], zenoh_config=zenoh_config)
-    path = args.library or defaults.library_db()
-    if path.is_dir():
-        raise ValueError(f"--library: {path} is a folder, not a library database")
+        name = args.learner_name or "default"
+        outbox = Outbox(args.outbox or defaults.library_db().with_name("outbox.sqlite"))  # a bad file fails first
+        try:
+            service = ZenohLearner(name, connect=[connect], zenoh_config=zenoh_config)
+        except BaseException:
+            outbox.close()
+            raise
+        return OutboxLearner(service, outbox, name)
+    path = library_path(args.library, "--library")
+    args.library_created = not path.exists()  # said in the report: a run that fails still says one line
     return LocalLearner(path, seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
 
 
-def _driver(args: argparse.Namespace, profile: RobotProfile, zenoh_config: UserConfig | None) -> Driver:
+def _verb_timeouts(args: argparse.Namespace) -> VerbTimeouts | None:
+    """The ``--verb-timeout VERB=SECONDS`` pairs as the zenoh client's timeouts (None:
+    the protocol's defaults). The in-process simulator finishes every verb before it
+    returns, so there a timeout could never fire: the flag goes with --driver zenoh."""
+    given = args.verb_timeout
+    if not given:
+        return None
+    if args.driver != "zenoh":
+        raise ValueError("--verb-timeout goes with --driver zenoh")
+    from hero_driver.zenoh_link.client import VerbTimeouts
+
+    try:
+        return VerbTimeouts.of_verbs(given)
+    except ValueError as exc:
+        raise ValueError(f"--verb-timeout: {exc}") from None
+
+
+def _driver(args: argparse.Namespace, profile: RobotProfile, zenoh_config: UserConfig | None,
+            timeouts: VerbTimeouts | None = None) -> Driver:
     if args.driver == "sim":
         from hero_driver.sim_driver import SimulatedHero
 
         return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0, profile=profile,
-                             noise=_noise(args))
-    from hero_driver.zenoh_link.client import ZenohDriver
+                             noise=_noise(args), camera=args.camera or "simple")
+    from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
 
     connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
-    driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0, zenoh_config=zenoh_config)
+    driver = ZenohDriver(args.robot, connect=[connect], discover_s=3.0, zenoh_config=zenoh_config,
+                         timeouts=timeouts or VerbTimeouts())
     if not driver.wait_ready(5.0):  # alive, agreed on a version, and its first state published
         driver.close()
         refused = (" (or it requires credentials: --zenoh-config, docs/security.md)" if zenoh_config is None
@@ -173,44 +241,109 @@ def _episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, 
     try:
         return _report_episode(args, driver, learner, setup, console)
     finally:
-        driver.close()
-        learner.close()
+        try:
+            driver.close()
+        finally:  # the learner is closed even when the driver's close fails
+            learner.close()
+            _report_outbox(learner)
+
+
+def _report_outbox(learner: LearnerService) -> None:
+    """Say how many learned descriptions still wait for the learner service, if any."""
+    from learner.service.outbox import OutboxLearner
+
+    if isinstance(learner, OutboxLearner) and learner.waiting_at_close:
+        print(f"outbox: {learner.waiting_at_close} learned descriptions wait in {learner.outbox.path} for learner "
+              f"{learner.learner!r}; the next run delivers them", file=sys.stderr, flush=True)
 
 
 def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, setup: Setup,
                     console: Console) -> int:
     check_library(learner.library().descriptions, setup.knowledge, "the library")  # before the robot moves
     log = EpisodeLog(args.out / "episode.jsonl")
+    recording = open_recording(args, setup.profile)  # --record/--live (docs/recording.md)
+    if recording is not None:
+        driver = recording.attach(driver, log)
     executive = Executive(driver, learner, profile=setup.profile, params=setup.params, criterion=setup.criterion,
-                          log=log)
+                          log=log, on_tick=None if recording is None else recording.tick,
+                          camera=setup.camera, board=setup.board)
+    _say_battery_guard(driver, setup.params.battery_low)
     first_image = driver.camera().result(timeout=60)
     start = driver.state().pose
     truths = _truths(driver, [])
 
     def progress(record: ObjectRecord) -> None:
         truth = match_truth(record, truths)
-        console.print(f"  object {record.index}: {truth.name if truth else 'unknown'} -> "
+        label = truth.name if truth else "unknown"
+        console.print(f"  object {record.index}: {label} -> "
                       f"{record.grasp or '-'} ({record.outcome}), {record.ledger.robot_s / 60:.1f} robot min")
+        if recording is not None:
+            recording.handled(record, label)
+        if args.show_status:  # on stderr when stdout carries the --json document
+            stream = sys.stderr if getattr(args, "json", False) else sys.stdout
+            print(status_tree(executive.root, colour=stream.isatty()), file=stream, flush=True)
 
     try:
+        _check_camera(setup.camera, first_image, args)  # before the robot moves
         with console.status("approaching and recognizing objects..."):
             result = executive.run(on_object=progress)
     finally:
         executive.shutdown()
+        if recording is not None:
+            recording.close()
     table = rows(result.objects, _truths(driver, truths))
-    print_table(HEADERS, [table_cells(r) for r in table], title="approach and recognize: one row per object",
-                wrap=("object", "recoveries"), caption=CAPTION)
-    print(summary(table))
-    print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")
+    as_json = getattr(args, "json", False)  # --json: one document on stdout, after the plots
+    if not as_json:
+        print_report(table)
+        print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")
+        if recording is not None and recording.mcap is not None:
+            print(f"recording: {recording.mcap} (Foxglove; docs/recording.md)")
     if not args.no_plots:
-        _plots(args.out, executive, result, first_image, [r.object for r in table], log.events,
-               (start.x_in, start.y_in))
-        print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
-    if isinstance(learner, LocalLearner):
-        print(f"library: {learner.path}")
-    status, why = episode_status([record.outcome for record in result.objects])
+        _plots(args.out, executive, result, _as_mapped(first_image, executive.services.navigator.camera),
+               [r.object for r in table], log.events,
+               (start.x_in, start.y_in), setup.profile.robot.geometry.base_radius_in)
+        if not as_json:
+            print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
+    library = learner.path if isinstance(learner, LocalLearner) else None
+    created = getattr(args, "library_created", False)  # run's --library (or the default) did not exist
+    unanswered = _unanswered(log.events)
+    status, why = episode_status(["failed" if record.index in unanswered else record.outcome
+                                  for record in result.objects])
+    for index, message in unanswered.items():
+        print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
+    if as_json:
+        print_json(episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out, plots=not args.no_plots,
+                                library=library, library_created=created, status=status, why=why))
+        return status
+    if library is not None:
+        print(f"library: {library}{f' (new, seeded with {defaults.EXAMPLE_LIBRARY.name})' if created else ''}")
     print(f"exit status {status}: {why}")
     return status
+
+
+def _say_battery_guard(driver: Driver, threshold: float) -> None:
+    """One line when the low-battery guard cannot act: the driver has no battery
+    feature (no charging dock it reports, or no ``charge`` verb)."""
+    from behaviours.battery import dock_of
+
+    if threshold > 0 and dock_of(driver) is None:
+        print(f"battery: driver {driver.robot} has no battery feature (no charging dock): the low-battery "
+              f"guard is off", file=sys.stderr)
+
+
+def _unanswered(events: list[dict[str, object]]) -> dict[int, str]:
+    """Objects during which a verb timed out, with the first such verb's message.
+
+    Whatever the tree decided after a verb the robot never answered rests on a
+    measurement or a grasp that did not happen, so such an object is not handled,
+    whatever its outcome says (exit status 1, not 0)."""
+    found: dict[int, str] = {}
+    for event in events:
+        if event.get("event") == Event.DRIVER_ERROR and event.get("code") == TIMEOUT:
+            index = event.get("object")
+            if isinstance(index, int):
+                found.setdefault(index, str(event.get("message")))
+    return found
 
 
 def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:
@@ -237,11 +370,21 @@ def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:
     return out
 
 
+def _as_mapped(image: CameraImage, camera: Camera | None) -> CameraImage:
+    """The image the map is drawn on: a real camera's rectified onto the floor, where
+    the nominal mapping holds (the raw image is inches off at the corners)."""
+    if camera is None:
+        return image
+    flat = camera.calibration.rectify(image.pixels)
+    return CameraImage(pixels=flat.pixels, inches_per_pixel=flat.inches_per_pixel, origin_x_in=flat.origin_x_in,
+                       origin_y_in=flat.origin_y_in, clock_s=image.clock_s, meta=image.meta)
+
+
 def _plots(out: Path, executive: Executive, result: EpisodeResult, image: CameraImage, labels: list[str],
-           events: list[dict[str, object]], start: tuple[float, float]) -> None:
+           events: list[dict[str, object]], start: tuple[float, float], base_radius_in: float) -> None:
     for old in out.glob("tree-*.png"):
         old.unlink()
-    plot_map(out / "map.png", image, result.objects, events, labels, start)
+    plot_map(out / "map.png", image, result.objects, events, labels, start, base_radius_in=base_radius_in)
     for record, label in zip(result.objects, labels):
         plot_object_tree(out / f"tree-{record.index}.png", record, label, events)
     plot_behaviour_tree(out / "behaviour-tree.png", executive.root)

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from executive import defaults
+from executive.args import library_path
 from executive.profile import load_knowledge
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
@@ -70,7 +71,8 @@ def run_serve(args: argparse.Namespace) -> int:
     from learner.service.zenoh_node import serve_learner
     from zenoh_rpc.serving import stop_on_signals
 
-    db = args.db or defaults.library_db()
+    db = library_path(args.db, "--db")  # the database is opened and checked before the port is bound
+    created = "" if db.exists() else f" (a new library, seeded from {args.seed_library})"
     service = LocalLearner(db, seed_library=read_library_json(args.seed_library),
                            knowledge=load_knowledge(args.knowledge))
     report_quarantined(service, args.name)
@@ -79,7 +81,7 @@ def run_serve(args: argparse.Namespace) -> int:
         snapshot = service.library()
         print(f"serving learner {args.name!r} on {where(listen, LISTEN_KEY, zenoh_config)}: "
               f"{len(snapshot.descriptions)} "
-              f"descriptions, version {snapshot.version}, from {db} (Ctrl-C to stop)", flush=True)
+              f"descriptions, version {snapshot.version}, from {db}{created} (Ctrl-C to stop)", flush=True)
 
     try:
         with stop_on_signals() as stop:

@@ -7,9 +7,11 @@ from collections import Counter
 from pathlib import Path
 
 from executive import defaults
+from executive.args import library_path
 from executive.profile import load_knowledge
-from executive.tables import print_table
-from learner.library import LibraryStore, check_library, read_library_json, write_library_json
+from executive.tables import Column, print_json, print_table
+from learner.library import (LibraryStore, check_library, descriptions_to_json, read_library_json,
+                             write_library_json)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -34,6 +36,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     show = action("show", help="list every description with its features",
                   description="List every description: id, grasp(position) and features.")
     show.add_argument("id", nargs="?", help="show only this description")
+    show.add_argument("--json", action="store_true",
+                      help="print the descriptions as one library JSON document (docs/library-format.md)")
     show.set_defaults(handler=run_show)
     imp = action("import", help="add descriptions from a JSON file",
                  description=("Add the descriptions of a library JSON file (docs/library-format.md), checked "
@@ -49,15 +53,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     exp.set_defaults(handler=run_export)
     stats = action("stats", help="counts by grasp, feature and position",
                    description="Summarise the library: descriptions per grasp, features per position.")
+    stats.add_argument("--json", action="store_true", help="print the counts as one JSON document")
     stats.set_defaults(handler=run_stats)
 
 
-def _store(args: argparse.Namespace, *, create: bool = False) -> LibraryStore:
-    """The library store; reading one that does not exist is an error, not a new file."""
-    path = args.db or defaults.library_db()
-    if not create and not path.exists():
+def _store(args: argparse.Namespace) -> LibraryStore:
+    """The library store to read; one that does not exist is an error, not a new file."""
+    path = library_path(args.db, "--db")
+    if not path.exists():
         raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
     return LibraryStore(path)
+
+
+SHOW_COLUMNS = (Column("id"), Column("grasp"), Column("features", fold=True))
+"""Ids and grasps whole (an id is what ``show ID`` takes); the features fold."""
 
 
 def run_show(args: argparse.Namespace) -> int:
@@ -67,18 +76,23 @@ def run_show(args: argparse.Namespace) -> int:
         descriptions = [d for d in descriptions if d.object_id == args.id]
         if not descriptions:
             raise ValueError(f"library: no description with id {args.id!r}")
-    print_table(["id", "grasp", "features"],
+    if args.json:
+        print_json(descriptions_to_json(descriptions))
+        return 0
+    print_table(SHOW_COLUMNS,
                 [[d.object_id, f"{d.grasp}{d.grasp_position}", " ".join(str(o) for o in d.observations)]
-                 for d in descriptions], title=_count(len(descriptions), "description"))
+                 for d in descriptions], title=_count(len(descriptions), "description"), row_lines=True)
     return 0
 
 
 def run_import(args: argparse.Namespace) -> int:
     descriptions = read_library_json(args.file)
     check_library(descriptions, load_knowledge(args.knowledge), str(args.file))
-    with _store(args, create=True) as store:
+    path = library_path(args.db, "--db")
+    created = not path.exists()
+    with LibraryStore(path) as store:
         n = store.add(descriptions, replace=args.replace)
-        print(f"imported {_count(n, 'description')} into {store.path}")
+        print(f"imported {_count(n, 'description')} into {store.path}{' (a new library)' if created else ''}")
     return 0
 
 
@@ -95,10 +109,15 @@ def run_stats(args: argparse.Namespace) -> int:
         descriptions = store.descriptions()
     grasps = Counter(d.grasp for d in descriptions)
     features = Counter(f"{o.feature}{o.position}" for d in descriptions for o in d.observations)
+    if args.json:
+        print_json({"descriptions": len(descriptions), "feature_values": sum(features.values()),
+                    "by_grasp": dict(sorted(grasps.items())), "by_feature": dict(sorted(features.items()))})
+        return 0
     print(f"{_count(len(descriptions), 'description')}, {_count(sum(features.values()), 'feature value')}, "
           f"{_count(len(features), 'distinct feature-position')}")
-    print_table(["grasp", "descriptions"], [[g, str(n)] for g, n in sorted(grasps.items())], title="by grasp")
-    print_table(["feature(position)", "descriptions"], [[f, str(n)] for f, n in sorted(features.items())],
+    count = Column("descriptions", numeric=True)
+    print_table([Column("grasp"), count], [[g, str(n)] for g, n in sorted(grasps.items())], title="by grasp")
+    print_table([Column("feature(position)"), count], [[f, str(n)] for f, n in sorted(features.items())],
                 title="by feature")
     return 0
 

@@ -16,10 +16,11 @@ _SKIP = {"tick", "event", "object", "behaviour"}
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "log", help="replay an episode log: what was decided, measured and paid, object by object",
-        description=("Read an episode log (episode.jsonl, written by csl demo and csl run) back as a "
-                     "narrative: each object's tests with their costs, the values measured and the "
-                     "branches followed, every recovery, the grasp and what was learned."))
-    p.add_argument("file", type=Path, help="an episode.jsonl")
+        description=("Read an episode log (episode.jsonl, written by csl demo and csl run, or a recording "
+                     "made with --record FILE.mcap) back as a narrative: each object's tests with their costs, "
+                     "the values measured and the branches followed, every recovery, the grasp and what was "
+                     "learned."))
+    p.add_argument("file", type=Path, help="an episode.jsonl, or a .mcap recording (docs/recording.md)")
     p.add_argument("--object", type=int, metavar="N", help="only object N")
     p.add_argument("--events", metavar="KINDS",
                    help=f"only these event kinds, comma-separated; one of: {', '.join(EVENT_KINDS)}")
@@ -49,6 +50,14 @@ def run_log(args: argparse.Namespace) -> int:
         if e.get("object") is not None and e.get("object") != current:
             current = e.get("object")
             print(f"\nobject {current}")
-        detail = ", ".join(f"{k}={v}" for k, v in e.items() if k not in _SKIP)
+        detail = ", ".join(_field(k, v) for k, v in e.items() if k not in _SKIP)
         print(f"  tick {e.get('tick', '?'):>4}  {e['event']:<18} {detail}")
     return 0
+
+
+def _field(key: str, value: object) -> str:
+    """One field of an event as the story prints it; a move's planned waypoints (many
+    numbers, drawn on the map and in a recording) are counted, not listed."""
+    if key == "path" and isinstance(value, list):
+        return f"waypoints={len(value)}"
+    return f"{key}={value}"

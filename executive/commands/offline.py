@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from executive import defaults
 from executive.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
 from executive.profile import knowledge_of, load_knowledge
-from executive.tables import print_table
+from executive.tables import Column, print_paragraph, print_table
 from learner.costs import ModelMoveCost
 from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
 from learner.matrix import DescriptionMatrix
@@ -131,8 +131,8 @@ def run_train(args: argparse.Namespace) -> int:
         from executive.sim_training import ground_truth
 
         truth = ground_truth(result.descriptions, sim.seen, knowledge, summary, profile)
-        print(f"against the simulator's exact values: {len(truth.misfits)} of {truth.checked} library values "
-              "(each at every training position it stands for) off by more than the expected error")
+        print_paragraph(f"against the simulator's exact values: {len(truth.misfits)} of {truth.checked} library "
+                        "values (each at every training position it stands for) off by more than the expected error")
         for misfit in truth.misfits:
             print(f"  {misfit}")
     if args.out.suffix.lower() == ".json":
@@ -149,33 +149,37 @@ def run_train(args: argparse.Namespace) -> int:
     return 0
 
 
+MEASURED_COLUMNS = (Column("object"), Column("n", numeric=True), Column("procedures applied", fold=True))
+"""Whole ids, and every procedure applied, folded onto as many lines as it takes."""
+
+
 def _print_training(objects: list[TrainingObject], result: TrainingResult, summary: TrainingSummary) -> None:
     """Positions found, what was measured per object, and the robot time (the paper's
     training figures: 0/90/181/272°, 6/16/24 in, about 7 h; exhaustive over 5 years)."""
     log = result.log
     print(f"training orientations (deg): {', '.join(f'{o:g}' for o in summary.orientations_deg)}")
     print(f"training distances (in):     {', '.join(f'{d:g}' for d in summary.distances_in)}")
-    print(f"  from {len(log.distance_reasons)} candidate distances (a sweep still separating two "
-          "similar-sized objects of different grasps); for example:")
+    print_paragraph(f"  from {len(log.distance_reasons)} candidate distances (a sweep still separating two "
+                    "similar-sized objects of different grasps); for example:", indent=2)
     for d in summary.distances_in:
         near = [r for r in log.distance_reasons if abs(r.distance_in - d) < 1.0]
         if near:
             r = min(near, key=lambda r: r.distance_in)
-            print(f"  {d:g} in: {r.feature} separates {r.object_a} from {r.object_b} up to {r.distance_in:.1f} in")
+            print_paragraph(f"  {d:g} in: {r.feature} separates {r.object_a} from {r.object_b} up to "
+                            f"{r.distance_in:.1f} in", indent=4)
     per_object: dict[str, list[str]] = {}
     for oid, proc, pos, _why in log.applied:
         per_object.setdefault(oid, []).append(f"{proc}{pos}")
-    print_table(["object", "procedures applied", "n"],
-                [[o.object_id, ", ".join(per_object.get(o.object_id, [])), str(len(per_object.get(o.object_id, [])))]
-                 for o in objects], title="measured per object")
+    print_table(MEASURED_COLUMNS,
+                [[o.object_id, str(len(per_object.get(o.object_id, []))), ", ".join(per_object.get(o.object_id, []))]
+                 for o in objects], title="measured per object", row_lines=True)
     if log.unresolved:
         where = sorted({str(pos) for _, pos in log.unresolved})
         objects_left = len({oid for oid, _ in log.unresolved})
-        print(f"note: at {len(where)} far position(s) ({', '.join(where)}) {objects_left} object(s) could not all "
-              "be told apart with the procedures usable there; nearer positions resolve them")
-    print(f"training cost: {summary.total_s:.0f} s of robot time "
-          f"({summary.sensing_s:.0f} s sensing, {summary.moving_s:.0f} s moving; {summary.robot_hours:.1f} h); "
-          f"{summary.applications} procedure applications, {summary.observations} values in "
-          f"{summary.descriptions} descriptions")
-    print(f"every procedure at every training position: {summary.every_procedure_at_positions_s / 3600:.1f} h of "
-          f"sensing; at every whole inch and degree (exhaustive): {summary.exhaustive_years:.1f} years")
+        print_paragraph(f"note: at {len(where)} far position(s) ({', '.join(where)}) {objects_left} object(s) "
+                        "could not all be told apart with the procedures usable there; nearer positions resolve them")
+    print_paragraph(f"training cost: {summary.total_s:.0f} s of robot time ({summary.sensing_s:.0f} s sensing, "
+                    f"{summary.moving_s:.0f} s moving; {summary.robot_hours:.1f} h); {summary.applications} "
+                    f"procedure applications, {summary.observations} values in {summary.descriptions} descriptions")
+    print_paragraph(f"every procedure at every training position: {summary.every_procedure_at_positions_s / 3600:.1f} "
+                    f"h of sensing; at every whole inch and degree (exhaustive): {summary.exhaustive_years:.1f} years")

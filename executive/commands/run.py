@@ -8,7 +8,9 @@ import argparse
 from pathlib import Path
 
 from executive import defaults
-from executive.args import add_criterion_options, endpoint, non_negative_int, positive_int
+from executive.args import (add_criterion_options, add_recording_options, add_retrain_option, add_verb_timeout_option,
+                            battery_level,
+                            endpoint, non_negative_int, positive_int)
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
@@ -27,9 +29,17 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                         "descriptions before any test, for free (docs/library-format.md)")
     p.add_argument("--max-steps", type=positive_int, default=40, metavar="N",
                    help="recognition steps per object before it is reported failed (default 40)")
+    p.add_argument("--battery-low", type=battery_level, default=0.2, metavar="LEVEL",
+                   help="below this battery level the robot drives to its dock and charges, then resumes "
+                        "(default 0.2; 0 turns the guard off; needs the driver's battery feature)")
     p.add_argument("--out", type=Path, default=Path("csl-out"),
                    help="folder for the episode log, the plots and (demo) the library (default ./csl-out)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--camera-calibration", type=Path, default=None, metavar="FILE",
+                   help="the overhead camera's calibration (written by 'csl camera calibrate', the empty floor "
+                        "image beside it): vision reads real images through it (docs/camera.md; default: "
+                        "band images)")
+    add_recording_options(p)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -42,6 +52,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     demo.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (default 0)")
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
     _noise_option(demo, "")
+    _camera_option(demo, "")
+    add_retrain_option(demo)
     _executive_options(demo)
     demo.set_defaults(handler=_handler("run_demo"))
 
@@ -57,6 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--world", default=None, help="world name or file (with --driver sim; default: the lab)")
     run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
     _noise_option(run, "with --driver sim; ")
+    _camera_option(run, "with --driver sim; ")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",
@@ -64,7 +77,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--learner-name", default=None, help="name of the zenoh learner service (default 'default')")
     run.add_argument("--learner-connect", type=endpoint, default=None, metavar="ENDPOINT",
                      help=f"zenoh endpoint of the learner service (with --learner zenoh; default {LEARNER_ENDPOINT})")
+    run.add_argument("--outbox", type=Path, default=None, metavar="FILE",
+                     help="where learned descriptions wait while the learner service is unreachable (SQLite; "
+                          "with --learner zenoh; default $CSL_HOME/outbox.sqlite)")
     add_zenoh_config_option(run)
+    add_verb_timeout_option(run)
     _executive_options(run)
     run.set_defaults(handler=_handler("run_run"))
 
@@ -85,6 +102,13 @@ def _noise_option(p: argparse.ArgumentParser, when: str) -> None:
     p.add_argument("--noise", choices=tuple(NOISE_PRESETS), default=None, metavar="PRESET",
                    help=f"the simulator's sensor and odometry noise: {', '.join(NOISE_PRESETS)} ({when}default: "
                         "the world file's noise table, else mild; docs/simulator.md)")
+
+
+def _camera_option(p: argparse.ArgumentParser, when: str) -> None:
+    p.add_argument("--camera", choices=("simple", "realistic"), default=None,
+                   help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
+                        "camera's image; calibrated from the world's marker board on the first image unless "
+                        f"--camera-calibration is given; docs/camera.md) ({when}default simple)")
 
 
 def _handler(name: str):  # noqa: ANN202

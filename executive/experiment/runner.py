@@ -4,7 +4,7 @@ Episodes share nothing, so they spread over processes (``--jobs``; the simulator
 learner are pure Python and hold the GIL). Workers are *spawned*, not forked: each
 imports its own simulator, planner and learner, and inherits no thread, lock or open
 store from the parent. Jobs equal as values run once, so two studies that need the
-same episode (the execution study's and the baselines' ``cs-id3`` runs) share it.
+same episode (the execution study's and the baselines' default-criterion runs) share it.
 """
 
 from __future__ import annotations

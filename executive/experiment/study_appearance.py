@@ -16,6 +16,7 @@ from collections.abc import Mapping, Sequence
 
 from executive.experiment.conditions import EXECUTION_NOISE, Control
 from executive.experiment.config import ExperimentConfig
+from learner.criteria import DEFAULT_CRITERION
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
@@ -76,7 +77,7 @@ def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
         table.append(ResultRow(f"{objects} objects: robot min saved per object by the appearance (paired by seed)",
                                "-", f"{num(saving, 2)} ± {num(error, 2)}; favours: "
                                f"{verdict(saving, error, cells[0][0], cells[1][0])}"))
-    notes = (f"Noise `{EXECUTION_NOISE}`, criterion cs-id3, the library trained in study 1 (it records each "
+    notes = (f"Noise `{EXECUTION_NOISE}`, criterion `{DEFAULT_CRITERION}`, the library trained in study 1 (it records each "
              f"description's appearance), {len(seeds)} seeds; the appearance-off runs are study 2's.",
              "Favours 'on' only when it saves more than twice the standard error of the paired difference and "
              "loses no success; the executive's default is off (`--appearance` turns it on).")

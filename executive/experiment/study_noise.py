@@ -15,6 +15,7 @@ from pathlib import Path
 
 from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF, STRATEGIES_ON, Control
 from executive.experiment.config import ExperimentConfig
+from learner.criteria import DEFAULT_CRITERION
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
@@ -93,7 +94,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
         Panel(f"success vs noise ({EXECUTION_NOISE} preset x factor)", "noise factor", "success rate", series),
         Panel("cost vs noise", "noise factor", "robot min / object", costs),
     ])
-    notes = (f"Test objects, criterion cs-id3, {len(seeds)} seed(s) per point; factor f scales every rate and sigma "
+    notes = (f"Test objects, criterion `{DEFAULT_CRITERION}`, {len(seeds)} seed(s) per point; factor f scales every rate and sigma "
              f"of the `{EXECUTION_NOISE}` preset (`NoiseConfig.preset('{EXECUTION_NOISE}').scaled(f)`).",
              f"The executive's default is `{STRATEGIES_ON.label}` (the paper's); at noise x1 and above the data "
              f"favours `{best.label}`"

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from executive.experiment.conditions import NO_NOISE, CostScale
 from executive.experiment.config import ExperimentConfig
+from learner.criteria import DEFAULT_CRITERION
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num
@@ -74,7 +75,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
         Panel("robot time", "cost multiplier", "robot min / object",
               {"moves": (xs, [m[2] for m in by_move]), "sensing": (xs, [m[2] for m in by_sense])}, logx=True),
     ])
-    notes = (f"Test objects, noise off, criterion cs-id3, {len(seeds)} seed(s) per point; 'moves xk' makes driving, "
+    notes = (f"Test objects, noise off, criterion `{DEFAULT_CRITERION}`, {len(seeds)} seed(s) per point; 'moves xk' makes driving, "
              "turning, vision and centring k times slower (and the learner's move model k times dearer), "
              "'sensing xk' every sensing procedure k times longer.",
              "The ratio column here gives the direction: 'up' when the second value is larger, as the paper's "

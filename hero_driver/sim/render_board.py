@@ -1,7 +1,7 @@
 """The calibration board the realistic camera preset prints on the floor: ArUco
 markers at known floor positions (docs/camera.md, "The marker board").
 
-A world ``NAME`` has a board when ``NAME-board.json`` lies next to its world file (the
+A world has a board when its world file names one (``"board"``, docs/simulator.md; the
 lab ships one). The executive reads the same file to calibrate, so the two ends agree
 on where the markers are without the planner importing the simulator.
 """
@@ -16,7 +16,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from hero_driver.sim.worldfile import WORLDS_DIR
+from hero_driver.sim.worldfile import WorldSpec
 
 QUIET_MODULES = 1  # white paper around each marker, in marker modules
 
@@ -50,14 +50,27 @@ class MarkerBoard:
         return self.marker_in * (1 + 2 * QUIET_MODULES / self.modules())
 
 
-def board_path(world_name: str) -> Path:
-    return WORLDS_DIR / f"{world_name}-board.json"
+def board_path(world: str | Path) -> Path:
+    """The board file world ``world`` (a shipped world's name or a world file) names;
+    ValueError when it names none."""
+    from hero_driver.sim.world import profile_and_catalogue  # the world imports this module
+    from hero_driver.sim.worldfile import load_world
+
+    spec = load_world(world, profile_and_catalogue()[1])
+    if spec.board is None:
+        raise ValueError(f"{spec.source}: names no marker board (field 'board', docs/camera.md)")
+    return spec.board
 
 
-def board_for(world_name: str) -> MarkerBoard | None:
-    """The board printed on this world's floor, or None when it has none."""
-    path = board_path(world_name)
-    return load_board(path) if path.exists() else None
+def board_for(world: WorldSpec | str | Path) -> MarkerBoard | None:
+    """The board printed on a world's floor (a spec, a shipped world's name or a world
+    file), or None when it has none."""
+    if not isinstance(world, WorldSpec):
+        from hero_driver.sim.world import profile_and_catalogue
+        from hero_driver.sim.worldfile import load_world
+
+        world = load_world(world, profile_and_catalogue()[1])
+    return None if world.board is None else load_board(world.board)
 
 
 def load_board(path: Path) -> MarkerBoard:

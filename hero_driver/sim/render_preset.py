@@ -1,8 +1,8 @@
 """The overhead image of a simulated world through a named camera preset.
 
-``SimWorld.camera()`` draws the ``simple`` preset; this draws any preset of the same
-world state (the objects on the floor at their drawn camera yaw, the true pose), for
-the benches and tests that compare presets on identical scenes.
+``SimWorld.camera()`` draws its own preset through this; benches and tests that
+compare presets on identical scenes call it with each (the objects on the floor at
+their drawn camera yaw, the true pose).
 """
 
 from __future__ import annotations

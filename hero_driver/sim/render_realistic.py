@@ -119,7 +119,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     """Draw the room as a real overhead camera would see it (module docstring)."""
     geo = Geometry.for_room(spec)
     albedo = _floor_albedo(spec, geo)
-    board = board_for(spec.name)
+    board = board_for(spec)
     if board is not None:
         print_board(board, albedo, geo.world_to_pixel, PAPER_ALBEDO, INK_ALBEDO)
     furniture = _coverage(geo, [rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg)

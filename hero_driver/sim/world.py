@@ -22,18 +22,20 @@ from hero_driver.interface import (
     MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim import camera, grasping, sonar
+from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
+from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.odometry import Drift, slip
 from hero_driver.sim.physics import Physics, SimObject
 from hero_driver.sim.readings import perturb, perturb_flag, specular_miss, specular_value
+from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.worldfile import WorldSpec, load_world
 from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile
 
 RANGE_TOLERANCE_IN = 1.5  # docs/conventions.md: a procedure accepts its range ± this
 CENTRING_RADIUS_IN = 12.0  # sonar centring finds an object whose centre is this near `face`
 COLLISION_BACKOFF_IN = 0.1  # the bumper stops the base this short of contact
-BATTERY_LIFE_S = 36000.0  # a full charge lasts ten hours of robot time
 KNOCK_YAW_SIGMA_DEG = 5.0
 PUSH_SPREAD = (0.6, 1.4)  # a push travels this fraction of the entry's push_in
 ROLL_FACTOR = 3.0  # a rolling object travels this much farther than a sliding one
@@ -81,11 +83,17 @@ class SimWorld:
 
     ``pose`` is the true pose (what the sonar, the bumper and the camera see); the
     verbs report ``reported_pose()``, the true pose less the dead-reckoning ``drift``.
+    ``camera_preset`` is how the overhead camera draws (``camera.PRESETS``: the grey
+    bands, or what a real ceiling camera would show, docs/camera.md).
     """
 
     def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
-                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None) -> None:
+                 profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
+                 camera: str = "simple") -> None:
+        if camera not in PRESETS:
+            raise ValueError(f"camera preset {camera!r}: expected one of {', '.join(PRESETS)}")
         self.profile, self.catalogue = profile_and_catalogue(profile)
+        self.camera_preset = camera
         self._explicit_noise = noise
         self.load(world if isinstance(world, WorldSpec) else load_world(world, self.catalogue), seed)
 
@@ -102,13 +110,38 @@ class SimWorld:
         self.drift = Drift()
         self.camera_yaw = camera.YawErrors()
         self.clock_s = 0.0
+        metered = spec.dock is not None or spec.battery is not None  # else tethered (docs/simulator.md)
+        self.battery = Battery(1.0 if spec.battery is None else spec.battery, metered)
         self.held: SimObject | None = None
         self.last_effect = grasping.NOTHING
 
     # -- state -------------------------------------------------------------------
 
     def state(self) -> RobotState:
-        return RobotState(self.reported_pose(), self.clock_s, max(0.0, 1.0 - self.clock_s / BATTERY_LIFE_S))
+        return RobotState(self.reported_pose(), self.clock_s, self.battery.level)
+
+    def dock(self) -> Pose | None:
+        """Where the charging dock is, as the robot's dead reckoning places it."""
+        dock = self.spec.dock
+        return None if dock is None else Pose(dock.x_in - self.drift.dx_in, dock.y_in - self.drift.dy_in,
+                                              dock.heading_deg)
+
+    def charge(self) -> RobotState:
+        """Charge to full at the dock (docs/simulator.md, Battery). The beacon guides the
+        base the last inches onto the contacts (driving time, drained as moving), where
+        the robot knows exactly where it is: its drift is gone."""
+        dock = self.spec.dock
+        if dock is None:
+            raise DriverError(OUT_OF_RANGE, "charge: this world has no charging dock")
+        off = math.hypot(self.pose.x_in - dock.x_in, self.pose.y_in - dock.y_in)
+        if off > DOCK_REACH_IN:
+            raise DriverError(OUT_OF_RANGE, f"charge: the base is {off:.1f} in from the dock; the beacon "
+                                            f"guides it in from {DOCK_REACH_IN:g} in")
+        approach_s = off / self.profile.robot.motion.speed_in_per_s
+        self.battery.drain(approach_s, MOVING_PER_S)
+        self.pose, self.drift = dock.pose, Drift()
+        self.clock_s += approach_s + self.battery.charge()
+        return self.state()
 
     def reported_pose(self) -> Pose:
         """Where the robot's dead reckoning says it is (docs/simulator.md, Moving)."""
@@ -142,6 +175,7 @@ class SimWorld:
             if not (-margin <= wp.x_in <= width + margin and -margin <= wp.y_in <= depth + margin):
                 raise DriverError(BAD_REQUEST, f"move: waypoints[{i}] ({wp.x_in:g}, {wp.y_in:g}) is far outside "
                                                f"the room (0-{width:g} x 0-{depth:g} in)")
+        self.battery.require("move")
         motion, radius = self.profile.robot.motion, self.profile.robot.geometry.base_radius_in
         duration = motion.vision_s
         x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg
@@ -179,6 +213,7 @@ class SimWorld:
                 heading = final + self._heading_error()
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
+        self.battery.drain(duration, MOVING_PER_S)
         return MoveResult(self.reported_pose(), duration, collided, centred)
 
     def _odometry(self, stop: tuple[float, float], course_deg: float, travel: float) -> tuple[float, float]:
@@ -239,6 +274,7 @@ class SimWorld:
         model = sonar.PROCEDURES.get(procedure)
         if spec is None or model is None:
             raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure '{procedure}'")
+        self.battery.require("sense")
         aim = self._aim(procedure, spec.range_in)
         ideal = model(self.physics, aim)
         missed = (self.noise.specular_p > 0 and procedure in sonar.SIDE_LOOKING
@@ -257,6 +293,7 @@ class SimWorld:
                 value *= float(self.rng.uniform(0.25, 0.5))
             values[feature.name] = perturb(value, feature.error, step, self.rng, self.noise)
         self.clock_s += spec.time_s
+        self.battery.drain(spec.time_s, SENSING_PER_S)
         return SenseResult(procedure, values, spec.time_s, aim.distance_in)
 
     def _curved_end_on(self, aim: sonar.Aim) -> bool:
@@ -273,6 +310,7 @@ class SimWorld:
             raise DriverError(UNKNOWN_PROCEDURE, f"grasp: unknown grasping procedure '{procedure}'")
         if self.held is not None:
             raise DriverError(BAD_REQUEST, f"grasp: the hand holds object {self.held.index}; release it first")
+        self.battery.require("grasp")
         aim = self._aim(procedure, spec.range_in)
         obj = aim.target
         end_on = sonar.approach_is_end_on(aim.heading_deg, obj)
@@ -288,6 +326,7 @@ class SimWorld:
             elif self.last_effect == grasping.KNOCKED_OVER:
                 self._knock_over(obj, aim.u)
         self.clock_s += spec.time_s
+        self.battery.drain(spec.time_s, GRASPING_PER_S)
         return GraspResult(procedure, success, spec.time_s)
 
     def _push(self, obj: SimObject, u: tuple[float, float]) -> None:
@@ -327,10 +366,7 @@ class SimWorld:
     # -- camera ------------------------------------------------------------------
 
     def camera(self) -> CameraImage:
-        """The overhead image (vision time is charged to moves, not here); each
-        object's orientation is drawn off by its camera error."""
-        floor = [(o.entry.footprint, o.x_in, o.y_in,
-                  o.yaw_deg + self.camera_yaw.error(o.index, (o.x_in, o.y_in, o.yaw_deg), self.noise, self.rng))
-                 for o in self.physics.objects if o.status == "floor"]
-        return camera.render(self.spec, floor, self.pose, self.profile.robot.geometry.base_radius_in,
-                             self.noise, self.rng, self.clock_s)
+        """The overhead image through this world's camera preset (vision time is
+        charged to moves, not here); each object's orientation is drawn off by its
+        camera error."""
+        return render_world(self, self.camera_preset)

@@ -9,16 +9,25 @@ a wall or inside another one would make every later measurement meaningless.
 from __future__ import annotations
 
 import json
+import logging
 import math
+import os
+import re
+import stat
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
+from hero_driver.sim.battery import Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
 from hero_driver.sim.noise import NoiseConfig
 
+log = logging.getLogger(__name__)
+
 WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
 DEFAULT_WORLD = "lab"
+WORLD_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
+"""What ``reset`` accepts as a world: a name, never a path (no '/', no '.', so no '..')."""
 
 
 @dataclass(frozen=True)
@@ -53,6 +62,9 @@ class WorldSpec:
     robot: tuple[float, float, float]  # x_in, y_in, heading_deg
     objects: tuple[Placement, ...]
     noise: NoiseConfig | None
+    board: Path | None = None  # the marker board printed on its floor (docs/camera.md)
+    dock: Dock | None = None  # the charging dock, if the world has one (docs/simulator.md, Battery)
+    battery: float | None = None  # the battery's level at the start; None: full, or tethered without a dock
 
 
 def resolve(world: str | Path | None) -> Path:
@@ -102,12 +114,12 @@ def _overlap(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool
 def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
     """Check and build a world from decoded JSON (``source`` names it in errors)."""
     top = FieldReader(source, "world", data)
-    top.only("about", "name", "room", "furniture", "robot", "objects", "noise")
+    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery")
     room = FieldReader(source, "room", top.table.get("room"))
     room.only("width_in", "depth_in")
     width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
     furniture = []
-    for i, raw in enumerate(top.table.get("furniture", [])):
+    for i, raw in enumerate(_array(top, "furniture")):
         r = FieldReader(source, f"furniture[{i}]", raw)
         r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg")
         furniture.append(Furniture(r.text("name"), r.number("x_in"), r.number("y_in"),
@@ -117,7 +129,7 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     rr.only("x_in", "y_in", "heading_deg")
     robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))
     objects = []
-    for i, raw in enumerate(top.table.get("objects", [])):
+    for i, raw in enumerate(_array(top, "objects")):
         r = FieldReader(source, f"objects[{i}]", raw)
         r.only("id", "x_in", "y_in", "yaw_deg")
         entry_id = r.text("id")
@@ -131,9 +143,59 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
             raise top.fail("noise", "must be an object")
         noise = NoiseConfig.from_mapping(noise_table, f"{source}: noise")
     spec = WorldSpec(str(top.table.get("name", Path(source).stem)), source, width, depth,
-                     tuple(furniture), robot, tuple(objects), noise)
+                     tuple(furniture), robot, tuple(objects), noise, _board(top, source),
+                     dock=_dock(source, top.table.get("dock"), width, depth), battery=_battery(top))
     _check_layout(spec, catalogue)
     return spec
+
+
+def _board(top: FieldReader, source: str) -> Path | None:
+    """The optional ``board`` file, relative to the world file's folder, else one of
+    the shipped boards (so a copy of ``lab.json`` edited elsewhere keeps the lab's
+    board): the marker board the realistic camera prints on the floor and calibration
+    reads."""
+    name = top.table.get("board")
+    if name is None:
+        return None
+    if not isinstance(name, str) or not name:
+        raise top.fail("board", "must be the name of a marker board file")
+    path = Path(source).parent / name
+    if not path.is_file():
+        shipped = WORLDS_DIR / name
+        if Path(name).name != name or not shipped.is_file():
+            raise top.fail("board", f"names {path}, which is not a file (nor a shipped board)")
+        path = shipped
+    return path
+
+
+def _dock(source: str, raw: object, width: float, depth: float) -> Dock | None:
+    """The optional charging dock: the pose the base charges at, inside the room."""
+    if raw is None:
+        return None
+    r = FieldReader(source, "dock", raw)
+    r.only("x_in", "y_in", "heading_deg")
+    dock = Dock(r.number("x_in"), r.number("y_in"), r.number("heading_deg", -360.0, 0.0))
+    if dock.x_in > width or dock.y_in > depth:
+        raise r.fail("x_in" if dock.x_in > width else "y_in", f"puts the dock outside the {width:g}x{depth:g} in room")
+    return dock
+
+
+def _battery(top: FieldReader) -> float | None:
+    """The optional start level of the battery."""
+    if top.table.get("battery") is None:
+        return None
+    level = top.number("battery", 0.0)
+    if level > 1.0:
+        raise top.fail("battery", f"must be a level from 0 to 1, got {level:g}")
+    return level
+
+
+def _array(reader: FieldReader, field: str) -> list[object]:
+    """An optional array field (absent: empty); anything else, null included, is refused."""
+    value = reader.table.get(field, [])
+    if not isinstance(value, list):
+        raise reader.fail(field, "must be an array")
+    return value
 
 
 def _check_layout(spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry]) -> None:
@@ -176,3 +238,84 @@ def one_object_world(entry_id: str, catalogue: Mapping[str, CatalogueEntry], *,
             "robot": {"x_in": 20.0, "y_in": 20.0, "heading_deg": 0.0},
             "objects": [{"id": entry_id, "x_in": centre, "y_in": centre, "yaw_deg": yaw_deg}]}
     return parse_world(data, f"<probe {entry_id}>", catalogue)
+
+
+class WorldRefused(ValueError):
+    """A world ``reset`` will not load; the text is safe to send to any client: it names
+    nothing of the driver's file system beyond the name the client itself sent."""
+
+
+@dataclass(frozen=True)
+class WorldShelf:
+    """The worlds a driver's ``reset`` may restore, by name: ``<folder>/<name>.json``,
+    plus ``named`` worlds served under a name of their own (the world the driver
+    was started with, under its file's stem).
+
+    A protocol client is anyone who reaches the port, so a name is all it may give:
+    a path would let it read any file the driver can (and learn from the error
+    whether one exists), and a FIFO would hang the driver while its token stays up.
+    """
+
+    folder: Path = WORLDS_DIR
+    named: tuple[tuple[str, Path], ...] = ()
+
+    def path_of(self, name: str) -> Path:
+        """Where world ``name`` lives; WorldRefused for a non-name or an unknown one."""
+        if not isinstance(name, str) or not WORLD_NAME.fullmatch(name):
+            raise WorldRefused("world: expected a world name (up to 64 letters, digits, '_' or '-'), not a path")
+        for served, path in self.named:
+            if served == name:
+                return path
+        return self.folder / f"{name}.json"
+
+    def load(self, name: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
+        """Read and check world ``name``. Every failure is one WorldRefused line that
+        says no more than "no such world" or "cannot be loaded"; the driver's own log
+        gets the reason."""
+        path = self.path_of(name)
+        text = _read_regular_file(path)
+        if text is None:
+            raise WorldRefused(f"world: no world named {name!r} on this driver")
+        try:
+            return parse_world(json.loads(text), str(path), catalogue)
+        except (ValueError, RecursionError) as exc:  # JSONDecodeError is a ValueError
+            log.warning("world %r (%s) cannot be loaded: %s", name, path, exc)
+            raise WorldRefused(f"world: {name!r} cannot be loaded on this driver (see the driver's log)") from None
+
+
+def _read_regular_file(path: Path) -> str | None:
+    """The text of ``path`` if it is a regular file that can be read, else None.
+
+    Opened without blocking and checked on the open descriptor, so a FIFO or a device
+    put in the folder is refused instead of hanging the reader.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        with os.fdopen(fd, "rb", closefd=False) as stream:
+            data = stream.read()
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return ""  # not a world either: parsed, refused as "cannot be loaded"
+
+
+def shelf_for(start: str | Path | WorldSpec | None, folder: Path | None = None) -> WorldShelf:
+    """The shelf of a driver started with world ``start`` (see :func:`resolve`) and
+    worlds folder ``folder`` (None: the shipped worlds): the start world is also
+    served under its file's stem, so ``csl driver sim --world my/room.json`` answers
+    ``reset {"world": "room"}``. A world built in memory (a :class:`WorldSpec`, as
+    tests and the experiment make) has no file, so it adds no name."""
+    shelf = WORLDS_DIR if folder is None else folder
+    if isinstance(start, WorldSpec):
+        return WorldShelf(shelf, ())
+    path = resolve(start)
+    return WorldShelf(shelf, ((path.stem, path),))

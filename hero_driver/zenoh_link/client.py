@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import Future, InvalidStateError
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -50,7 +50,7 @@ from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
 from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
 from robot_profile import ProfileStamp
 from zenoh_rpc.client import Reply, RpcClient
-from zenoh_rpc.config import UserConfig, open_session
+from zenoh_rpc.config import UserConfig, close_session, open_session
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT
 
 log = logging.getLogger(__name__)
@@ -79,6 +79,19 @@ class VerbTimeouts:
         object.__setattr__(self, "seconds", tuple((name.removesuffix("_s"), float(chosen[name]))
                                                   for name in known))
         object.__setattr__(self, "_by_verb", MappingProxyType(dict(self.seconds)))
+
+    @classmethod
+    def of_verbs(cls, seconds: Iterable[tuple[str, float]]) -> VerbTimeouts:
+        """From (verb, seconds) pairs, as a command line gives them: ValueError, one
+        line, for a name that is not a verb or a verb given twice."""
+        chosen: dict[str, float] = {}
+        for verb, value in seconds:
+            if verb not in BY_NAME:
+                raise ValueError(f"{verb!r} is not a verb (verbs: {', '.join(BY_NAME)})")
+            if verb in chosen:
+                raise ValueError(f"{verb} is given twice")
+            chosen[verb] = value
+        return cls(**{f"{verb}_s": value for verb, value in chosen.items()})
 
     def of(self, verb: str) -> float:
         """The timeout of ``verb``."""
@@ -114,6 +127,7 @@ class ZenohDriver:
         self._state: RobotState | None = None
         self._agreement: Agreement | None = None  # with the live driver, once it answered hello
         self._profile: ProfileStamp | None = None  # the robot profile it said it serves, if it said
+        self._dock: Pose | None = None  # where it charges (the battery feature), if it said
         self._refusal: str | None = None  # why the live driver cannot be used, if it cannot
         self._pending: set[_Call] = set()
         self._closed = False
@@ -150,6 +164,13 @@ class ZenohDriver:
         answered ``hello``. A caller compares it with the profile it plans with."""
         with self._lock:
             return self._profile
+
+    def dock(self) -> Pose | None:
+        """Where the live driver's base charges (the ``battery`` feature, from its
+        ``hello``); None without the feature or before ``hello`` was answered, which
+        leaves the executive's low-battery guard off."""
+        with self._lock:
+            return self._dock
 
     def wait_ready(self, timeout_s: float) -> bool:
         """Wait until a driver is alive, agreed on a version and published its state;
@@ -189,7 +210,7 @@ class ZenohDriver:
         """With the lock held: no driver, no state; the verbs in flight, to fail."""
         self._alive = False
         self._state = None
-        self._agreement = self._refusal = self._profile = None
+        self._agreement = self._refusal = self._profile = self._dock = None
         orphans, self._pending = self._pending, set()
         self._lock.notify_all()
         return orphans
@@ -227,7 +248,7 @@ class ZenohDriver:
             if self._closed:
                 return
             generation = self._liveliness_events
-            self._agreement = self._refusal = self._profile = None
+            self._agreement = self._refusal = self._profile = self._dock = None
         self.hello().add_done_callback(lambda answered: self._settle(generation, answered))
 
     def _settle(self, generation: int, answered: Future[Greeting]) -> None:
@@ -247,6 +268,7 @@ class ZenohDriver:
             if self._liveliness_events == generation and self._alive and not self._closed:
                 self._agreement, self._refusal = agreement, refusal
                 self._profile = greeting.profile if agreement is not None else None
+                self._dock = greeting.dock if agreement is not None else None
                 self._lock.notify_all()
 
     # --------------------------------------------------------------------- state
@@ -294,6 +316,10 @@ class ZenohDriver:
 
     def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
         return self._call("reset", lambda: ResetRequest(world, seed))
+
+    def charge(self) -> Future[RobotState]:
+        """The ``battery`` feature: with the base at the dock, charge until full."""
+        return self._call("charge", EmptyRequest)
 
     def noop(self) -> Future[None]:
         """Round trip to the driver node without touching the robot (health, benchmark)."""
@@ -352,7 +378,7 @@ class ZenohDriver:
         self._token_sub.undeclare()
         self._state_sub.undeclare()
         if self._owns_session:
-            self._session.close()
+            close_session(self._session)
 
     def __enter__(self) -> ZenohDriver:
         return self

@@ -39,10 +39,19 @@ from hero_driver.interface import (
     RobotState,
     SenseResult,
 )
-from hero_driver.zenoh_link.versions import PROFILE, Greeting
+from hero_driver.zenoh_link.versions import BATTERY, PROFILE, Greeting
 from robot_profile import ProfileStamp
 
 Json = dict[str, Any]
+
+MAX_REQUEST_BYTES = 128 * 1024
+"""The largest request payload a driver reads: a move of :data:`MAX_WAYPOINTS` poses
+whose numbers take the longest form JSON gives a double is about 100 KiB (a test
+holds it under this cap); anything larger is refused before it is parsed, so a 44 MB move
+costs the driver no more than its length check."""
+MAX_WAYPOINTS = 1000
+"""The most waypoints one ``move`` may carry: the planner's paths have tens; a
+million would keep the robot busy for minutes on a single request."""
 
 
 class CodecError(ValueError):
@@ -104,6 +113,14 @@ def loads(data: bytes) -> Json:
     if version != PROTOCOL_VERSION:
         raise CodecError(f"v: protocol version {version} not supported (speaks {PROTOCOL_VERSION})")
     return message
+
+
+def loads_request(data: bytes) -> Json:
+    """:func:`loads` for a request, after checking its size against
+    :data:`MAX_REQUEST_BYTES` (replies are not capped: a camera image is larger)."""
+    if len(data) > MAX_REQUEST_BYTES:
+        raise CodecError(f"message: {len(data)} bytes, more than the {MAX_REQUEST_BYTES} a request may have")
+    return loads(data)
 
 
 def dumps(fields: Json) -> bytes:
@@ -255,9 +272,7 @@ def decode_state(data: bytes) -> RobotState:
 
 def move_request_in(message: Json) -> MoveRequest:
     fields = _fields(message, "", ("waypoints",), ("face",))
-    items = _array(fields["waypoints"], "waypoints")
-    if not items:
-        raise CodecError("waypoints: expected at least one pose (the goal)")
+    items = _waypoint_count(_array(fields["waypoints"], "waypoints"))
     face = fields.get("face")
     return MoveRequest(
         tuple(_pose_in(item, f"waypoints[{i}]") for i, item in enumerate(items)),
@@ -266,11 +281,18 @@ def move_request_in(message: Json) -> MoveRequest:
 
 
 def move_request_out(request: MoveRequest) -> Json:
-    if not request.waypoints:
-        raise CodecError("waypoints: expected at least one pose (the goal)")
-    waypoints = [_pose_out(p, f"waypoints[{i}]") for i, p in enumerate(_array(request.waypoints, "waypoints"))]
+    items = _waypoint_count(_array(request.waypoints, "waypoints"))
+    waypoints = [_pose_out(p, f"waypoints[{i}]") for i, p in enumerate(items)]
     face = None if request.face is None else list(_reals(request.face, "face", 2))
     return {"waypoints": waypoints, "face": face}
+
+
+def _waypoint_count(items: Sequence[Any]) -> Sequence[Any]:
+    if not items:
+        raise CodecError("waypoints: expected at least one pose (the goal)")
+    if len(items) > MAX_WAYPOINTS:
+        raise CodecError(f"waypoints: {len(items)} poses, more than the {MAX_WAYPOINTS} a move may have")
+    return items
 
 
 def procedure_request_in(message: Json) -> ProcedureRequest:
@@ -486,19 +508,23 @@ def hello_out(hello: object) -> Json:
     if hello.profile is not None:
         fields["profile"] = {"name": _name(hello.profile.name, "profile.name"),
                              "sha256": _sha256(hello.profile.sha256, "profile.sha256")}
+    if hello.dock is not None:
+        fields["dock"] = _pose_out(hello.dock, "dock")
     _profile_listed(fields["features"], hello.profile is not None)
+    _dock_listed(fields["features"], hello.dock is not None)
     return fields
 
 
 def hello_in(message: Json) -> Greeting:
-    fields = _fields(message, "", ("versions", "features"), ("profile",))
+    fields = _fields(message, "", ("versions", "features"), ("profile", "dock"))
     served = Hello(tuple(_versions(fields["versions"])), tuple(_features(fields["features"])))
     profile = None
     if "profile" in fields:
         body = _fields(fields["profile"], "profile", ("name", "sha256"))
         profile = ProfileStamp(_name(body["name"], "profile.name"), _sha256(body["sha256"], "profile.sha256"))
     _profile_listed(list(served.features), profile is not None)
-    return Greeting(served, profile)
+    _dock_listed(list(served.features), "dock" in fields)
+    return Greeting(served, profile, _pose_in(fields["dock"], "dock") if "dock" in fields else None)
 
 
 def _sha256(value: object, path: str) -> str:
@@ -513,6 +539,13 @@ def _profile_listed(features: list[str], stated: bool) -> None:
     if stated != (PROFILE in features):
         raise CodecError("profile: sent without the 'profile' feature" if stated
                          else "profile: missing field (the 'profile' feature is listed)")
+
+
+def _dock_listed(features: list[str], stated: bool) -> None:
+    """The ``dock`` field and the ``battery`` feature come together or not at all."""
+    if stated != (BATTERY in features):
+        raise CodecError("dock: sent without the 'battery' feature" if stated
+                         else "dock: missing field (the 'battery' feature is listed)")
 
 
 def _versions(value: object) -> list[int]:

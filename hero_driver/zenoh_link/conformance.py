@@ -57,7 +57,7 @@ from hero_driver.zenoh_link.verbs import BY_NAME
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
-from hero_driver.zenoh_link.versions import Greeting
+from hero_driver.zenoh_link.versions import BATTERY, Greeting
 from robot_profile import DEFAULT_PROFILE, ProfileStamp, RobotProfile, load_profile
 
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
@@ -239,6 +239,7 @@ class _Suite:
             ("sense", self.sense),
             ("grasp", self.grasp),
             ("release", self.release),
+            ("charge", self.charge),
             ("out-of-range-target", self.out_of_range),
             ("unknown-verb", self.unknown_verb),
             ("unknown-procedure", self.unknown_procedure),
@@ -440,6 +441,25 @@ class _Suite:
         state = self.probe.result("release", {})
         return f"pose {_pose_text(state)}"
 
+    def charge(self) -> str:
+        """The optional ``battery`` feature's verb. Without the feature ``charge`` must be
+        an unknown verb (what a driver from before it answers); with it, charging from
+        the reset pose either charges (the dock is within reach there) or is
+        ``out_of_range``."""
+        features = () if self.greeting is None else self.greeting.served.features
+        outcome = self.probe.outcome("charge", {})
+        if BATTERY not in features:
+            if not isinstance(outcome, DriverError) or outcome.code != UNKNOWN_VERB:
+                raise CheckFailed(f"hello does not list the {BATTERY} feature, so charge must answer "
+                                  f"{UNKNOWN_VERB}, got {_outcome_text(outcome)}")
+            return f"not checked: the driver does not offer the {BATTERY} feature"
+        if isinstance(outcome, DriverError):
+            if outcome.code != OUT_OF_RANGE:
+                raise CheckFailed(f"charge from the reset pose: expected a state or {OUT_OF_RANGE}, "
+                                  f"got {outcome.code}: {outcome.message}")
+            return f"{OUT_OF_RANGE} away from the dock: {outcome.message}"
+        return f"charged at the dock: pose {_pose_text(outcome)}"
+
     def out_of_range(self) -> str:
         self.probe.result("reset", {"world": None, "seed": None})
         return self.probe.refusal("sense", _message({"procedure": self.procedures.near}), NOT_HERE)
@@ -576,6 +596,10 @@ def known_world(world: str = KNOWN_WORLD) -> tuple[Pose, tuple[PlacedObject, ...
                 else footprint.length_in * footprint.width_in)
         placed.append(PlacedObject(item.entry_id, item.x_in, item.y_in, area))
     return Pose(*spec.robot), tuple(placed)
+
+
+def _outcome_text(outcome: object) -> str:
+    return f"{outcome.code}: {outcome.message}" if isinstance(outcome, DriverError) else type(outcome).__name__
 
 
 def _stamp_text(stamp: ProfileStamp) -> str:

@@ -80,18 +80,24 @@ VERB_FIELDS: Mapping[str, tuple[tuple[Mapping[str, Schema], Sequence[str]],
                  "fisheye": _or_null(_numbers(4)), "clock_s": NOT_NEGATIVE, "meta": {"type": "object"}},
                 ("camera_matrix", "fisheye", "clock_s", "meta"))),
     "reset": (({"world": _or_null(NAME), "seed": _or_null(INTEGER)}, ("world", "seed")), (STATE_FIELDS, ())),
+    "charge": (({}, ()), (STATE_FIELDS, ())),
     "noop": (({}, ()), ({}, ())),
     "hello": (({}, ()),
               ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
                              "minItems": 1, "uniqueItems": True},
                 "features": {"type": "array", "items": NAME, "uniqueItems": True},
-                "profile": _object({"name": NAME, "sha256": {"type": "string", "pattern": "^[0-9a-f]{64}$"}})},
-               ("profile",))),
+                "profile": _object({"name": NAME, "sha256": {"type": "string", "pattern": "^[0-9a-f]{64}$"}}),
+                "dock": POSE},
+               ("profile", "dock"))),
 }
-# The ``profile`` field comes exactly when the ``profile`` feature is listed.
+# The ``profile`` field comes exactly when the ``profile`` feature is listed, ``dock``
+# exactly when ``battery`` is.
 LISTS_PROFILE: Schema = {"properties": {"features": {"contains": {"const": "profile"}}}}
+LISTS_BATTERY: Schema = {"properties": {"features": {"contains": {"const": "battery"}}}}
 CONDITIONS: Mapping[str, Schema] = {
-    "hello.reply": {"if": {"required": ["profile"]}, "then": LISTS_PROFILE, "else": {"not": LISTS_PROFILE}},
+    "hello.reply": {"allOf": [
+        {"if": {"required": ["profile"]}, "then": LISTS_PROFILE, "else": {"not": LISTS_PROFILE}},
+        {"if": {"required": ["dock"]}, "then": LISTS_BATTERY, "else": {"not": LISTS_BATTERY}}]},
 }
 
 

@@ -17,6 +17,7 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
+from hero_driver.interface import UNKNOWN_VERB, Charger, DriverError
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (
     CodecError,
@@ -39,6 +40,12 @@ class Verb:
     ``touches_robot`` is false is the node's own: its call is given the node's
     :class:`~.versions.Greeting` instead of the driver, and the node answers it at once,
     even while a robot verb runs, and never refuses it as ``busy``.
+
+    ``timeout_s`` is how long a client waits by default; ``bound_s`` how long the
+    driver node lets the robot work on it before it cancels the action, answers
+    ``timeout`` and frees the robot. The bound is a little shorter than the timeout,
+    so a client on its defaults hears the driver's ``timeout`` rather than its own
+    (and finds the robot free, not ``busy``, for the next verb).
     """
 
     name: str
@@ -49,6 +56,7 @@ class Verb:
     result_in: Callable[[Json], Any]
     timeout_s: float
     call: Callable[[Any, Any], Future[Any]]  # (the Driver, or the node's Greeting; the request)
+    bound_s: float | None = None  # None: the node answers at once (noop, hello)
     touches_robot: bool = True
 
     def encode_request(self, request: Request) -> bytes:
@@ -58,7 +66,9 @@ class Verb:
         return codec.dumps(self.request_out(request))
 
     def decode_request(self, data: bytes) -> Request:
-        return self.request_in(codec.loads(data))
+        """The request a query carried; CodecError (``bad_request``) for one that is
+        too large (:data:`~.codec.MAX_REQUEST_BYTES`) or breaks the protocol."""
+        return self.request_in(codec.loads_request(data))
 
     def encode_result(self, result: object) -> bytes:
         """The reply body for what the driver returned."""
@@ -72,22 +82,25 @@ class Verb:
 VERBS: tuple[Verb, ...] = (
     Verb("move", MoveRequest, codec.move_request_in, codec.move_request_out,
          codec.move_result_out, codec.move_result_in, 900.0,
-         lambda driver, request: driver.move(list(request.waypoints), request.face)),
+         lambda driver, request: driver.move(list(request.waypoints), request.face), bound_s=870.0),
     Verb("sense", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
          codec.sense_result_out, codec.sense_result_in, 300.0,
-         lambda driver, request: driver.sense(request.procedure)),
+         lambda driver, request: driver.sense(request.procedure), bound_s=285.0),
     Verb("grasp", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
          codec.grasp_result_out, codec.grasp_result_in, 300.0,
-         lambda driver, request: driver.grasp(request.procedure)),
+         lambda driver, request: driver.grasp(request.procedure), bound_s=285.0),
     Verb("release", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.state_out, codec.state_in, 120.0,
-         lambda driver, _request: driver.release()),
+         lambda driver, _request: driver.release(), bound_s=110.0),
     Verb("camera", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.camera_out, codec.camera_in, 30.0,
-         lambda driver, _request: driver.camera()),
+         lambda driver, _request: driver.camera(), bound_s=25.0),
     Verb("reset", ResetRequest, codec.reset_request_in, codec.reset_request_out,
          codec.state_out, codec.state_in, 120.0,
-         lambda driver, request: driver.reset(request.world, request.seed)),
+         lambda driver, request: driver.reset(request.world, request.seed), bound_s=110.0),
+    # The battery feature: with the base at the dock, charge until full.
+    Verb("charge", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
+         codec.state_out, codec.state_in, 7200.0, lambda driver, _request: _charge(driver), bound_s=7170.0),
     # The health ping and the round-trip benchmark.
     Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.noop_out, codec.noop_in, 5.0, lambda _greeting, _request: _settled(None), touches_robot=False),
@@ -95,6 +108,13 @@ VERBS: tuple[Verb, ...] = (
     Verb("hello", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.hello_out, codec.hello_in, 5.0, lambda greeting, _request: _settled(greeting), touches_robot=False),
 )
+
+def _charge(driver: Any) -> Future[Any]:
+    """``charge`` on a driver without the battery feature is a verb it does not have."""
+    if not isinstance(driver, Charger):
+        raise DriverError(UNKNOWN_VERB, "charge: this driver has no battery feature (see its hello)")
+    return driver.charge()
+
 
 def _settled(value: T) -> Future[T]:
     future: Future[T] = Future()

@@ -8,8 +8,9 @@ drivers keep working with new clients and the other way round. Only a change an 
 peer would misread (a field that changes meaning, a required field) is a new
 **version**. A client speaks every version it knows and uses the highest one both
 ends speak; a driver that predates ``hello`` is taken to serve version 1 and no
-features, because that is all there was before ``hello``. The one feature so far,
-``profile``, adds the robot profile's name and fingerprint to the ``hello`` reply.
+features, because that is all there was before ``hello``. ``profile`` adds the robot
+profile's name and fingerprint to the ``hello`` reply; ``battery`` adds the charging
+dock's pose to it, the ``charge`` verb and the ``battery_empty`` error code.
 """
 
 from __future__ import annotations
@@ -17,28 +18,33 @@ from __future__ import annotations
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from hero_driver.interface import PROTOCOL_VERSION, Hello
+from hero_driver.interface import PROTOCOL_VERSION, Hello, Pose
 from robot_profile import ProfileStamp
 
 PROFILE = "profile"  # the feature: the hello reply names the robot profile the driver serves
+BATTERY = "battery"  # the feature: a real battery level, the dock in hello, the charge verb
 SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
-FEATURES: tuple[str, ...] = (PROFILE,)  # optional features this code serves and uses
+FEATURES: tuple[str, ...] = (PROFILE, BATTERY)  # optional features this code serves and uses
 BEFORE_HELLO = Hello((1,), ())  # what a driver without ``hello`` serves
 
 
 @dataclass(frozen=True)
 class Greeting:
-    """A driver process's whole ``hello`` answer: what it serves, and the robot profile
-    it serves when it says (the ``profile`` feature; None: it does not say)."""
+    """A driver process's whole ``hello`` answer: what it serves, the robot profile it
+    serves when it says (the ``profile`` feature; None: it does not say), and where its
+    charging dock is (the ``battery`` feature; None: it cannot charge)."""
 
     served: Hello
     profile: ProfileStamp | None = None
+    dock: Pose | None = None
 
 
-def greeting(profile: ProfileStamp | None) -> Greeting:
-    """What a node of this code answers to ``hello``: every version it speaks, and the
-    ``profile`` feature only when it has a profile to name."""
-    return Greeting(Hello(SUPPORTED_VERSIONS, (PROFILE,) if profile is not None else ()), profile)
+def greeting(profile: ProfileStamp | None, dock: Pose | None = None) -> Greeting:
+    """What a node of this code answers to ``hello``: every version it speaks, the
+    ``profile`` feature only when it has a profile to name, and ``battery`` only when
+    the driver it serves has a dock to charge at."""
+    features = ((PROFILE,) if profile is not None else ()) + ((BATTERY,) if dock is not None else ())
+    return Greeting(Hello(SUPPORTED_VERSIONS, features), profile, dock)
 
 
 class NoCommonVersion(ValueError):

@@ -7,6 +7,7 @@ the in-process one is the reference the zenoh pair is tested against.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -28,7 +29,9 @@ class LibrarySnapshot:
     """
 
     version: int
-    descriptions: tuple[ObjectDescription, ...]
+    descriptions: Sequence[ObjectDescription]
+    """A tuple, or an append-only :class:`~learner.description.Descriptions` (equal to
+    the tuple of its entries) so that a learn need not copy the library."""
 
 
 class LearnerService(Protocol):
@@ -38,13 +41,17 @@ class LearnerService(Protocol):
         """The current library with its version."""
         ...
 
-    def learn(self, description: ObjectDescription) -> str:
+    def learn(self, description: ObjectDescription, key: str | None = None) -> str:
         """Add ``description`` in one transaction and return the id it was stored under.
 
         An id already in the library is a new encounter of that object, so the
         description is stored as ``id#2``, ``id#3``, ... rather than refused: two robots
         learning the same object at once must both keep what they learned.
-        Bumps the version. Raises ValueError for a description that cannot be stored.
+        ``key`` is the learn's idempotency key, made once per grasped object by the
+        client: a learn whose key is already stored stores nothing and returns the id
+        stored the first time, so a retry after a lost reply never duplicates.
+        Bumps the version when it stores. Raises ValueError for a description (or key)
+        that cannot be stored.
         """
         ...
 
@@ -60,3 +67,15 @@ class LearnerService(Protocol):
         """Release the store or connection; later calls raise ValueError or
         ConnectionError."""
         ...
+
+
+MAX_KEY_CHARS = 100
+"""Longest idempotency key admitted: a uuid is 36 characters."""
+
+
+def check_learn_key(key: object) -> str:
+    """``key`` if it is a usable idempotency key (a non-empty string of at most
+    :data:`MAX_KEY_CHARS` printable characters), else ValueError naming it."""
+    if not isinstance(key, str) or not key or len(key) > MAX_KEY_CHARS or not key.isprintable():
+        raise ValueError(f"key: an idempotency key is 1 to {MAX_KEY_CHARS} printable characters, got {key!r:.120}")
+    return key

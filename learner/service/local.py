@@ -1,19 +1,21 @@
 """The in-process learner service: the library in a SQLite ``LibraryStore``.
 
-Every call opens its own short-lived connection under one lock instead of sharing a
-long-lived one: the zenoh node calls in from zenoh's threads, a SQLite connection
-belongs to the thread that made it, and a learn happens once per grasp (seconds to
-minutes apart), so the millisecond an open costs is nothing. Reads are served from an
-immutable in-memory snapshot, rebuilt after each learn, so ``library()`` and
-``version()`` never touch the disk.
+One store connection is kept open and every call takes one lock: the zenoh node calls
+in from zenoh's threads, and the lock serialises them on that connection. Reads are
+served from an immutable in-memory snapshot, extended (never reloaded) after each
+learn, so ``library()`` and ``version()`` never touch the disk and a learn costs the
+same whatever the library's size.
 
 The version lives in the store's ``meta`` table, so it survives restarts and a robot
-that cached a snapshot before a restart still sees the next change. It is bumped in
-its own transaction *before* the description is added: a crash between the two then
-costs clients one needless refetch, where the other order could hide a committed
-description behind an unchanged version. While a ``LocalLearner`` is open it is the
-store's only expected writer; descriptions imported behind its back are seen after a
-restart.
+that cached a snapshot before a restart still sees the next change. It is written in
+the same transaction as the learned description (and its idempotency key): a crash
+leaves both or neither. While a ``LocalLearner`` is open it is the store's only
+expected writer; descriptions imported behind its back are seen after a restart.
+
+Each learn may carry an idempotency key, made once per grasped object by the client:
+a retried learn (the reply was lost, the service restarted) finds the key in the store
+and answers the id the first attempt stored, storing nothing and leaving the version
+alone, so a retry never duplicates a description.
 
 Given the robot's ``knowledge``, the learner admits only descriptions that robot can use
 (:mod:`learner.service.admission`) and quarantines stored ones that fail: they stay in
@@ -23,18 +25,16 @@ row cannot stop every robot that reads the library.
 
 from __future__ import annotations
 
-import sqlite3
 import threading
 from collections.abc import Sequence
-from contextlib import closing
 from dataclasses import replace
 from pathlib import Path
 
-from learner.description import ObjectDescription
+from learner.description import Descriptions, ObjectDescription
 from learner.knowledge import Knowledge
 from learner.library import LibraryStore, check_library
 from learner.service.admission import Quarantined, admitted, partition
-from learner.service.interface import LibrarySnapshot
+from learner.service.interface import LibrarySnapshot, check_learn_key
 
 VERSION_KEY = "learner_version"
 """The ``meta`` row holding the library's version (absent means 0)."""
@@ -62,18 +62,22 @@ class LocalLearner:
         self.knowledge = knowledge
         self._lock = threading.Lock()
         self._closed = False
-        with LibraryStore(self.path) as store:
-            stored = store.descriptions()
+        self._store = LibraryStore(self.path)
+        try:
+            stored = self._store.descriptions()
             if seed_library and not stored:
                 if knowledge is not None:
                     check_library(seed_library, knowledge, "the seed library")
                 self._bump_version()
-                store.add(list(seed_library))
-                stored = store.descriptions()
-        served, self.quarantined = partition(stored, knowledge, str(self.path))
-        if self.quarantined:  # what clients cached may hold a quarantined row: make them refetch
-            self._bump_version()
-        self._snapshot = LibrarySnapshot(self._stored_version(), served)
+                self._store.add(list(seed_library))
+                stored = self._store.descriptions()
+            served, self.quarantined = partition(stored, knowledge, str(self.path))
+            if self.quarantined:  # what clients cached may hold a quarantined row: make them refetch
+                self._bump_version()
+            self._snapshot = LibrarySnapshot(self._stored_version(), Descriptions(served))
+        except BaseException:
+            self._store.close()
+            raise
 
     def library(self) -> LibrarySnapshot:
         with self._lock:
@@ -85,21 +89,25 @@ class LocalLearner:
             self._check_open()
             return self._snapshot.version
 
-    def learn(self, description: ObjectDescription) -> str:
+    def learn(self, description: ObjectDescription, key: str | None = None) -> str:
         checked = admitted(description, self.knowledge, "not learned")  # before anything is written
+        if key is not None:
+            check_learn_key(key)
         with self._lock:
             self._check_open()
-            with LibraryStore(self.path) as store:
-                stored = replace(checked, object_id=store.unique_id(checked.object_id))
-                version = self._bump_version()
-                store.add([stored])
-            # Appended, not reloaded: a reload would serve the quarantined rows again.
-            self._snapshot = LibrarySnapshot(version, (*self._snapshot.descriptions, stored))
-        return stored.object_id
+            version = self._snapshot.version + 1
+            object_id, stored = self._store.append_learned(checked, key, [(VERSION_KEY, str(version))])
+            if stored:
+                # Appended, not reloaded: a reload would serve the quarantined rows again.
+                self._snapshot = LibrarySnapshot(
+                    version, self._snapshot.descriptions.plus([replace(checked, object_id=object_id)]))
+        return object_id
 
     def close(self) -> None:
         with self._lock:
-            self._closed = True
+            if not self._closed:
+                self._closed = True
+                self._store.close()
 
     def __enter__(self) -> LocalLearner:
         return self
@@ -112,15 +120,11 @@ class LocalLearner:
             raise ValueError(f"{self.path}: the learner is closed")
 
     def _stored_version(self) -> int:
-        with closing(sqlite3.connect(self.path)) as db:
-            row = db.execute("SELECT value FROM meta WHERE key = ?", (VERSION_KEY,)).fetchone()
-        return 0 if row is None else int(row[0])
+        return self._store.meta_int(VERSION_KEY)
 
     def _bump_version(self) -> int:
         """Add one to the stored version in its own committed transaction."""
-        with closing(sqlite3.connect(self.path)) as db, db:
-            row = db.execute("SELECT value FROM meta WHERE key = ?", (VERSION_KEY,)).fetchone()
-            version = 1 if row is None else int(row[0]) + 1
-            db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (VERSION_KEY, str(version)))
+        version = self._stored_version() + 1
+        self._store.set_meta(VERSION_KEY, str(version))
         return version
 

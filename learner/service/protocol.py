@@ -16,7 +16,7 @@ from typing import cast
 
 from learner.description import ObjectDescription
 from learner.library import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
-from learner.service.interface import LibrarySnapshot
+from learner.service.interface import LibrarySnapshot, check_learn_key
 from zenoh_rpc.keys import KeySpace
 
 PREFIX = "csl/learner"
@@ -52,14 +52,23 @@ def decode_empty_request(data: bytes) -> None:
     _fields(data, ())
 
 
-def encode_learn_request(description: ObjectDescription) -> bytes:
-    """``{"v": 1, "description": <one library entry>}``."""
-    return _dumps({"description": _entry(description)})
+def encode_learn_request(description: ObjectDescription, key: str | None = None) -> bytes:
+    """``{"v": 1, "description": <one library entry>, "key": <idempotency key>}``; the
+    key is optional (a client from before idempotent learning sends none)."""
+    return _dumps({"description": _entry(description), **({} if key is None else {"key": key})})
 
 
-def decode_learn_request(data: bytes) -> ObjectDescription:
-    """The description a ``learn`` request carries, validated like a library file."""
-    return _description(_fields(data, ("description",))["description"], "description")
+def decode_learn_request(data: bytes) -> tuple[ObjectDescription, str | None]:
+    """The description a ``learn`` request carries, validated like a library file, and
+    its idempotency key (None when the request has none)."""
+    fields = _fields(data, ("description",), optional=("key",))
+    key = fields.get("key")
+    if key is not None:
+        try:
+            check_learn_key(key)
+        except ValueError as exc:
+            raise ProtocolError(str(exc)) from None
+    return _description(fields["description"], "description"), cast("str | None", key)
 
 
 # -- replies --------------------------------------------------------------------------
@@ -121,8 +130,9 @@ def _dumps(fields: Mapping[str, object]) -> bytes:
     return json.dumps({"v": PROTOCOL_VERSION, **fields}, ensure_ascii=False, allow_nan=False).encode()
 
 
-def _fields(data: bytes, expected: tuple[str, ...]) -> dict[str, object]:
-    """The fields of a message that must carry exactly ``"v"`` and ``expected``."""
+def _fields(data: bytes, expected: tuple[str, ...], optional: tuple[str, ...] = ()) -> dict[str, object]:
+    """The fields of a message that must carry exactly ``"v"`` and ``expected``, and may
+    carry ``optional``."""
     if not data:
         raise ProtocolError(f'empty payload: messages are JSON objects with "v": {PROTOCOL_VERSION}')
     try:
@@ -134,7 +144,7 @@ def _fields(data: bytes, expected: tuple[str, ...]) -> dict[str, object]:
     if type(message.get("v")) is not int or message["v"] != PROTOCOL_VERSION:
         raise ProtocolError(f"v: unsupported protocol version {message.get('v')!r} "
                             f"(this learner speaks {PROTOCOL_VERSION})")
-    unknown = sorted(set(message) - {"v", *expected})
+    unknown = sorted(set(message) - {"v", *expected, *optional})
     if unknown:
         raise ProtocolError(f"unknown field {unknown[0]!r}")
     missing = [f for f in expected if f not in message]

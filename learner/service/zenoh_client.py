@@ -13,6 +13,7 @@ robot must never hang waiting for its library.
 from __future__ import annotations
 
 import threading
+import uuid
 from collections.abc import Callable, Sequence
 from typing import TypeVar
 
@@ -78,9 +79,12 @@ class ZenohLearner:
                 self._cached = snapshot
         return snapshot
 
-    def learn(self, description: ObjectDescription) -> str:
+    def learn(self, description: ObjectDescription, key: str | None = None) -> str:
+        """Learn ``description`` under idempotency ``key`` (a fresh uuid when None: the
+        caller that will retry must make the key itself and send it again)."""
+        key = key if key is not None else str(uuid.uuid4())
         return self._decode(protocol.decode_learn_reply,
-                            self._call(LEARN, protocol.encode_learn_request(description)))
+                            self._call(LEARN, protocol.encode_learn_request(description, key)))
 
     def version(self) -> int:
         return self._decode(protocol.decode_version_reply,

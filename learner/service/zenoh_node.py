@@ -67,8 +67,8 @@ class LearnerNode:
 
     def _answer(self, verb: str, payload: bytes) -> bytes:
         if verb == LEARN:
-            description = protocol.decode_learn_request(payload)
-            return protocol.encode_learn_reply(self.service.learn(description))
+            description, key = protocol.decode_learn_request(payload)
+            return protocol.encode_learn_reply(self.service.learn(description, key))
         protocol.decode_empty_request(payload)
         if verb == LIBRARY:
             return protocol.encode_library_reply(self.service.library())

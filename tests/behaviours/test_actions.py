@@ -102,7 +102,8 @@ def test_move_to_test_plans_and_drives_to_the_tests_position(services, driver, n
     assert get("pose") == there and record.session.position == P(24, 0)
     assert record.ledger.moving_s == 72.0 and record.ledger.computing_s == 0.25  # one timed plan
     assert log.events == [{"event": "move", "object": 0, "behaviour": "MoveTo test", "to": [24, 0],
-                           "seconds": 72.0, "collided": False, "pose": [124.0, 50.0, 180.0]}]
+                           "seconds": 72.0, "collided": False, "pose": [124.0, 50.0, 180.0],
+                           "path": [[124.0, 50.0, 180.0]]}]
 
 
 def test_move_to_test_already_there_needs_no_move(services, driver, nav, log) -> None:  # noqa: ANN001

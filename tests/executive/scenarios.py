@@ -16,6 +16,7 @@ from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import probe
 from hero_driver.sim.worldfile import Placement, WorldSpec
 from hero_driver.sim_driver import SimulatedHero
+from learner.criteria import Criterion
 from learner.description import ObjectDescription, Observation
 from learner.library import read_library_json
 from learner.position import Position
@@ -43,11 +44,14 @@ class Scenario:
 
 
 def run(spec: WorldSpec, seed: int, *, params: Params = Params(), library: Sequence[ObjectDescription] | None = None,
-        store: Path | None = None, noise: NoiseConfig = NOISE, max_ticks: int | None = None) -> Scenario:
-    """One episode; ``store`` keeps the library between episodes (learning)."""
+        store: Path | None = None, noise: NoiseConfig = NOISE, max_ticks: int | None = None,
+        criterion: Criterion | None = None) -> Scenario:
+    """One episode; ``store`` keeps the library between episodes (learning); ``criterion``
+    None is the executive's default."""
     path = store or Path(tempfile.mkdtemp()) / "library.sqlite"
     learner = LocalLearner(path, seed_library=list(library) if library is not None else read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner, params=params)
+    executive = Executive(SimulatedHero("r1", world=spec, seed=seed, noise=noise), learner, params=params,
+                          criterion=criterion)
     result = executive.run(trace=True, max_ticks=max_ticks)
     executive.shutdown()
     return Scenario(result, executive, learner)
@@ -75,6 +79,6 @@ def transcript(scenario: Scenario) -> str:
              "# events"]
     for e in scenario.executive.log.events:
         shown = {k: v for k, v in e.items() if k not in ("tick", "event", "behaviour")
-                 and not (e["event"] == "move" and k == "seconds")}
+                 and not (e["event"] == "move" and k in ("seconds", "path"))}
         lines.append(f"{e['tick']:4d} {e['event']}: " + ", ".join(f"{k}={v}" for k, v in shown.items()))
     return "\n".join(lines) + "\n"

@@ -10,7 +10,10 @@ from syrupy.extensions.single_file import SingleFileSnapshotExtension, WriteMode
 from behaviours.services import Params
 from executive.behaviour_tree import build_tree
 from hero_driver.sim.noise import NoiseConfig
+from learner.criteria import criterion
 from tests.executive.scenarios import NOISE, NOISY_SONAR, one, run, transcript, tumbler_story_library
+
+PAPER = criterion("cs-id3")  # the paper's rule, for the stories the paper tells
 
 
 class TextSnapshot(SingleFileSnapshotExtension):
@@ -106,11 +109,12 @@ def test_knocked_over_object_starts_over(snap) -> None:  # noqa: ANN001
 
 
 def test_upside_down_tumbler_jams_recovers_and_is_told_apart_next_time(snap, tmp_path) -> None:  # noqa: ANN001
-    """The paper's characteristic failure: the upside-down 20 oz tumbler looks like the
-    upright one, Top-Pinch jams the fingers, recovery finds Top-Vert-Grip, and the
-    description learned (closed top: Top-Hole? = 0) tells the two apart next time."""
+    """The paper's characteristic failure, under the paper's rule (cs-id3): the upside-down
+    20 oz tumbler looks like the upright one, Top-Pinch jams the fingers, recovery finds
+    Top-Vert-Grip, and the description learned (closed top: Top-Hole? = 0) tells the two
+    apart next time."""
     store = tmp_path / "library.sqlite"
-    first = run(one("tumbler-20oz/upside-down"), 0, store=store, library=tumbler_story_library())
+    first = run(one("tumbler-20oz/upside-down"), 0, store=store, library=tumbler_story_library(), criterion=PAPER)
     grasps = [(e["grasp"], e["success"]) for e in _events(first, "grasp")]
     assert grasps == [("Top-Pinch", False), ("Top-Vert-Grip", True)]
     assert _events(first, "side_effect")[0]["effect"] == "none"  # jammed fingers: nothing moved
@@ -119,10 +123,25 @@ def test_upside_down_tumbler_jams_recovers_and_is_told_apart_next_time(snap, tmp
     described = {d.object_id: d for d in first.learner.library().descriptions}[learned["id"]]
     assert any(o.feature == "Top-Hole?" and o.value == 0 for o in described.observations)
 
-    second = run(one("tumbler-20oz/upside-down"), 1, store=store)
+    second = run(one("tumbler-20oz/upside-down"), 1, store=store, criterion=PAPER)
     (again,) = second.result.objects
     tests = [e["test"] for e in _events(second, "branch")]
     assert "Top-Hole?(6,*)" in tests  # as tall as the upright one: the closed top decides
     assert [(e["grasp"], e["success"]) for e in _events(second, "grasp")] == [("Top-Vert-Grip", True)]
     assert not again.ledger.recoveries
     assert transcript(first) + "# --- next encounter ---\n" + transcript(second) == snap
+
+
+def test_upside_down_tumbler_next_time_under_the_default_rule(tmp_path) -> None:  # noqa: ANN001
+    """The default rule prices a grasp tried as a feature by its failure share. On the
+    second encounter the learned description (Top-Vert-Grip) and the upright tumbler's
+    (Top-Pinch) remain; Top-Vert-Grip tried as a feature is paid only if it fails, which
+    is cheaper than sensing the top's hole first: it is tried at once and holds, so the
+    object is right the first time, with no recovery."""
+    store = tmp_path / "library.sqlite"
+    run(one("tumbler-20oz/upside-down"), 0, store=store, library=tumbler_story_library())
+    second = run(one("tumbler-20oz/upside-down"), 1, store=store)
+    (again,) = second.result.objects
+    assert [(e["grasp"], e["as_feature"], e["success"]) for e in _events(second, "grasp")] == [
+        ("Top-Vert-Grip", True, True)]
+    assert not _events(second, "sense") and not again.ledger.recoveries

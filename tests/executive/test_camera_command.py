@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 
 from executive.cli import main
+from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.node import DriverNode
 from planner.segmentation import load_camera
 from planner.vision import look
-from tests.planner.vision_truth import RealisticHero, lab_at, overhead
+from tests.planner.vision_truth import lab_at, overhead
 from tests.zenoh_rpc.support import free_endpoint
 from zenoh_rpc.config import open_session
 
@@ -62,7 +63,7 @@ def test_bad_input_is_one_line(argv: list[str], message: str, lab_png: Path, tmp
 @pytest.mark.zenoh
 def test_calibrate_takes_its_image_from_the_driver(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
-    with open_session(listen=[endpoint]) as session, DriverNode(RealisticHero("r3"), session):
+    with open_session(listen=[endpoint]) as session, DriverNode(SimulatedHero("r3", camera="realistic"), session):
         assert main(["camera", "calibrate", "--robot", "r3", "--connect", endpoint,
                      "--out", str(tmp_path / "r3.json")]) == 0
     assert "calibrated from 9 of 9 markers" in capsys.readouterr().out

@@ -1,4 +1,4 @@
-"""One robot profile, agreed on both ends (issue 11 §4), with real ``csl`` processes on
+"""One robot profile, agreed on both ends, with real ``csl`` processes on
 127.0.0.1: ``csl driver sim --profile rover.toml`` serves the Rover and says so in its
 ``hello``; ``csl run --driver zenoh`` planning for the HERO 2000 is refused in one line
 naming both profiles (exit 2: the user's inputs disagree), and planning for the Rover

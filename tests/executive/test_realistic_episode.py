@@ -5,35 +5,29 @@ with band images."""
 
 from __future__ import annotations
 
-import functools
 import math
 from pathlib import Path
-
-import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim.world import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
+from hero_driver.sim_driver import SimulatedHero
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
 from planner.calibration import load_board
-from planner.segmentation import calibrated_camera
-from planner.vision import look
-from tests.planner.vision_truth import RealisticHero
 
 
-def test_an_episode_on_realistic_images(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    hero = RealisticHero("r1", world="lab", seed=0)
-    camera = calibrated_camera(hero.camera().result().pixels, load_board(board_path("lab")))
-    # The navigator's vision with the camera (what --camera-calibration will wire).
-    monkeypatch.setattr("planner.navigator.look", functools.partial(look, camera=camera))
+def test_an_episode_on_realistic_images(tmp_path: Path) -> None:
+    hero = SimulatedHero("r1", world="lab", seed=0, camera="realistic")
     learner = LocalLearner(tmp_path / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(hero, learner)
+    executive = Executive(hero, learner, board=load_board(board_path("lab")))
     result = executive.run()
     executive.shutdown()
     assert result.status == "SUCCESS"
+    camera = executive.services.navigator.camera  # calibrated on the first image
+    assert camera is not None and camera.calibration.markers_seen == 9
     located = next(e for e in executive.log.events if e["event"] == "located")["regions"]
     placed = [(p.x_in, p.y_in) for p in load_world("lab", profile_and_catalogue()[1]).objects]
     assert len(located) == len(placed) == 7

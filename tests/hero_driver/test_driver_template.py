@@ -1,4 +1,4 @@
-"""The vendor's starting point (issue 11 §5): examples/driver_template/, run as its own
+"""The vendor's starting point: examples/driver_template/, run as its own
 process exactly as a vendor would, passes every check of ``csl driver check
 --profile`` with its own profile, whose fingerprint it computes without this project
 exactly as ``robot_profile.profile_stamp`` does; it drops its token before its
@@ -91,6 +91,7 @@ def test_the_template_passes_every_conformance_check(template: tuple[str, str],
     stamp = profile_stamp(load_profile(TEMPLATE_PROFILE))
     assert details["profile"] == f"serves hero2000 (sha256 {stamp.sha256[:12]}), as given"
     assert details["reset-objects"].startswith("not checked: the driver cannot restore world 'lab'")
+    assert details["charge"] == "not checked: the driver does not offer the battery feature"
     assert "refused busy during a" in details["busy"]  # exercised, not skipped as too short
     # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
     # a long sweep runs, the 6 in procedures are out of range

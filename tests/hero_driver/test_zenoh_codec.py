@@ -128,7 +128,10 @@ def test_errors_round_trip_with_their_code() -> None:
     ("sense", b"{", "malformed JSON"),
     ("sense", b"\xff\xfe", "not UTF-8"),
     ("sense", b"[1, 2]", "expected a JSON object"),
-    ("sense", b"[" * 100_000 + b"]" * 100_000, "nested too deeply"),
+    ("sense", b"[" * 30_000 + b"]" * 30_000, "nested too deeply"),  # 60 kB: under the size cap
+    ("sense", b" " * (128 * 1024) + b"{}", "131074 bytes, more than the 131072 a request may have"),
+    ("move", json.dumps({"v": 1, "waypoints": [{"x_in": 0, "y_in": 0, "heading_deg": 0}] * 1001}).encode(),
+     "waypoints: 1001 poses, more than the 1000 a move may have"),
     ("sense", json.dumps({"procedure": "H-Sweep-5°"}).encode(), "v: missing"),
     ("sense", json.dumps({"v": 2, "procedure": "H-Sweep-5°"}).encode(), "v: protocol version 2"),
     ("sense", json.dumps({"v": True, "procedure": "H-Sweep-5°"}).encode(), "v: expected an integer"),

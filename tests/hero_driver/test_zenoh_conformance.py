@@ -18,7 +18,8 @@ pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
     "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
-    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "out-of-range-target", "unknown-verb",
+    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "charge", "out-of-range-target",
+    "unknown-verb",
     "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
 }
@@ -58,6 +59,8 @@ def test_the_simulated_hero_passes_every_check(capsys: pytest.CaptureFixture[str
     assert details["profile"] == f"serves hero2000 (sha256 {hero.sha256[:12]}), as given"
     # the lab's seven objects, each drawn within a pixel or so of its place
     assert details["reset-objects"].startswith("world 'lab': 7 objects drawn where reset placed them")
+    # the lab's dock is at (24, 85), 55 in from the reset pose (30, 30): out of the beacon's 24 in reach
+    assert details["charge"].startswith("out_of_range away from the dock: charge: the base is 55.3 in from the dock")
 
 
 def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,5 +1,5 @@
 """Drivers that decode perfectly and still ruin every episode must fail ``csl driver
-check``: each mutant here is the simulated HERO with one thing wrong (issue 11 §2),
+check``: each mutant here is the simulated HERO with one thing wrong,
 served in-process by the real node, and the suite must name the check it breaks."""
 
 from __future__ import annotations

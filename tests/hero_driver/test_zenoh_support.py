@@ -185,6 +185,44 @@ class SlowHero(FakeHero):
         self.moving.set_result(MoveResult(self.pose, 10.0, False, False))
 
 
+class HangingHero(FakeHero):
+    """The first ``sense`` never completes by itself: a driver whose sonar hung. Its
+    future stays pending (cancellable, so the node's bound can cancel it) unless
+    ``running`` marks it started, as a driver that cannot stop its action would."""
+
+    def __init__(self, robot: str = "r1", running: bool = False) -> None:
+        super().__init__(robot)
+        self.running = running
+        self.hung: Future[SenseResult] | None = None
+
+    def sense(self, procedure: str) -> Future[SenseResult]:
+        if self.hung is not None:
+            return super().sense(procedure)
+        self.hung = Future()
+        if self.running:
+            self.hung.set_running_or_notify_cancel()
+        return self.hung
+
+
+class HangingSim:
+    """The simulated HERO whose first ``sense`` never completes by itself (a driver that
+    never answers one sense); every other verb is the simulator's."""
+
+    def __new__(cls, robot: str = "r1") -> object:
+        from hero_driver.sim_driver import SimulatedHero  # pymunk: only in the process that serves it
+
+        class Hanging(SimulatedHero):
+            hung: Future[SenseResult] | None = None
+
+            def sense(self, procedure: str) -> Future[SenseResult]:
+                if self.hung is None:
+                    self.hung = Future()
+                    return self.hung
+                return super().sense(procedure)
+
+        return Hanging(robot)
+
+
 def serve_tokenless(robot: str, endpoint: str, stop: threading.Event, on_ready: Callable[[], None]) -> None:
     """A hand-written driver that forgets the liveliness token and the state
     publications but answers ``noop`` properly: what a first hardware attempt in
@@ -199,11 +237,15 @@ def serve_tokenless(robot: str, endpoint: str, stop: threading.Event, on_ready: 
         queryable.undeclare()
 
 
-FAKES: dict[str, Callable[[str], object]] = {"good": FakeHero, "broken": BrokenHero}
+FAKES: dict[str, Callable[[str], object]] = {"good": FakeHero, "broken": BrokenHero, "hang": HangingHero,
+                                                "sim-hang": HangingSim}
 
 
 def main(argv: Sequence[str]) -> int:
-    kind, robot, endpoint = argv
+    """``KIND ROBOT ENDPOINT [SENSE_BOUND_S]``: the optional bound overrides the node's
+    bound on ``sense`` (the "hang" fake with a bound longer than the client's timeout
+    is a driver that never answers one sense, as far as the client can tell)."""
+    kind, robot, endpoint, *bound = argv
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
 
@@ -213,7 +255,8 @@ def main(argv: Sequence[str]) -> int:
     if kind == "tokenless":
         serve_tokenless(robot, endpoint, stop, on_ready)
     else:
-        serve(FAKES[kind](robot), listen=[endpoint], stop=stop, on_ready=on_ready)  # type: ignore[arg-type]
+        serve(FAKES[kind](robot), listen=[endpoint], stop=stop, on_ready=on_ready,  # type: ignore[arg-type]
+              bounds={"sense": float(bound[0])} if bound else None)
     return 0
 
 

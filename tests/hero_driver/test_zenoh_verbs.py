@@ -1,5 +1,5 @@
 """The verb table against ``docs/driver-protocol.md``: every verb of the table is
-documented (key, section, fields, timeout) as the table has it, and the page names no
+documented (key, section, fields, timeout, driver's bound) as the table has it, and the page names no
 verb the table lacks. Fields are read off the wire: each verb encodes a hand-made
 request and result and the JSON keys are compared with the page's."""
 
@@ -26,6 +26,7 @@ EXAMPLES: dict[str, tuple[object, object]] = {
     "release": (EmptyRequest(), STATE),
     "camera": (EmptyRequest(), CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6)),
     "reset": (ResetRequest("lab", 3), STATE),
+    "charge": (EmptyRequest(), STATE),
     "noop": (EmptyRequest(), None),
     "hello": (EmptyRequest(), Hello((1,), ("an-optional-feature",))),
 }
@@ -37,9 +38,9 @@ def names_in(cell: str) -> set[str]:
 
 
 def summary() -> dict[str, list[str]]:
-    """The verb table of the page: verb -> [request fields, reply fields, timeout]."""
-    rows = re.findall(r"^\| `(\w+)` \| (.*?) \| (.*?) \| ([\d.]+) s \|$", DOC, re.MULTILINE)
-    return {verb: [request, reply, timeout] for verb, request, reply, timeout in rows}
+    """The verb table of the page: verb -> [request fields, reply fields, timeout, bound]."""
+    rows = re.findall(r"^\| `(\w+)` \| (.*?) \| (.*?) \| ([\d.]+) s \| ([\d.]+ s|none) \|$", DOC, re.MULTILINE)
+    return {verb: [request, reply, timeout, bound] for verb, request, reply, timeout, bound in rows}
 
 
 def sections() -> dict[str, str]:
@@ -66,8 +67,9 @@ def test_the_page_names_exactly_the_verbs_of_the_table() -> None:
 @pytest.mark.parametrize("name", NAMES)
 def test_each_verb_is_documented_as_the_table_has_it(name: str) -> None:
     verb = BY_NAME[name]
-    request_cell, reply_cell, timeout = summary()[name]
+    request_cell, reply_cell, timeout, bound = summary()[name]
     assert float(timeout) == verb.timeout_s
+    assert bound == ("none" if verb.bound_s is None else f"{verb.bound_s:g} s")
     request, result = EXAMPLES[name]
     assert names_in(request_cell) == wire_fields(verb.encode_request(request))
     assert names_in(reply_cell) == wire_fields(verb.encode_result(result))
@@ -78,7 +80,7 @@ def test_each_section_states_the_same_fields(name: str) -> None:
     """Where a section spells fields out (a field table, an example request), they
     are the verb table's."""
     text = sections()[name]
-    request_cell, reply_cell, _ = summary()[name]
+    request_cell, reply_cell, _, _ = summary()[name]
     for heading, cell in (("request field", request_cell), ("reply field", reply_cell)):
         table = re.search(rf"^\| {heading} \|.*\n\|[-|]+\|\n((?:\|.*\n)+)", text, re.MULTILINE)
         if table:

@@ -1,4 +1,4 @@
-"""What the camera already measured rules candidates out for free (issue 10 §4b).
+"""What the camera already measured rules candidates out for free.
 
 Axes are the footprint's equivalent ellipse: area = pi/4 * major * minor and
 elongation = major / minor, so (pi, 1) is a 2 in disc and (2 pi, 2) a 4 x 2 in ellipse.

@@ -37,7 +37,7 @@ HAND_WORKED = [
 
 def test_every_entry_is_hand_worked_and_documented() -> None:
     assert {name for name, *_ in HAND_WORKED} == set(CRITERIA)
-    assert DEFAULT_CRITERION == "cs-id3" and DEFAULT_CRITERION in CRITERIA
+    assert DEFAULT_CRITERION == "cs-id3-failure" and DEFAULT_CRITERION in CRITERIA  # chosen from the noisy data
     for name, spec in CRITERIA.items():
         assert spec.name == name and spec.formula and spec.help and "\n" not in spec.help
         assert all(p.help and p.check(p.default) == p.default for p in spec.parameters)
@@ -77,8 +77,10 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
     default = criterion(DEFAULT_CRITERION)
+    # the default is cs-id3's formula with grasps tried as features priced by their failure share, and nothing else
+    assert default.grasp_paid_on_failure and default.cost_sensitive
     assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout
-                or default.grasp_paid_on_failure or default.rollout_follows_walk)
+                or default.rollout_follows_walk)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:

@@ -1,4 +1,4 @@
-"""Loading a large library fast (issue 13) changes nothing a reader can see."""
+"""Loading a large library fast changes nothing a reader can see."""
 
 from __future__ import annotations
 

@@ -109,7 +109,7 @@ def test_a_closed_learner_refuses_calls(tmp_path: Path) -> None:
         learner.version()
 
 
-# -- admission against the robot's knowledge (issue 12 §3) -----------------------------
+# -- admission against the robot's knowledge -----------------------------
 HERO_REFUSALS = [
     # Width-Degree-1° spans a few dozen degrees on the HERO 2000 profile: 1e308 is out.
     (desc("huge", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 1e308)),

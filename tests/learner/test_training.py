@@ -170,7 +170,8 @@ def test_phase_two_presents_every_object_again_until_a_pass_changes_nothing() ->
     from learner.matrix import DescriptionMatrix
     from learner.selection import Context, Node
     from learner.criteria import criterion
-    from learner.training import TrainingLog, _Recorder, _ZeroMove, train_position
+    from learner.training import TrainingLog, _Recorder, train_position
+    from learner.training_trees import _ZeroMove
     from learner.decision_tree import classify, grow
 
     k = hero()

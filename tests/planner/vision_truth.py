@@ -14,19 +14,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from concurrent.futures import Future
 from dataclasses import dataclass
 
 import numpy as np
 
-from hero_driver.interface import CameraImage, Pose
+from hero_driver.interface import Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import Placement, load_world
-from hero_driver.sim_driver import SimulatedHero
 from planner.calibration import load_board
 from planner.image import OverheadImage
 from planner.segmentation import Camera, calibrated_camera
@@ -117,12 +115,3 @@ def pixel_spread(results: list[Seen]) -> dict[str, float]:
             counts.setdefault(s.entry_id, []).append(s.pixel_count)
     return {k: (max(v) - min(v)) / min(v) for k, v in counts.items()}
 
-
-class RealisticHero(SimulatedHero):
-    """The simulated HERO with the realistic camera preset (until SimulatedHero takes
-    a preset itself: docs/camera.md, "Not yet wired")."""
-
-    def camera(self) -> Future[CameraImage]:
-        future: Future[CameraImage] = Future()
-        future.set_result(render_world(self._live(), "realistic"))
-        return future

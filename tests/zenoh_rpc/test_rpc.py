@@ -113,3 +113,20 @@ def test_the_token_follows_the_server(sessions: tuple[zenoh.Session, zenoh.Sessi
         assert rpc.ask("echo", b"", 2.0) == Answer()
     finally:
         watch.undeclare()
+
+
+def test_every_answered_query_is_one_info_line_with_its_outcome(toy: tuple[Toy, RpcClient],
+                                                                 caplog: pytest.LogCaptureFixture) -> None:
+    server_toy, rpc = toy
+    with caplog.at_level("INFO", logger="zenoh_rpc.server"):
+        assert rpc.ask("echo", b"hi", START_S).first == Reply(ok=b"hi")
+        rpc.ask("nope", b"", START_S)
+        rpc.ask("hold", b"", 0.3)  # held, never answered: no line until it is
+        assert wait_until(lambda: len(server_toy.held) == 1, START_S)
+        server_toy.server.reply_error(server_toy.held[0], "late", "let go")
+    lines = [r.getMessage() for r in caplog.records if r.name == "zenoh_rpc.server"]
+    assert len(lines) == 3
+    assert lines[0].startswith("test/toy/rpc/echo: ok in ") and lines[0].endswith(" ms")
+    assert lines[1].startswith("test/toy/rpc/nope: what in ")
+    assert lines[2].startswith("test/toy/rpc/hold: late in ")
+    assert all(r.levelname == "INFO" for r in caplog.records if r.name == "zenoh_rpc.server")

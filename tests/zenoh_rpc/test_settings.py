@@ -58,6 +58,7 @@ def test_the_config_is_peer_mode_without_scouting_with_a_one_second_lease() -> N
     assert json.loads(config.get_json("listen/endpoints")) == ["tcp/127.0.0.1:7000"]
     assert json.loads(config.get_json("connect/endpoints")) == ["tcp/127.0.0.1:7001"]
     assert json.loads(config.get_json("transport/link/tx/lease")) == 1000
+    assert json.loads(config.get_json("transport/unicast/open_timeout")) == 1000  # close waits on it (SIGSTOP)
     assert json.loads(config.get_json("connect/retry")) == {
         "period_init_ms": 100, "period_max_ms": 500, "period_increase_factor": 2.0}
 

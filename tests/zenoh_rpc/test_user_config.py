@@ -43,6 +43,7 @@ THEIRS = {
     "connect/timeout_ms": 7000,
     "connect/exit_on_failure": False,
     "transport/link/tx/lease": 3000,
+    "transport/unicast/open_timeout": 5000,
 }
 
 

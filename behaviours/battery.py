@@ -1,0 +1,164 @@
+"""The low-battery guard: py_trees' battery-check idiom at the top of the tree.
+
+The paper's CSL "can not handle ... low battery" (docs/method.md). Here a Selector
+without memory puts a ``recharge`` branch before the work: every tick ``BatteryLow?``
+looks at the level the driver reports, and when it is below ``Params.battery_low`` the
+robot plans a path to the dock on the vision map, drives there and charges. The work
+branch is not restarted afterwards: :class:`KeepPlace` pauses it while the robot
+charges, so the object in hand resumes where it left off with every measurement its
+recognition session holds (only where the robot stands relative to the object is new).
+
+The guard is off (``BatteryLow?`` always fails) when the driver lacks the optional
+``battery`` feature (:class:`~hero_driver.interface.Charger` naming a dock),
+when ``Params.battery_low`` is 0, and until the first overhead image gives a map to
+plan the trip on. It never interrupts a verb in flight: the robot finishes the move,
+sensing or grasp it is doing, and the guard fires at the next tick.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+
+import py_trees
+from py_trees.common import Access, Status
+
+from behaviours.base import CslBehaviour, DriverAction
+from behaviours.bridge import relative_position, to_driver_pose, to_planner_pose
+from behaviours.events import Event
+from hero_driver.interface import Charger, Driver, MoveResult, Pose, RobotState
+
+DOCK_TRIP = "dock_trip"  # blackboard: what the drive to the dock cost, for the charge event
+
+
+def dock_of(driver: Driver) -> Pose | None:
+    """Where the driver says its charging dock is; None without the ``battery`` feature."""
+    return driver.dock() if isinstance(driver, Charger) else None
+
+
+def _pose_json(pose: Pose) -> list[float]:
+    return [round(pose.x_in, 1), round(pose.y_in, 1), round(pose.heading_deg, 1)]
+
+
+class BatteryLow(CslBehaviour):
+    """Condition ``BatteryLow?``: the reported level is below the threshold and the
+    guard may act (see the module docstring); ``protects`` is the work it pre-empts."""
+
+    def __init__(self, robot: str, protects: py_trees.behaviour.Behaviour, name: str = "BatteryLow?") -> None:
+        super().__init__(name, robot)
+        self.protects = protects
+        self.fired = False  # read by KeepPlace: the work is being paused, not abandoned
+
+    def update(self) -> Status:
+        self.fired = self._low()
+        return Status.SUCCESS if self.fired else Status.FAILURE
+
+    def _low(self) -> bool:
+        services = self.services
+        threshold = services.params.battery_low
+        if threshold <= 0.0 or dock_of(services.driver) is None:
+            self.feedback_message = "guard off"
+            return False
+        try:
+            services.navigator.scene
+        except ValueError:  # nothing observed: no map to plan the trip on
+            self.feedback_message = "no map yet"
+            return False
+        tip = self.protects.tip()
+        if isinstance(tip, DriverAction) and tip.status == Status.RUNNING:
+            self.feedback_message = "a verb is in flight"
+            return False
+        level = services.driver.state().battery
+        self.feedback_message = f"battery {level:.2f} (low below {threshold:g})"
+        return level < threshold
+
+
+class DriveToDock(DriverAction):
+    """Plan a collision-free path from where the robot stands to the dock and drive it."""
+
+    POSE_ACCESS = Access.WRITE  # the move changes where the robot stands
+
+    def __init__(self, robot: str, name: str = "DriveToDock") -> None:
+        super().__init__(name, robot)
+        self.bb.register_key(DOCK_TRIP, access=Access.WRITE)
+
+    def start(self) -> Future[MoveResult] | Status:
+        dock = dock_of(self.services.driver)
+        if dock is None:
+            return Status.FAILURE
+        start = self.robot_pose()
+        self.bb.set(DOCK_TRIP, {"from": _pose_json(to_driver_pose(start)), "level": self.services.driver.state().battery})
+        plan = self.services.navigator.plan(start, to_planner_pose(dock))
+        if not plan.found:
+            self.note(Event.NO_PATH, to="dock", reason=plan.reason)
+            return Status.FAILURE
+        return self.services.driver.move([to_driver_pose(p) for p in plan.path or ()] or [dock])
+
+    def finish(self, result: MoveResult) -> Status:
+        self.bb.pose = result.pose
+        trip = dict(self.bb.get(DOCK_TRIP))
+        trip.update(moving_s=round(result.duration_s, 1), collided=result.collided)
+        self.bb.set(DOCK_TRIP, trip)
+        return Status.FAILURE if result.collided else Status.SUCCESS
+
+
+class Charge(DriverAction):
+    """Charge at the dock until full, log the visit (event ``charge``) and place the
+    object in hand relative to the dock, where the robot now stands."""
+
+    def __init__(self, robot: str, name: str = "Charge") -> None:
+        super().__init__(name, robot)
+        self.bb.register_key(DOCK_TRIP, access=Access.READ)
+        self._before: RobotState | None = None
+
+    def start(self) -> Future[RobotState] | Status:
+        driver = self.services.driver
+        if not isinstance(driver, Charger):
+            return Status.FAILURE
+        self._before = driver.state()
+        return driver.charge()
+
+    def finish(self, result: RobotState) -> Status:
+        assert self._before is not None
+        trip = self.bb.get(DOCK_TRIP) or {}
+        self.note(Event.CHARGE, level_before=round(float(trip.get("level", self._before.battery)), 3),
+                  level=round(result.battery, 3), charging_s=round(result.clock_s - self._before.clock_s, 1),
+                  moving_s=trip.get("moving_s"), came_from=trip.get("from"), dock=_pose_json(result.pose))
+        obj = self.bb.get("object")
+        if obj is not None and not obj.done:  # resume from here: the session keeps what it measured
+            obj.session.position = relative_position(self.services.navigator, obj.region, self.robot_pose())
+        self.feedback_message = f"charged to {result.battery:.2f}"
+        return Status.SUCCESS
+
+
+class KeepPlace(py_trees.decorators.Decorator):
+    """The work under the guard: when ``guard`` pre-empts it, the work is paused with
+    its place kept (its composites remember their running child) instead of being
+    reset, so the next tick after charging continues the same step of the same object.
+    Any other stop (the episode ending) stops the work as usual."""
+
+    def __init__(self, child: py_trees.behaviour.Behaviour, guard: BatteryLow, name: str = "keep place") -> None:
+        super().__init__(name=name, child=child)
+        self.guard = guard
+
+    def update(self) -> Status:
+        return self.decorated.status
+
+    def stop(self, new_status: Status) -> None:
+        if new_status == Status.INVALID and self.guard.fired and self.decorated.status == Status.RUNNING:
+            self.terminate(new_status)  # paused: the child keeps its status and memory
+            self.status = new_status
+            return
+        super().stop(new_status)
+
+
+def guarded(work: py_trees.behaviour.Behaviour, robot: str) -> py_trees.behaviour.Behaviour:
+    """``work`` under the low-battery guard (the module docstring says how it behaves).
+
+    The recharge branch reports RUNNING when the robot has charged, so the Selector
+    does not end the episode there: the next tick ``BatteryLow?`` fails and the work
+    resumes."""
+    low = BatteryLow(robot, protects=work)
+    recharge = py_trees.composites.Sequence("recharge", memory=True, children=[low, DriveToDock(robot), Charge(robot)])
+    return py_trees.composites.Selector("battery check", memory=False, children=[
+        py_trees.decorators.SuccessIsRunning("until charged", recharge),
+        KeepPlace(work, low)])

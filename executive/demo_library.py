@@ -1,0 +1,133 @@
+"""``csl demo``'s trained library, kept between runs while what it was trained from is
+unchanged.
+
+Training on the Table 3 objects in the simulator is deterministic: the same robot
+profile, catalogue, seed, noise setting and training code give the same library. So a
+demo run stores what it trained under a content hash of those inputs (in the user data
+folder, ``$CSL_HOME/trained/``) and a later run with the same hash reuses it instead of
+training again. Any changed input, the code included, is a new hash and trains anew;
+``--retrain`` trains even when the hash is known. The world the demo runs in is part of
+the hash too: training does not read it today, but a demo is described by its world,
+and retraining when it changes costs a second, while a stale library would cost a
+wrong demo.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Callable, Iterable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from executive import defaults
+from learner.description import ObjectDescription
+from learner.library import descriptions_from_json, descriptions_to_json, write_json_atomically
+from learner.knowledge import Knowledge
+from learner.training_summary import TrainingSummary
+from robot_profile import RobotProfile
+
+FORMAT = "csl-trained-library"
+VERSION = 1
+REPOSITORY = Path(__file__).resolve().parents[1]
+# The code a trained library depends on: the learner, the simulated robot and its
+# camera, the vision that makes training objects of what the camera sees, the profile
+# reader, and the executive modules that drive training and read the knowledge.
+TRAINING_CODE = ("learner/**/*.py", "hero_driver/sim/**/*.py", "hero_driver/interface.py", "planner/*.py",
+                 "robot_profile/*.py", "behaviours/appearance.py", "behaviours/bridge.py",
+                 "executive/sim_training.py", "executive/training_sources.py", "executive/profile.py")
+TRAINING_NOISE = False  # demo training measures the objects exactly, as the shipped library was made
+
+
+@dataclass(frozen=True)
+class DemoLibrary:
+    """The library a demo runs with, its training figures, and whether it was reused."""
+
+    descriptions: tuple[ObjectDescription, ...]
+    summary: TrainingSummary
+    key: str  # the inputs' content hash (sha256, hex)
+    reused: bool
+
+
+def trained_folder() -> Path:
+    """Where trained libraries are kept: ``trained/`` beside the user's library store."""
+    return defaults.library_db().parent / "trained"
+
+
+def training_key(profile: RobotProfile, world: str | Path, seed: int, noise: bool = TRAINING_NOISE) -> str:
+    """The content hash of everything a demo's training depends on: the knowledge file,
+    the simulator's catalogue (the training objects), the world file, seed, noise and the
+    training code's source."""
+    from hero_driver.sim.catalogue import DEFAULT_CATALOGUE
+    from hero_driver.sim.worldfile import resolve
+
+    digest = hashlib.sha256()
+    _add(digest, "format", f"{FORMAT} {VERSION}".encode())
+    _add(digest, "knowledge", Path(profile.source).read_bytes())
+    _add(digest, "catalogue", DEFAULT_CATALOGUE.read_bytes())
+    _add(digest, "world", resolve(world).read_bytes())
+    _add(digest, "seed noise", f"{seed} {noise}".encode())
+    for path in _training_sources():
+        _add(digest, path.relative_to(REPOSITORY).as_posix(), path.read_bytes())
+    return digest.hexdigest()
+
+
+def trained_library(knowledge: Knowledge, profile: RobotProfile, world: str | Path, seed: int, *,
+                    retrain: bool = False, folder: Path | None = None,
+                    say: Callable[[str], None] = print) -> DemoLibrary:
+    """The demo's library: reused from ``folder`` (default :func:`trained_folder`) when
+    one was stored under the same inputs' hash and ``retrain`` is not set, else trained
+    in the simulator and stored. ``say`` reports which, naming the hash."""
+    key = training_key(profile, world, seed)
+    path = (folder or trained_folder()) / f"{key}.json"
+    if not retrain and path.exists():
+        try:
+            descriptions, summary = _read(path, key)
+        except ValueError as exc:
+            say(f"ignoring the stored trained library: {exc}")
+        else:
+            say(f"reusing trained library {key[:12]} ({path})")
+            return DemoLibrary(descriptions, summary, key, reused=True)
+    say(f"training on the Table 3 objects in the simulator (library {key[:12]})...")
+    from executive.sim_training import train_in_simulator  # the simulator: only when training
+
+    trained = train_in_simulator(knowledge, profile, seed, TRAINING_NOISE)
+    try:  # a store that cannot be written costs the next run a training, not this one its demo
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_json_atomically(path, {"format": FORMAT, "version": VERSION, "key": key,
+                                     "summary": asdict(trained.summary),
+                                     "library": descriptions_to_json(trained.result.descriptions)})
+    except (OSError, ValueError) as exc:
+        say(f"could not keep the trained library in {path.parent}: {exc}")
+    return DemoLibrary(trained.result.descriptions, trained.summary, key, reused=False)
+
+
+def _read(path: Path, key: str) -> tuple[tuple[ObjectDescription, ...], TrainingSummary]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: not readable JSON ({exc})") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT or data.get("version") != VERSION:
+        raise ValueError(f"{path}: not a {FORMAT} version {VERSION} file")
+    if data.get("key") != key:
+        raise ValueError(f"{path}: 'key' does not match its file name")
+    summary = data.get("summary")
+    try:
+        fields = dict(summary)  # type: ignore[call-overload]
+        fields["orientations_deg"] = tuple(fields["orientations_deg"])
+        fields["distances_in"] = tuple(fields["distances_in"])
+        figures = TrainingSummary(**fields)
+    except (TypeError, KeyError, ValueError):
+        raise ValueError(f"{path}: 'summary' is not a training summary") from None
+    return tuple(descriptions_from_json(data.get("library"), f"{path}: library")), figures
+
+
+def _training_sources() -> Iterable[Path]:
+    return sorted({p for pattern in TRAINING_CODE for p in REPOSITORY.glob(pattern)})
+
+
+def _add(digest: "hashlib._Hash", label: str, content: bytes) -> None:
+    """Each part labelled and length-prefixed: no two sets of inputs hash alike by
+    shifting bytes from one part to the next."""
+    digest.update(f"{label}\0{len(content)}\0".encode())
+    digest.update(content)

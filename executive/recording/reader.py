@@ -1,0 +1,32 @@
+"""The episode log inside a recording: the ``/csl/events`` channel read back with the
+``mcap`` library's own reader, for ``csl log``. No Foxglove import."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from mcap.exceptions import McapError
+from mcap.reader import make_reader
+
+from executive.recording.topics import EVENTS
+
+def read_recorded_events(path: Path) -> list[dict[str, object]]:
+    """The events of a recording in the order they were logged; a file that is not a
+    recording of ours is a one-line error."""
+    events: list[dict[str, object]] = []
+    try:
+        with path.open("rb") as f:
+            for _, channel, message in make_reader(f).iter_messages(topics=[EVENTS.name], log_time_order=True):
+                try:
+                    events.append(json.loads(message.data))
+                except (json.JSONDecodeError, UnicodeDecodeError):
+                    raise ValueError(f"{path}: message {message.sequence} on {channel.topic} is not a JSON "
+                                     "event") from None
+    except (McapError, EOFError, ValueError) as exc:
+        if str(exc).startswith(str(path)):
+            raise
+        raise ValueError(f"{path}: not a readable MCAP recording ({exc})") from None
+    if not events:
+        raise ValueError(f"{path}: the recording has no {EVENTS.name} channel (not recorded by csl --record?)")
+    return events
