@@ -61,7 +61,7 @@ def fuzz(surface: Surface, cases: int, folder: Path, seed_value: int) -> tuple[C
         except Finding as exc:
             kind = _kind(str(exc))
             seen[f"new:{kind}"] += 1
-            first.setdefault(kind, f"{str(exc)[:300]} <- {case!r:.300}")
+            first.setdefault(kind, f"{str(exc)[:800]} <- {case!r:.300}")
 
     started = time.perf_counter()
     try:

@@ -326,22 +326,22 @@ def run_cli(argv: list[str], bench: Workbench) -> tuple[int, str, str]:
         except SystemExit as exc:
             code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
         except Exception as exc:  # the property under test
-            raise Finding(f"csl {' '.join(argv)[:300]}: {type(exc).__name__}: {str(exc)[:200]}") from exc
+            raise Finding(f"csl {' '.join(argv)[:120]}: {type(exc).__name__}: {str(exc)[:200]}") from exc
     if not isinstance(code, int):
-        raise Finding(f"csl {' '.join(argv)[:300]}: returned {code!r}, not an exit status")
+        raise Finding(f"csl {' '.join(argv)[:120]}: returned {code!r}, not an exit status")
     return code, out.getvalue(), err.getvalue()
 
 
 def check_exit(argv: list[str], code: int, err: str) -> None:
     """Exit 0-3; a 2 comes with an error line and no traceback."""
     if code not in (0, 1, 2, 3):
-        raise Finding(f"csl {' '.join(argv)[:300]}: exit status {code}")
+        raise Finding(f"csl {' '.join(argv)[:120]}: exit status {code}")
     if "Traceback" in err:
-        raise Finding(f"csl {' '.join(argv)[:300]}: printed a traceback")
+        raise Finding(f"csl {' '.join(argv)[:120]}: printed a traceback")
     if code == 2:
         last = err.strip().split("\n")[-1]  # not splitlines: an argument may hold \x1c-\x1e
         if "error" not in last:
-            raise Finding(f"csl {' '.join(argv)[:300]}: exit 2 without an error line, stderr {err[-300:]!r}")
+            raise Finding(f"csl {' '.join(argv)[:120]}: exit 2 without an error line, stderr {err[-600:]!r}")
 
 
 # ----------------------------------------------------------------------- episode logs
@@ -441,10 +441,10 @@ def check_cli(argv: list[str], bench: Workbench) -> str:
     if path in RUN_IN_FULL or path[:1] in RUN_IN_FULL:
         code, out, err = run_cli(text, bench)
         if code == 0 and re.search(r"\b(inf|nan)\b", out, re.IGNORECASE):
-            raise Finding(f"csl {' '.join(text)[:300]}: exit 0 printing a non-finite number")
+            raise Finding(f"csl {' '.join(text)[:120]}: exit 0 printing a non-finite number")
         left = sorted(p.name for p in bench.folder.rglob("*.tmp"))
         if left:  # library export writes atomically: a failure leaves nothing behind
-            raise Finding(f"csl {' '.join(text)[:300]}: left a half-written file {left[0]}")
+            raise Finding(f"csl {' '.join(text)[:120]}: left a half-written file {left[0]}")
     else:
         err_io = io.StringIO()
         with inside(bench.folder), contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err_io):
@@ -454,7 +454,7 @@ def check_cli(argv: list[str], bench: Workbench) -> str:
             except SystemExit as exc:
                 code = exc.code if isinstance(exc.code, int) else 2
             except Exception as exc:  # the property under test
-                raise Finding(f"csl {' '.join(text)[:300]}: parsing raised {type(exc).__name__}: {exc}") from exc
+                raise Finding(f"csl {' '.join(text)[:120]}: parsing raised {type(exc).__name__}: {exc}") from exc
         err = err_io.getvalue()
     check_exit(text, code, err)
     return "accepted" if code == 0 else "refused"
@@ -549,7 +549,7 @@ KNOWN: dict[str, tuple[tuple[str, str], ...]] = {
             ("unsupported format string|unhashable type", "test_log_fields_of_another_type"),
             ("error: unpack requires", "test_log_truncated_recording")),
     "cli": (("exit 0 printing a non-finite number", "test_tree_pose_far_away"),
-            ("exit 2 without an error line, stderr \"csl: error: unrecognized arguments",
+            ("exit 2 without an error line, stderr .csl: error: unrecognized arguments",
              "test_cli_unrecognised_argument_in_one_line"),
             (r"raised OSError: \[Errno 36\]", "test_cli_world_name_too_long")),
     "driver": (("Exceeds the limit \\(4300 digits\\)", "test_driver_integer_too_long"),
