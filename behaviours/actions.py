@@ -102,8 +102,8 @@ class MoveTo(DriverAction):
         self.bb.pose = result.pose
         obj.ledger.moving_s += result.duration_s
         self.note(Event.MOVE, to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
-                  collided=result.collided, pose=_pose_json(result.pose),
-                  path=[_pose_json(p) for p in self._path])  # as planned: the map draws it as driven
+                  collided=result.collided, pose=pose_json(result.pose),
+                  path=[pose_json(p) for p in self._path])  # as planned: the map draws it as driven
         if result.collided:
             return self._unusable()
         assert self._goal is not None
@@ -233,7 +233,7 @@ class Learn(DriverAction):
         return Status.SUCCESS
 
 
-def _pose_json(pose: DriverPose) -> list[float]:
+def pose_json(pose: DriverPose) -> list[float]:
     """A pose as the log writes it: ``[x_in, y_in, heading_deg]`` to a tenth."""
     return [round(pose.x_in, 1), round(pose.y_in, 1), round(pose.heading_deg, 1)]
 

@@ -22,6 +22,7 @@ from concurrent.futures import Future
 import py_trees
 from py_trees.common import Access, Status
 
+from behaviours.actions import pose_json
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import relative_position, to_driver_pose, to_planner_pose
 from behaviours.events import Event
@@ -33,10 +34,6 @@ DOCK_TRIP = "dock_trip"  # blackboard: what the drive to the dock cost, for the 
 def dock_of(driver: Driver) -> Pose | None:
     """Where the driver says its charging dock is; None without the ``battery`` feature."""
     return driver.dock() if isinstance(driver, Charger) else None
-
-
-def _pose_json(pose: Pose) -> list[float]:
-    return [round(pose.x_in, 1), round(pose.y_in, 1), round(pose.heading_deg, 1)]
 
 
 class BatteryLow(CslBehaviour):
@@ -86,7 +83,7 @@ class DriveToDock(DriverAction):
         if dock is None:
             return Status.FAILURE
         start = self.robot_pose()
-        self.bb.set(DOCK_TRIP, {"from": _pose_json(to_driver_pose(start)), "level": self.services.driver.state().battery})
+        self.bb.set(DOCK_TRIP, {"from": pose_json(to_driver_pose(start)), "level": self.services.driver.state().battery})
         plan = self.services.navigator.plan(start, to_planner_pose(dock))
         if not plan.found:
             self.note(Event.NO_PATH, to="dock", reason=plan.reason)
@@ -122,7 +119,7 @@ class Charge(DriverAction):
         trip = self.bb.get(DOCK_TRIP) or {}
         self.note(Event.CHARGE, level_before=round(float(trip.get("level", self._before.battery)), 3),
                   level=round(result.battery, 3), charging_s=round(result.clock_s - self._before.clock_s, 1),
-                  moving_s=trip.get("moving_s"), came_from=trip.get("from"), dock=_pose_json(result.pose))
+                  moving_s=trip.get("moving_s"), came_from=trip.get("from"), dock=pose_json(result.pose))
         obj = self.bb.get("object")
         if obj is not None and not obj.done:  # resume from here: the session keeps what it measured
             obj.session.position = relative_position(self.services.navigator, obj.region, self.robot_pose())

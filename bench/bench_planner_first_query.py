@@ -33,8 +33,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import planner.paths as paths  # noqa: E402
+from behaviours.bridge import overhead  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from planner import Navigator, OverheadImage, PathPlanner, PlanResult, Pose  # noqa: E402
+from planner import Navigator, PathPlanner, PlanResult, Pose  # noqa: E402
 from planner.roadmap import Roadmap  # noqa: E402
 from planner.vision_map import VisionMap  # noqa: E402
 from robot_profile import load_profile  # noqa: E402
@@ -57,12 +58,6 @@ def reference_checker(vision_map: VisionMap, holder: list[np.ndarray]) -> Callab
 def numpy_cells(grid: np.ndarray) -> np.ndarray:
     """Before, the planner held the numpy grid itself."""
     return grid
-
-
-def overhead(hero: SimulatedHero) -> OverheadImage:
-    image = hero.camera().result()
-    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                         image.camera_matrix, image.fisheye)
 
 
 def detour(vision_map: VisionMap, seed: int) -> tuple[Pose, Pose]:
@@ -95,7 +90,7 @@ def main() -> None:
     args = ap.parse_args()
     hero = SimulatedHero(seed=args.seed)
     navigator = Navigator(load_profile().robot)
-    navigator.observe(overhead(hero))
+    navigator.observe(overhead(hero.camera().result()))
     vision_map = navigator.vision_map
     start, goal = detour(vision_map, args.seed)
 
@@ -126,7 +121,7 @@ def main() -> None:
     try:
         nav = Navigator(load_profile().robot)
         for _ in range(3):  # the same world seen three times (the robot is not an obstacle)
-            nav.observe(overhead(hero))
+            nav.observe(overhead(hero.camera().result()))
             nav.plan(start, goal)
     finally:
         Roadmap.grow = classmethod(original)

@@ -156,10 +156,7 @@ def _parameter_type(parameter: Parameter) -> Callable[[str], float]:
     as one line naming the option, before any training or robot time."""
 
     def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        value = _float(text, "a number")
         try:
             return parameter.check(value)
         except ValueError as exc:
@@ -207,12 +204,17 @@ def port(text: str) -> int:
     return value
 
 
+def _float(text: str, what: str) -> float:
+    """``text`` as a number, or the argparse error 'expected WHAT, got TEXT'."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}") from None
+
+
 def non_negative_seconds(text: str) -> float:
     """argparse type: a finite number of seconds >= 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    value = _float(text, "a number of seconds")
     if not math.isfinite(value) or value < 0:
         raise argparse.ArgumentTypeError(f"must be a finite number of seconds >= 0, got {text}")
     return value
@@ -220,10 +222,7 @@ def non_negative_seconds(text: str) -> float:
 
 def battery_level(text: str) -> float:
     """argparse type: a battery level from 0 (empty) to 1 (full)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a battery level from 0 to 1, got {text!r}") from None
+    value = _float(text, "a battery level from 0 to 1")
     if not 0.0 <= value <= 1.0:  # NaN fails this too
         raise argparse.ArgumentTypeError(f"must be a battery level from 0 to 1, got {text}")
     return value

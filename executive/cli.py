@@ -60,16 +60,12 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in commands.MODULES:
         module.register(sub)
-    for name in JSON_COMMANDS:  # their arguments are declared in executive/commands/run.py
-        sub.choices[name].add_argument("--json", action="store_true", help=JSON_HELP)
     for command in _commands(parser):
         _add_log_options(command, default=argparse.SUPPRESS)
         _add_completers(command)
     return parser
 
 
-JSON_COMMANDS = ("demo", "run")
-JSON_HELP = "print one JSON document on standard output instead of the tables (for scripts)"
 LOG_LEVELS = ("debug", "info", "warning", "error", "critical")
 
 
@@ -181,25 +177,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except LearnerUnavailable as exc:  # the learner service could not be reached or vanished
+    except (LearnerUnavailable, DriverError, ValueError, OSError, KeyError) as exc:
         if os.environ.get("CSL_DEBUG"):
             raise
-        print(f"csl: learner error: {_one_line(exc)} (is one serving? start it with 'csl learner serve')",
-              file=sys.stderr)
-        return LOST
-    except (ValueError, OSError, KeyError) as exc:
-        if os.environ.get("CSL_DEBUG"):
-            raise
-        print(f"csl: error: {_one_line(exc)}", file=sys.stderr)
-        return BAD_INPUT
-    except DriverError as exc:  # the robot refused or vanished while the executive ran
-        if os.environ.get("CSL_DEBUG"):
-            raise
-        print(f"csl: robot error: {exc}", file=sys.stderr)
-        return LOST
+        line, status = _error(exc)
+        print(line, file=sys.stderr)
+        return status
     except KeyboardInterrupt:
         print("csl: interrupted", file=sys.stderr)
         return 130
+
+
+def _error(exc: Exception) -> tuple[str, int]:
+    """The one line for an error ``csl`` expects, and its exit status: a learner service
+    or robot lost is exit 3, anything else a bad input (exit 2)."""
+    if isinstance(exc, LearnerUnavailable):  # the learner service could not be reached or vanished
+        return f"csl: learner error: {_one_line(exc)} (is one serving? start it with 'csl learner serve')", LOST
+    if isinstance(exc, DriverError):  # the robot refused or vanished while the executive ran
+        return f"csl: robot error: {exc}", LOST
+    return f"csl: error: {_one_line(exc)}", BAD_INPUT
 
 
 def _one_line(exc: BaseException) -> str:

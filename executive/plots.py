@@ -19,7 +19,7 @@ import py_trees  # noqa: E402
 
 from behaviours.records import ObjectRecord  # noqa: E402
 from executive.tree_figure import (BOX_PT, LABEL_H, LABEL_PT, LINE_H, PAD, Box, Link, TreeLayout,  # noqa: E402
-                                   layout, object_figure)
+                                   layout, object_figures)
 from hero_driver.interface import CameraImage  # noqa: E402
 
 _COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
@@ -120,9 +120,9 @@ def plot_object_tree(path: Path, record: ObjectRecord, label: str, events: Seque
     what the learner would have grown there: each to its first test and two levels
     below it, fewer when that would make the picture wider than about a screen."""
     session = record.session
+    figure = object_figures(events, record.index, session.ctx, orientation_free=session.orientation_free)
     for levels in (2, 1, 0):
-        tree = layout(object_figure(events, record.index, session.ctx, orientation_free=session.orientation_free,
-                                    levels=levels))
+        tree = layout(figure(levels))
         if tree.width <= _MAX_TREE_WIDTH_IN:
             break
     title = f"object {record.index}: {label}  →  {record.grasp or '-'} ({record.outcome or 'unfinished'})"

@@ -102,13 +102,19 @@ def print_report(table: Sequence[Row]) -> None:
     print_paragraph(time_split(table))
 
 
-def summary(table: Sequence[Row]) -> str:
+def _totals(table: Sequence[Row]) -> tuple[int, int, float, float]:
+    """Objects judged against the truth, those handled correctly, and the mean robot
+    seconds and computing milliseconds per object."""
     judged = [r for r in table if r.correct is not None]
-    ok = sum(bool(r.correct) for r in judged)
-    mean_min = sum(r.robot_s for r in table) / max(len(table), 1) / 60
-    mean_ms = sum(r.computing_ms for r in table) / max(len(table), 1)
-    rate = f"{ok}/{len(judged)} handled correctly ({100 * ok / len(judged):.0f}%)" if judged else "no truth to judge by"
-    return (f"{len(table)} objects: {rate}; {mean_min:.1f} robot minutes and "
+    n = max(len(table), 1)
+    return (len(judged), sum(bool(r.correct) for r in judged), sum(r.robot_s for r in table) / n,
+            sum(r.computing_ms for r in table) / n)
+
+
+def summary(table: Sequence[Row]) -> str:
+    judged, ok, mean_s, mean_ms = _totals(table)
+    rate = f"{ok}/{judged} handled correctly ({100 * ok / judged:.0f}%)" if judged else "no truth to judge by"
+    return (f"{len(table)} objects: {rate}; {mean_s / 60:.1f} robot minutes and "
             f"{mean_ms:.0f} ms of computation per object (paper: ~12 min, ~20 s)")
 
 
@@ -130,11 +136,9 @@ def row_json(row: Row) -> dict[str, object]:
 
 def summary_json(table: Sequence[Row]) -> dict[str, object]:
     """The summary line's numbers for ``--json``."""
-    judged = [r for r in table if r.correct is not None]
-    n = max(len(table), 1)
-    return {"objects": len(table), "judged": len(judged), "correct": sum(bool(r.correct) for r in judged),
-            "mean_robot_s": sum(r.robot_s for r in table) / n,
-            "mean_computing_ms": sum(r.computing_ms for r in table) / n}
+    judged, ok, mean_s, mean_ms = _totals(table)
+    return {"objects": len(table), "judged": judged, "correct": ok, "mean_robot_s": mean_s,
+            "mean_computing_ms": mean_ms}
 
 
 def episode_json(table: Sequence[Row], *, ticks: int, wall_s: float, out: Path, plots: bool, library: Path | None,

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -83,11 +83,18 @@ def object_figure(events: Sequence[Mapping[str, object]], index: int, ctx: Conte
     not taken regrown by the learner over ``ctx`` (the library, criterion and move
     costs the object was recognized with), each shown to its first test and ``levels``
     levels below that."""
-    replay = _Replay(ctx, orientation_free, levels)
+    return object_figures(events, index, ctx, orientation_free=orientation_free)(levels)
+
+
+def object_figures(events: Sequence[Mapping[str, object]], index: int, ctx: Context, *,
+                   orientation_free: bool = False) -> Callable[[int], Shape]:
+    """:func:`object_figure` to any depth from one replay: the log is followed and the
+    untaken branches regrown once, and each call draws them ``levels`` levels deep."""
+    replay = _Replay(ctx, orientation_free)
     for e in events:
         if e.get("object") == index:
             replay.event(e)
-    return replay.figure()
+    return replay.figure
 
 
 @dataclass
@@ -96,7 +103,8 @@ class _Visit:
 
     lines: list[Line] = field(default_factory=list)
     kind: Kind = "test"
-    branches: list[tuple[str, Shape | None]] = field(default_factory=list)  # None: the path goes on there
+    # a branch not taken (its regrown subtree, drawn to the depth asked for) or None: the path goes on there
+    branches: list[tuple[str, Shape | TreeNode | None]] = field(default_factory=list)
     onward: str = ""  # label of the edge to the next visit, when not a branch
     style: Style = "taken"
 
@@ -114,8 +122,8 @@ class _Attempt:
 class _Replay:
     """Follows one object's events, keeping the node the learner is at and the path."""
 
-    def __init__(self, ctx: Context, orientation_free: bool, levels: int) -> None:
-        self.ctx, self.orientation_free, self.levels = ctx, orientation_free, levels
+    def __init__(self, ctx: Context, orientation_free: bool) -> None:
+        self.ctx, self.orientation_free = ctx, orientation_free
         self.tests = {str(t): t for t in ctx.matrix.tests}
         self.visits: list[_Visit] = []
         self.path: list[tuple[Node, Test]] = []  # nodes above the current one and the test followed there
@@ -129,7 +137,9 @@ class _Replay:
         self.effect = ""
 
     # -- the figure -----------------------------------------------------------------
-    def figure(self) -> Shape:
+    def figure(self, levels: int) -> Shape:
+        """The figure, regrown branches ``levels`` levels below their first test (the
+        same replay draws any depth: a trailing "…" is added once)."""
         if self.pending is not None and self.visits:
             self._visit().lines.append(Line("…", "note"))  # the log ends before anything was done here
         if not self.visits:
@@ -139,7 +149,8 @@ class _Replay:
             branches: list[Branch] = []
             for label, child in visit.branches:
                 if child is not None:
-                    branches.append(Branch(label, child, "untaken"))
+                    branches.append(Branch(label, child if isinstance(child, Shape) else _shape_of(child, levels),
+                                           "untaken"))
                 elif nxt is not None:
                     branches.append(Branch(label, nxt, visit.style))
             if not visit.branches and nxt is not None:
@@ -370,14 +381,13 @@ class _Replay:
             self.path.append((self.node, attempt.test))
         self.node, self.attempt, self.pending = child, None, ("", style)
 
-    def _regrow(self, node: Node, attempt: _Attempt, branch: Range) -> Shape:
+    def _regrow(self, node: Node, attempt: _Attempt, branch: Range) -> Shape | TreeNode:
         """What the learner would grow below a branch not taken."""
         assert attempt.test is not None and attempt.scored is not None
         if attempt.test.is_grasp and branch[0] >= 1.0:
             return Shape((Line(f"{attempt.test.feature} ✓ in the hand", "ok"),), "grasp", False)
         exclude = frozenset(t for _, t in self.path) | {attempt.test}
-        tree = grow(node, attempt.scored.target, self.ctx, dict(self.measurements), exclude)
-        return _shape_of(tree, self.levels)
+        return grow(node, attempt.scored.target, self.ctx, dict(self.measurements), exclude)
 
     def _record(self, values: Mapping[str, object], at: Position) -> None:
         where = Position(at.distance_in, None) if self.orientation_free else at

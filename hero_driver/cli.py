@@ -13,10 +13,10 @@ import json
 import sys
 from pathlib import Path
 
-from hero_driver.inspect_cli import register_inspect
+from hero_driver.inspect_cli import connect_endpoint, connect_options, register_inspect
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
-from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
+from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
@@ -85,8 +85,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
-    check.add_argument("--connect", default=None, metavar="ENDPOINT",
-                       help=f"zenoh endpoint of the driver process (default {DRIVER_ENDPOINT})")
+    connect_options(check)
     check.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
@@ -96,7 +95,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "(default: the HERO 2000's)")
     check.add_argument("--json", action="store_true",
                        help="print the results as one JSON document: checks (name, passed, detail), passed, failed")
-    add_zenoh_config_option(check)
     check.set_defaults(handler=_run_check)
     register_inspect(actions)
 
@@ -138,9 +136,7 @@ def _run_sim(args: argparse.Namespace) -> int:
 
 def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
-    zenoh_config = user_config(args.zenoh_config)
-    connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
-    check_endpoint(connect)
+    connect, _, zenoh_config = connect_endpoint(args)
     if not args.timeout > 0:
         raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 from hero_driver.interface import PROTOCOL_VERSION, TIMEOUT, UNAVAILABLE, DriverError
 from hero_driver.zenoh_link.keys import robot_keys
+from zenoh_rpc.argtypes import positive_int, positive_seconds
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
@@ -50,11 +51,11 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
         ),
     )
     state.add_argument("robot", metavar="ROBOT", help="robot name (zenoh keys hero/ROBOT/...)")
-    state.add_argument("--count", type=_positive_int, default=None, metavar="N",
+    state.add_argument("--count", type=positive_int, default=None, metavar="N",
                        help="stop after N messages (default: until Ctrl-C)")
-    state.add_argument("--timeout", type=_positive_seconds, default=DEFAULT_STATE_TIMEOUT_S, metavar="S",
+    state.add_argument("--timeout", type=positive_seconds, default=DEFAULT_STATE_TIMEOUT_S, metavar="S",
                        help=f"give up when no message arrives for S seconds (default {DEFAULT_STATE_TIMEOUT_S:g})")
-    _connect_options(state)
+    connect_options(state)
     state.set_defaults(handler=run_state)
 
     call = actions.add_parser(
@@ -73,10 +74,10 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
     verb.completer = complete_verb  # type: ignore[attr-defined]  # argcomplete's hook
     call.add_argument("request", metavar="REQUEST", nargs="?", default="{}",
                       help="the request as a JSON object (default {}, for verbs without arguments)")
-    call.add_argument("--timeout", type=_positive_seconds, default=None, metavar="S",
+    call.add_argument("--timeout", type=positive_seconds, default=None, metavar="S",
                       help="seconds to wait for the driver and for the reply (default: the verb's own "
                            "timeout, e.g. 5 for noop, 900 for move)")
-    _connect_options(call)
+    connect_options(call)
     call.set_defaults(handler=run_call)
 
 
@@ -88,33 +89,14 @@ def complete_verb(prefix: str, **_kwargs: object) -> list[str]:
     return [name for name in BY_NAME if name.startswith(prefix)]
 
 
-def _connect_options(parser: argparse.ArgumentParser) -> None:
+def connect_options(parser: argparse.ArgumentParser) -> None:
+    """Add ``--connect ENDPOINT`` and ``--zenoh-config FILE`` (read by :func:`connect_endpoint`)."""
     parser.add_argument("--connect", default=None, metavar="ENDPOINT",
                         help=f"zenoh endpoint of the driver process (default {DRIVER_ENDPOINT})")
     add_zenoh_config_option(parser)
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
-
-
-def _positive_seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
-    if not 0 < value < float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text}")
-    return value
-
-
-def _endpoint(args: argparse.Namespace) -> tuple[str, str, UserConfig | None]:
+def connect_endpoint(args: argparse.Namespace) -> tuple[str, str, UserConfig | None]:
     """The endpoint to connect to, where it came from (for messages), and the user's
     zenoh file."""
     zenoh_config = user_config(args.zenoh_config)
@@ -130,9 +112,9 @@ def _not_served(robot: str, at: str, why: str) -> DriverError:
 def run_state(args: argparse.Namespace) -> int:
     """Print state messages until --count, Ctrl-C or --timeout seconds of silence."""
     keys = robot_keys(args.robot)
-    connect, at, zenoh_config = _endpoint(args)
+    connect, at, zenoh_config = connect_endpoint(args)
     from hero_driver.zenoh_link.codec import CodecError, decode_state
-    from zenoh_rpc.config import open_session
+    from zenoh_rpc.config import close_session, open_session
 
     messages: queue.Queue[bytes] = queue.Queue()
     session = open_session(connect=[connect], user=zenoh_config)
@@ -155,7 +137,7 @@ def run_state(args: argparse.Namespace) -> int:
             pass
         subscriber.undeclare()
     finally:
-        session.close()
+        close_session(session)
     return 0
 
 
@@ -179,7 +161,7 @@ def run_call(args: argparse.Namespace) -> int:
         request = verb.decode_request(json.dumps({"v": PROTOCOL_VERSION, **fields}).encode())
     except CodecError as exc:
         raise ValueError(f"REQUEST: {exc}") from None
-    connect, at, zenoh_config = _endpoint(args)
+    connect, at, zenoh_config = connect_endpoint(args)
     timeout_s = args.timeout if args.timeout is not None else verb.timeout_s
     driver = ZenohDriver(args.robot, connect=[connect], timeouts=VerbTimeouts(**{f"{verb.name}_s": timeout_s}),
                          discover_s=min(timeout_s, 3.0), zenoh_config=zenoh_config)

@@ -102,7 +102,7 @@ class SimulatedHero:
                 if world is None:
                     raise
                 log.warning("world %r cannot be loaded: %s", world, exc)
-                raise WorldRefused(f"world: {world!r} cannot be loaded on this driver (see the driver's log)") from None
+                raise WorldRefused.cannot_load(world) from None
             return sim.state()
         return self._done(work)
 

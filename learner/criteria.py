@@ -32,9 +32,11 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 
-@dataclass(frozen=True)
-class Criterion:
-    """A named evaluation function of (gain in bits, cost in seconds); higher is better.
+@dataclass(frozen=True, kw_only=True)
+class Traits:
+    """How a criterion ranks besides its formula, declared once: a registry entry
+    (:class:`CriterionSpec`) and the criterion it builds (:class:`Criterion`) both carry
+    them, as keyword-only fields after their own.
 
     ``cost_blind_choices``: what the score leaves open is left to chance, not to cost:
     equal scores are ordered at random and a ``*`` slot of a test's position is filled
@@ -54,15 +56,22 @@ class Criterion:
     learner/rollout_walk.py) rather than the learner's view of a node.
     """
 
-    name: str
-    score: Callable[[float, float], float]
-    cost_sensitive: bool
     cost_blind_choices: bool = False
     joint_gain: bool = False
     lookahead: bool = False
     rollout: bool = False
     grasp_paid_on_failure: bool = False
     rollout_follows_walk: bool = False
+
+
+@dataclass(frozen=True)
+class Criterion(Traits):
+    """A named evaluation function of (gain in bits, cost in seconds); higher is better,
+    with how it ranks besides (:class:`Traits`)."""
+
+    name: str
+    score: Callable[[float, float], float]
+    cost_sensitive: bool
 
 
 @dataclass(frozen=True)
@@ -85,7 +94,7 @@ class Parameter:
 
 
 @dataclass(frozen=True)
-class CriterionSpec:
+class CriterionSpec(Traits):
     """One registry entry: what a user reads (formula, help), what it takes
     (parameters), and how to build the :class:`Criterion` from given parameter values.
 
@@ -98,12 +107,6 @@ class CriterionSpec:
     cost_sensitive: bool
     score: Callable[..., float]
     parameters: tuple[Parameter, ...] = ()
-    cost_blind_choices: bool = False
-    joint_gain: bool = False
-    lookahead: bool = False
-    rollout: bool = False
-    grasp_paid_on_failure: bool = False
-    rollout_follows_walk: bool = False
 
     def build(self, *values: float, **given: float) -> Criterion:
         """The criterion with parameters given by position (in declared order) or by
@@ -124,9 +127,8 @@ class CriterionSpec:
         return Criterion(self.name, functools.partial(self.score, **bound), **traits)
 
 
-_TRAITS = tuple(f.name for f in dataclasses.fields(Criterion) if f.name not in ("name", "score"))
-"""How a criterion ranks besides its formula: declared once on :class:`Criterion`, copied
-by name from its registry entry."""
+_TRAITS = ("cost_sensitive", *(f.name for f in dataclasses.fields(Traits)))
+"""What a criterion takes from its registry entry besides the name and the bound formula."""
 
 
 def _ratio(numerator: float, cost: float) -> float:

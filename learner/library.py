@@ -230,6 +230,8 @@ NEXT_SUFFIX = "next_suffix:"
 looking for a free ``stem#n``, so naming the 100,000th encounter of an object costs
 what naming the second did."""
 
+_SET_META = "INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)"
+
 
 def durable_and_quick(db: sqlite3.Connection) -> None:
     """Write-ahead logging with a sync on every commit: a committed learn survives a
@@ -319,7 +321,7 @@ class LibraryStore:
     def set_meta(self, key: str, value: str) -> None:
         """Write one ``meta`` row in its own committed transaction."""
         with self._db:
-            self._db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (key, value))
+            self._db.execute(_SET_META, (key, value))
 
     def learned(self, key: str) -> str | None:
         """The id a learn with idempotency ``key`` was stored under, or None."""
@@ -343,7 +345,7 @@ class LibraryStore:
                     return stored, False
             object_id = self.unique_id(description.object_id)
             self._insert(dataclasses.replace(description, object_id=object_id), key)
-            self._db.executemany("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", meta)
+            self._db.executemany(_SET_META, meta)
         return object_id, True
 
     def add(self, descriptions: Sequence[ObjectDescription], *, replace: bool = False) -> int:
@@ -387,11 +389,10 @@ class LibraryStore:
         """
         if not self._taken(stem):
             return stem
-        hint = self._db.execute("SELECT value FROM meta WHERE key = ?", (NEXT_SUFFIX + stem,)).fetchone()
-        n = 2 if hint is None else int(hint[0])
+        n = self.meta_int(NEXT_SUFFIX + stem) or 2  # a kept hint is at least 3
         while self._taken(f"{stem}#{n}"):
             n += 1
-        self._db.execute("INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)", (NEXT_SUFFIX + stem, str(n + 1)))
+        self._db.execute(_SET_META, (NEXT_SUFFIX + stem, str(n + 1)))
         return f"{stem}#{n}"
 
     def _taken(self, object_id: str) -> bool:

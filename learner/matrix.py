@@ -138,13 +138,9 @@ class DescriptionMatrix:
         for d in new:
             if d.grasp not in classes:
                 return False
-            for o in d.observations:
-                if self.knowledge.has_feature(o.feature) and \
-                        Test(o.feature, o.position, self.knowledge.procedure_for(o.feature).name) not in self.column:
-                    return False
-            if (self.grasps_as_features and self.knowledge.has_grasp(d.grasp)
-                    and self.knowledge.grasp(d.grasp).verifiable
-                    and Test(d.grasp, d.grasp_position, d.grasp, is_grasp=True) not in self.column):
+            grasp = self._grasp_test_of(d) if self.grasps_as_features else None
+            needed = [*self._sense_tests_of(d), *([] if grasp is None else [grasp])]
+            if any(t not in self.column for t in needed):
                 return False
         return True
 
@@ -154,7 +150,7 @@ class DescriptionMatrix:
         row = np.full(len(self.tests), np.nan)
         for j, t in enumerate(self.tests):
             if t.is_grasp:
-                row[j] = 1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
+                row[j] = _grasp_value(d, t)
         for j, v in self._sense_values(d):
             row[j] = v
         return row
@@ -188,19 +184,21 @@ class DescriptionMatrix:
         return off.any(axis=1)
 
     def _sense_tests(self) -> list[Test]:
-        tests = {
-            Test(o.feature, o.position, self.knowledge.procedure_for(o.feature).name)
-            for d in self.descriptions for o in d.observations if self.knowledge.has_feature(o.feature)
-        }
-        return sorted(tests)
+        return sorted({t for d in self.descriptions for t in self._sense_tests_of(d)})
 
     def _grasp_tests(self) -> list[Test]:
-        tests = {
-            Test(d.grasp, d.grasp_position, d.grasp, is_grasp=True)
-            for d in self.descriptions
-            if self.knowledge.has_grasp(d.grasp) and self.knowledge.grasp(d.grasp).verifiable
-        }
-        return sorted(tests)
+        return sorted({t for d in self.descriptions if (t := self._grasp_test_of(d)) is not None})
+
+    def _sense_tests_of(self, d: ObjectDescription) -> list[Test]:
+        """The sensing columns ``d`` has values for (features the knowledge knows)."""
+        return [Test(o.feature, o.position, self.knowledge.procedure_for(o.feature).name)
+                for o in d.observations if self.knowledge.has_feature(o.feature)]
+
+    def _grasp_test_of(self, d: ObjectDescription) -> Test | None:
+        """The grasp column ``d`` makes, when its grasp can be tried as a feature."""
+        if self.knowledge.has_grasp(d.grasp) and self.knowledge.grasp(d.grasp).verifiable:
+            return Test(d.grasp, d.grasp_position, d.grasp, is_grasp=True)
+        return None
 
     def _fill(self) -> np.ndarray:
         values = np.full((len(self.descriptions), len(self.tests)), np.nan)
@@ -208,8 +206,7 @@ class DescriptionMatrix:
         self._general: dict[str, list[int]] = defaultdict(list)  # columns at positions holding "*"
         for j, t in enumerate(self.tests):
             if t.is_grasp:
-                values[:, j] = [1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
-                                for d in self.descriptions]
+                values[:, j] = [_grasp_value(d, t) for d in self.descriptions]
             else:
                 self._exact[(t.feature, t.position)] = j
                 self._general[t.feature].append(j)
@@ -231,6 +228,12 @@ class DescriptionMatrix:
             if v is not None:
                 out.append((j, v))
         return out
+
+
+def _grasp_value(d: ObjectDescription, t: Test) -> float:
+    """A grasp column's value: 1 for a description of that grasp at a compatible position."""
+    return 1.0 if d.grasp == t.feature and d.grasp_position.compatible(t.position) else 0.0
+
 
 def _axes(d: ObjectDescription) -> tuple[float, float]:
     return d.appearance.axes_in if d.appearance is not None else (np.nan, np.nan)

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -50,17 +51,28 @@ _Key = tuple[Node, Position, frozenset[tuple[str, Position]], frozenset[Test]]
 
 def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
                exclude: frozenset[Test]) -> list[ScoredTest]:
-    """The best :data:`ROLLOUT_WIDTH` of ``ranked`` (one-step order, from ``current``)
-    rescored by their expected total cost (score ``-total``, ``scored_on`` = (gain,
-    total)), least first; the rest follow in their one-step order."""
+    """``ranked`` (one-step order, from ``current``) with its best few rescored by
+    their expected total cost (:func:`rescored`)."""
     rollout = _Rollout(ctx)
     measured = frozenset(measurements)
+    return rescored(ranked, lambda test: rollout.after(node, test, measured, exclude))
+
+
+def rescored(ranked: list[ScoredTest], total_of: Callable[[ScoredTest], float]) -> list[ScoredTest]:
+    """The best :data:`ROLLOUT_WIDTH` of ``ranked`` rescored by their expected total cost
+    ``total_of(test)`` (score ``-total``, ``scored_on`` = (gain, total)), least first;
+    the rest follow in their one-step order."""
     shortlist = []
     for test in ranked[:ROLLOUT_WIDTH]:
-        total = rollout.after(node, test, measured, exclude)
+        total = total_of(test)
         shortlist.append(dataclasses.replace(test, score=-total, scored_on=(test.gain, total)))
     shortlist.sort(key=lambda s: -s.score)  # stable: ties keep the one-step order
     return shortlist + ranked[ROLLOUT_WIDTH:]
+
+
+def one_step(ctx: Context) -> Context:
+    """``ctx`` with its criterion's rollout off: the one-step rule a rollout finishes with."""
+    return dataclasses.replace(ctx, criterion=dataclasses.replace(ctx.criterion, rollout=False))
 
 
 def finishing_cost(node: Node, current: Position, ctx: Context, measurements: Measurements,
@@ -76,7 +88,7 @@ class _Rollout:
     free sibling taken in either order)."""
 
     def __init__(self, ctx: Context) -> None:
-        self.ctx = dataclasses.replace(ctx, criterion=dataclasses.replace(ctx.criterion, rollout=False))
+        self.ctx = one_step(ctx)
         self.memo: dict[_Key, float] = {}
 
     def finish(self, node: Node, at: Position, measured: frozenset[tuple[str, Position]],

@@ -27,13 +27,12 @@ leaves the object behind, is priced at :data:`LEFT_BEHIND_S`.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 from learner.decision_tree import grasp_options, leaf_at
 from learner.matrix import Test
 from learner.position import Position
-from learner.rollout import ROLLOUT_WIDTH
+from learner.rollout import one_step, rescored
 from learner.selection import Context, Measurements, Node, ScoredTest, rank, split, yielded
 
 _EPS = 1e-9
@@ -49,18 +48,12 @@ _Measured = frozenset[tuple[str, Position]]
 
 def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
                exclude: frozenset[Test]) -> list[ScoredTest]:
-    """The best :data:`ROLLOUT_WIDTH` of ``ranked`` rescored by the walk's expected total
-    cost (score ``-total``, ``scored_on`` = (gain, total)), least first; the rest follow
-    in their one-step order."""
+    """``ranked`` with its best few rescored by the walk's expected total cost
+    (:func:`learner.rollout.rescored`)."""
     rollout = WalkRollout(ctx, node)
     weights = node.weights()
     measured = frozenset(measurements)
-    shortlist = []
-    for test in ranked[:ROLLOUT_WIDTH]:
-        total = rollout.after(node, weights, test, measured, exclude, frozenset())
-        shortlist.append(dataclasses.replace(test, score=-total, scored_on=(test.gain, total)))
-    shortlist.sort(key=lambda s: -s.score)  # stable: ties keep the one-step order
-    return shortlist + ranked[ROLLOUT_WIDTH:]
+    return rescored(ranked, lambda test: rollout.after(node, weights, test, measured, exclude, frozenset()))
 
 
 def walk_finishing_cost(node: Node, current: Position, ctx: Context, measurements: Measurements,
@@ -75,7 +68,7 @@ class WalkRollout:
     (node, weights, position, measured, excluded, failed grasps) for one decision."""
 
     def __init__(self, ctx: Context, decision_node: Node) -> None:
-        self.ctx = dataclasses.replace(ctx, criterion=dataclasses.replace(ctx.criterion, rollout=False))
+        self.ctx = one_step(ctx)
         matrix = ctx.matrix
         grasps = {matrix.descriptions[r].grasp for r in decision_node.rows}
         self.universe = tuple(r for r, d in enumerate(matrix.descriptions) if d.grasp in grasps)

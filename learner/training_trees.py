@@ -69,20 +69,22 @@ class _Unfolding:
     def grown(self) -> GraspLeaf | AmbiguousLeaf | _GrownTest:
         """This node as :func:`~learner.decision_tree.grow` makes it, its children left to unfold."""
         if self._grown is None:
-            node, current, ctx = self._node, self._current, self._ctx
-            leaf = leaf_at(node, current, ctx)
-            ranked = [] if leaf is not None else rank(node, current, ctx, self._measurements, self._exclude)
-            if leaf is not None:
-                self._grown = leaf
-            elif not ranked:
-                self._grown = AmbiguousLeaf(tuple(grasp_options(node, current, ctx)), object_ids(node, ctx))
-            else:
-                best = ranked[0]
-                below = {**self._measurements, **yielded(best, ctx)}
-                self._grown = _GrownTest(best, tuple(
-                    (rng, _Unfolding(child, best.target, ctx, below, self._exclude | {best.test}))
-                    for rng, child in zip(best.ranges, split(node, best, ctx.matrix))))
+            self._grown = self._grow()
         return self._grown
+
+    def _grow(self) -> GraspLeaf | AmbiguousLeaf | _GrownTest:
+        node, current, ctx = self._node, self._current, self._ctx
+        leaf = leaf_at(node, current, ctx)
+        if leaf is not None:
+            return leaf
+        ranked = rank(node, current, ctx, self._measurements, self._exclude)
+        if not ranked:
+            return AmbiguousLeaf(tuple(grasp_options(node, current, ctx)), object_ids(node, ctx))
+        best = ranked[0]
+        below = {**self._measurements, **yielded(best, ctx)}
+        return _GrownTest(best, tuple(
+            (rng, _Unfolding(child, best.target, ctx, below, self._exclude | {best.test}))
+            for rng, child in zip(best.ranges, split(node, best, ctx.matrix))))
 
 
 PhaseTree = TreeNode | _Unfolding

@@ -159,7 +159,8 @@ class PathPlanner:
         bounds.setLow(1, y_min)
         bounds.setHigh(1, y_max)
         self._space.setBounds(bounds)
-        self._valid_holder: list[bytes] = [_cells(vision_map.free_strict)]
+        self._strict_cells = _cells(vision_map.free_strict)
+        self._valid_holder: list[bytes] = [self._strict_cells]
         self._roadmap: Roadmap | None = roadmap  # one still valid on this map, or grown on demand
         self._tree_setup = self._new_setup()
 
@@ -215,7 +216,7 @@ class PathPlanner:
         if self.map.segment_is_free(a, b):
             return _result(escape + [a, b], start, goal, spacing, STRAIGHT, escape_in)
         if self._roadmap is None and not optimise:
-            self._valid_holder[0] = _cells(self.map.free_strict)  # no query's endpoint exemptions
+            self._valid_holder[0] = self._strict_cells  # no query's endpoint exemptions
             _reseed()
             self._roadmap = Roadmap.grow(self._new_setup(), self.roadmap_milestones, ROADMAP_MAX_S)
         self._exempt_endpoints([start_cell, goal_cell])

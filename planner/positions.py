@@ -76,15 +76,14 @@ def free_pose_for_position(region: Region, distance_in: float, orientation_deg: 
     pose = pose_for_position(region, distance_in, orientation_deg, robot)
     if is_free(pose.x_in, pose.y_in):
         return pose
-    u = unit(region.reference_axis_deg + orientation_deg)
-    out = face_distance_in(region, orientation_deg) + robot.sensor_offset_in
+    u = unit(region.reference_axis_deg + orientation_deg)  # the ray the base stands on, outwards
+    asked = np.array([pose.x_in, pose.y_in])
     steps = int(round(RANGE_TOLERANCE_IN / TOLERANCE_STEP_IN))
     for k in range(1, steps + 1):
         for shift in (k * TOLERANCE_STEP_IN, -k * TOLERANCE_STEP_IN):
-            distance = distance_in + shift
-            if distance < 0:
+            if distance_in + shift < 0:
                 continue
-            base = np.asarray(region.centroid) + (out + distance) * u
+            base = asked + shift * u
             if is_free(float(base[0]), float(base[1])):
                 return Pose(float(base[0]), float(base[1]), pose.heading_deg)
     return pose

@@ -168,22 +168,22 @@ def _regions(image: OverheadImage, objects: np.ndarray,
     """Object regions and the mask of the pixels that belong to a kept region; given a
     real image's ``brightness``, pixel counts are its sub-pixel object areas
     (:func:`_covered_pixels`)."""
-    mask = objects.astype(np.uint8) * 255
-    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    kept = np.zeros(mask.shape, dtype=bool)
+    on = np.asarray(objects, dtype=bool)
+    contours, _ = cv2.findContours(on.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    kept = np.zeros(on.shape, dtype=bool)
     regions = []
     for contour in contours:
         col, row, width, height = cv2.boundingRect(contour)
         roi = np.zeros((height, width), np.uint8)
         cv2.drawContours(roi, [contour], -1, 1, thickness=cv2.FILLED, offset=(-col, -row))
-        roi &= (mask[row:row + height, col:col + width] > 0).astype(np.uint8)
+        roi &= on[row:row + height, col:col + width].astype(np.uint8)
         count = int(roi.sum())
         if count < MIN_OBJECT_PIXELS:
             continue
         kept[row:row + height, col:col + width] |= roi.astype(bool)
         region = _describe(image, roi, row, col)
         if brightness is not None:
-            covered = _covered_pixels(brightness, mask > 0, roi, row, col)
+            covered = _covered_pixels(brightness, on, roi, row, col)
             region = dataclasses.replace(region, pixel_count=covered,
                                          area_in2=covered * image.inches_per_pixel ** 2)
         regions.append(region)

@@ -12,9 +12,21 @@ profile file (docs/conventions.md, "Adding a robot constant").
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 POSITIVE = {"positive": True}  # field metadata: the reader refuses 0 (sizes, and what costs divide by)
+
+
+def _check_constants(part: object, what: str) -> None:
+    """A hand-built ``[robot]`` part holds to the reader's rule, read from the same
+    metadata: each field > 0 when :data:`POSITIVE`, else >= 0."""
+    wrong = []
+    for f in fields(part):
+        value, positive = getattr(part, f.name), f.metadata.get("positive", False)
+        if not (value > 0 if positive else value >= 0):
+            wrong.append(f"{f.name} {'> 0' if positive else '>= 0'} (got {value})")
+    if wrong:
+        raise ValueError(f"{what} needs {', '.join(wrong)}")
 
 
 @dataclass(frozen=True)
@@ -73,11 +85,7 @@ class RobotGeometry:
     raised_sensor_height_in: float = field(metadata=POSITIVE)
 
     def __post_init__(self) -> None:
-        if not self.base_radius_in > 0 or not self.sensor_offset_in >= 0:
-            raise ValueError(
-                f"robot geometry needs base_radius_in > 0 and sensor_offset_in >= 0, got "
-                f"{self.base_radius_in} and {self.sensor_offset_in}"
-            )
+        _check_constants(self, "robot geometry")
 
 
 @dataclass(frozen=True)
@@ -96,16 +104,7 @@ class RobotMotion:
     centring_s: float
 
     def __post_init__(self) -> None:
-        if not self.speed_in_per_s > 0 or not self.turn_deg_per_s > 0:
-            raise ValueError(
-                f"move model needs positive speeds, got {self.speed_in_per_s} in/s and "
-                f"{self.turn_deg_per_s} deg/s"
-            )
-        if self.vision_s < 0 or self.centring_s < 0:
-            raise ValueError(
-                f"move model needs non-negative overheads, got vision_s={self.vision_s} and "
-                f"centring_s={self.centring_s}"
-            )
+        _check_constants(self, "move model")
 
 
 @dataclass(frozen=True)

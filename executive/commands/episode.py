@@ -69,7 +69,7 @@ def _setup(args: argparse.Namespace) -> Setup:
     profile = load_profile(args.knowledge)
     return Setup(profile, knowledge_of(profile),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
-                        max_steps=args.max_steps, seed=getattr(args, "seed", None) or 0,
+                        max_steps=args.max_steps, seed=args.seed or 0,
                         use_appearance=args.appearance, battery_low=args.battery_low),
                  criterion_from_args(args), *_camera(args))
 
@@ -116,10 +116,7 @@ def run_demo(args: argparse.Namespace) -> int:
     setup = _setup(args)
     knowledge = setup.knowledge
     output_folder(args.out, "--out")
-    from hero_driver.sim_driver import SimulatedHero
-
-    driver = SimulatedHero("r1", world=args.world, seed=args.seed, profile=setup.profile,
-                           noise=_noise(args), camera=args.camera or "simple")  # a bad world fails first
+    driver = _simulator(args, "r1", setup.profile)  # a bad world fails first
     with console.status("training on the Table 3 objects in the simulator..."):
         from executive.demo_library import trained_library  # the simulator: csl demo only
 
@@ -158,6 +155,14 @@ def run_run(args: argparse.Namespace) -> int:
         learner.close()
         raise
     return _episode(args, driver, learner, setup, console)
+
+
+def _simulator(args: argparse.Namespace, robot: str, profile: RobotProfile) -> Driver:
+    """The in-process simulator the options describe (``csl demo``, ``csl run --driver sim``)."""
+    from hero_driver.sim_driver import SimulatedHero
+
+    return SimulatedHero(robot, world=args.world or "lab", seed=args.seed or 0, profile=profile, noise=_noise(args),
+                         camera=args.camera or "simple")
 
 
 def _noise(args: argparse.Namespace) -> NoiseConfig | None:
@@ -204,10 +209,7 @@ def _verb_timeouts(args: argparse.Namespace) -> VerbTimeouts | None:
 def _driver(args: argparse.Namespace, profile: RobotProfile, zenoh_config: UserConfig | None,
             timeouts: VerbTimeouts | None = None) -> Driver:
     if args.driver == "sim":
-        from hero_driver.sim_driver import SimulatedHero
-
-        return SimulatedHero(args.robot, world=args.world or "lab", seed=args.seed or 0, profile=profile,
-                             noise=_noise(args), camera=args.camera or "simple")
+        return _simulator(args, args.robot, profile)
     from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
 
     connect = endpoint_of("--connect", args.connect, DRIVER_ENDPOINT, CONNECT_KEY, zenoh_config)
@@ -280,7 +282,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         if recording is not None:
             recording.handled(record, label)
         if args.show_status:  # on stderr when stdout carries the --json document
-            stream = sys.stderr if getattr(args, "json", False) else sys.stdout
+            stream = sys.stderr if args.json else sys.stdout
             print(status_tree(executive.root, colour=stream.isatty()), file=stream, flush=True)
 
     try:
@@ -292,7 +294,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         if recording is not None:
             recording.close()
     table = rows(result.objects, _truths(driver, truths))
-    as_json = getattr(args, "json", False)  # --json: one document on stdout, after the plots
+    as_json = args.json  # --json: one document on stdout, after the plots
     if not as_json:
         print_report(table)
         print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")

@@ -9,8 +9,7 @@ from pathlib import Path
 
 from executive import defaults
 from executive.args import (add_criterion_options, add_recording_options, add_retrain_option, add_verb_timeout_option,
-                            battery_level,
-                            endpoint, non_negative_int, positive_int)
+                            battery_level, endpoint, non_negative_int, positive_int)
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
@@ -40,6 +39,8 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                         "image beside it): vision reads real images through it (docs/camera.md; default: "
                         "band images)")
     add_recording_options(p)
+    p.add_argument("--json", action="store_true",
+                   help="print one JSON document on standard output instead of the tables (for scripts)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import tempfile
 from collections import defaultdict
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from executive.executive import Executive
 from executive.experiment.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
+from executive.experiment.table import mean
 from executive.experiment.worlds import write_floor
 from executive.report import Truth, match_truth, rows
 from hero_driver.sim_driver import SimulatedHero
@@ -105,6 +106,19 @@ class EpisodeRow:
     @staticmethod
     def columns() -> list[str]:
         return [f.name for f in fields(EpisodeRow)]
+
+
+Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]  # every job's rows, as a study's summary reads them
+
+
+def success_rate(rows: Iterable[EpisodeRow]) -> float:
+    """The share of the objects grasped."""
+    return mean(float(r.success) for r in rows)
+
+
+def robot_minutes(rows: Iterable[EpisodeRow]) -> float:
+    """Robot minutes per object."""
+    return mean(r.robot_s for r in rows) / 60.0
 
 
 def installed_profile() -> RobotProfile:

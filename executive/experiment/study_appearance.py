@@ -12,19 +12,18 @@ study 2 (appearance off) against the same seeds with it on.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 
 from executive.experiment.conditions import EXECUTION_NOISE, Control
 from executive.experiment.config import ExperimentConfig
 from learner.criteria import DEFAULT_CRITERION
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
 TITLE = "The camera's appearance as free features"
 OBJECT_SETS = ("test", "training")
 SETTINGS = (Control(), Control(appearance=True))
 
-Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(objects: str, control: Control, seed: int) -> EpisodeSpec:
@@ -54,7 +53,7 @@ def verdict(saving: float, error: float, success_off: float, success_on: float) 
 
 
 def _per_seed_minutes(results: Results, objects: str, control: Control, seeds: Sequence[int]) -> list[float]:
-    return [mean(r.robot_s for r in results[_spec(objects, control, s)]) / 60.0 for s in seeds]
+    return [robot_minutes(results[_spec(objects, control, s)]) for s in seeds]
 
 
 def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
@@ -66,7 +65,7 @@ def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
         for control in SETTINGS:
             rows = _rows(results, objects, control, seeds)
             wrong = mean(float(r.wrong_grasps) for r in rows)
-            cells.append((mean(float(r.success) for r in rows), mean(r.robot_s for r in rows) / 60.0,
+            cells.append((success_rate(rows), robot_minutes(rows),
                           mean(float(r.tests) for r in rows), wrong))
         for control, (success, minutes, tests, wrong) in zip(SETTINGS, cells):
             table.append(ResultRow(f"{objects} objects, appearance {'on' if control.appearance else 'off'}", "-",

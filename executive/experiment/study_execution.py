@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import math
 import statistics
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 from executive.experiment import figures
 from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF
 from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
 from executive.experiment.exhaustive import measure_everything_s
 from executive.experiment.plots import bars
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent, ratio
@@ -31,7 +31,6 @@ EXECUTION_TITLE = "Execution on training and unseen test objects"
 BASELINES_TITLE = "Baselines in the same run"
 COST_BLIND = "id3"
 
-Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _execution(objects: str, seed: int) -> EpisodeSpec:
@@ -72,14 +71,6 @@ def _rows(results: Results, specs: Sequence[EpisodeSpec]) -> list[EpisodeRow]:
     return [row for spec in specs for row in results[spec]]
 
 
-def _success(rows: Sequence[EpisodeRow]) -> float:
-    return mean(float(r.success) for r in rows)
-
-
-def _minutes(rows: Sequence[EpisodeRow]) -> float:
-    return mean(r.robot_s for r in rows) / 60.0
-
-
 def _stderr_min(rows: Sequence[EpisodeRow]) -> float:
     costs = [r.robot_s / 60.0 for r in rows]
     return statistics.stdev(costs) / math.sqrt(len(costs)) if len(costs) > 1 else 0.0
@@ -90,21 +81,22 @@ def summarise_execution(config: ExperimentConfig, results: Results) -> StudyResu
     training = _rows(results, [_execution("training", s) for s in config.seed_list])
     compute_s = mean(r.computing_ms for r in test + training) / 1000.0
     rows = (
-        ResultRow("success, unseen test objects", f"> {percent(figures.SUCCESS_RATE)}", percent(_success(test)),
-                  ratio(_success(test), figures.SUCCESS_RATE)),
-        ResultRow("success, training objects", f"> {percent(figures.SUCCESS_RATE)}", percent(_success(training)),
-                  ratio(_success(training), figures.SUCCESS_RATE)),
+        ResultRow("success, unseen test objects", f"> {percent(figures.SUCCESS_RATE)}", percent(success_rate(test)),
+                  ratio(success_rate(test), figures.SUCCESS_RATE)),
+        ResultRow("success, training objects", f"> {percent(figures.SUCCESS_RATE)}", percent(success_rate(training)),
+                  ratio(success_rate(training), figures.SUCCESS_RATE)),
         ResultRow("robot minutes per object, test objects", f"~{figures.EXECUTION_MINUTES_PER_OBJECT:g}",
-                  num(_minutes(test)), ratio(_minutes(test), figures.EXECUTION_MINUTES_PER_OBJECT)),
+                  num(robot_minutes(test)), ratio(robot_minutes(test), figures.EXECUTION_MINUTES_PER_OBJECT)),
         ResultRow("robot minutes per object, training objects", f"~{figures.EXECUTION_MINUTES_PER_OBJECT:g}",
-                  num(_minutes(training)), ratio(_minutes(training), figures.EXECUTION_MINUTES_PER_OBJECT)),
+                  num(robot_minutes(training)), ratio(robot_minutes(training), figures.EXECUTION_MINUTES_PER_OBJECT)),
         ResultRow("computation per object (s)", "~20", num(compute_s, 2), ratio(compute_s, 20.0)),
     )
     per_object: dict[str, list[EpisodeRow]] = {}
     for r in test:
         per_object.setdefault(r.object, []).append(r)
     detail = (("test object", "episodes", "success", "robot min (mean)", "grasps failed at a leaf"),
-              tuple((name, str(len(rs)), percent(_success(rs)), num(_minutes(rs)), str(sum(r.wrong_grasps for r in rs)))
+              tuple((name, str(len(rs)), percent(success_rate(rs)), num(robot_minutes(rs)),
+                     str(sum(r.wrong_grasps for r in rs)))
                     for name, rs in sorted(per_object.items())))
     notes = (f"Noise: `{EXECUTION_NOISE}`; criterion `{DEFAULT_CRITERION}`; {len(config.seed_list)} seeds, each a "
              f"floor with every object of the set at a random position and yaw; the library trained in study 1.",
@@ -127,38 +119,39 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
                       f"> {figures.MEASURE_EVERYTHING_HOURS:g}", num(everything_h, 2),
                       ratio(everything_h, figures.MEASURE_EVERYTHING_HOURS))]
     for name, crs in by_criterion.items():
-        cost = _minutes(crs)
+        cost = robot_minutes(crs)
         if blind is None or name == COST_BLIND:
             rows.append(ResultRow(f"robot min per object, `{name}` (the cost-blind baseline)"
                                   if name == COST_BLIND else f"robot min per object, `{name}`",
-                                  "-", f"{num(cost)} ({percent(_success(crs))} success)"))
+                                  "-", f"{num(cost)} ({percent(success_rate(crs))} success)"))
             continue
-        saving = 1.0 - cost / _minutes(blind)
+        saving = 1.0 - cost / robot_minutes(blind)
         classify = 1.0 - mean(r.sensing_s + r.moving_s for r in crs) / mean(r.sensing_s + r.moving_s for r in blind)
         cost_sensitive = CRITERIA[name].cost_sensitive
         rows.append(ResultRow(
             f"`{name}` vs `{COST_BLIND}`: robot time saved (sensing + moving saved)",
             f">= {percent(figures.COST_SENSITIVE_SAVING)}" if cost_sensitive else "-",
-            f"{percent(saving)} ({percent(classify)}); {num(cost)} min, {percent(_success(crs))} success",
+            f"{percent(saving)} ({percent(classify)}); {num(cost)} min, {percent(success_rate(crs))} success",
             ratio(saving, figures.COST_SENSITIVE_SAVING) if cost_sensitive else "-"))
     on = _rows(results, [_criterion(DEFAULT_CRITERION, s) for s in config.seed_list])
     off = _rows(results, [_strategies_off(s) for s in config.seed_list])
-    gain = _success(on) / _success(off) - 1.0 if _success(off) > 0 else math.nan
+    gain = success_rate(on) / success_rate(off) - 1.0 if success_rate(off) > 0 else math.nan
     rows.append(ResultRow("control strategies on vs off: success gained",
                           f"~{percent(figures.STRATEGIES_GAIN)}",
-                          f"{percent(gain)} ({percent(_success(off))} -> {percent(_success(on))}; "
-                          f"{num(_minutes(off))} -> {num(_minutes(on))} min)",
+                          f"{percent(gain)} ({percent(success_rate(off))} -> {percent(success_rate(on))}; "
+                          f"{num(robot_minutes(off))} -> {num(robot_minutes(on))} min)",
                           ratio(gain, figures.STRATEGIES_GAIN)))
     exhaustive = _rows(results, [_exhaustive(s) for s in config.seed_list])
-    exh_saving = 1.0 - _minutes(exhaustive) / _minutes(on)
+    exh_saving = 1.0 - robot_minutes(exhaustive) / robot_minutes(on)
     rows.append(ResultRow("exhaustive-training library vs chosen positions: execution cheaper by",
                           f"~{percent(figures.EXHAUSTIVE_EXECUTION_SAVING)}",
-                          f"{percent(exh_saving)} ({num(_minutes(on))} -> {num(_minutes(exhaustive))} min, "
-                          f"{percent(_success(exhaustive))} success)",
+                          f"{percent(exh_saving)} ({num(robot_minutes(on))} -> {num(robot_minutes(exhaustive))} min, "
+                          f"{percent(success_rate(exhaustive))} success)",
                           ratio(exh_saving, figures.EXHAUSTIVE_EXECUTION_SAVING)))
-    groups = {name: {"robot min / object": (_minutes(crs), _stderr_min(crs))} for name, crs in by_criterion.items()}
-    groups["strategies off"] = {"robot min / object": (_minutes(off), _stderr_min(off))}
-    groups["exhaustive lib."] = {"robot min / object": (_minutes(exhaustive), _stderr_min(exhaustive))}
+    groups = {name: {"robot min / object": (robot_minutes(crs), _stderr_min(crs))}
+              for name, crs in by_criterion.items()}
+    groups["strategies off"] = {"robot min / object": (robot_minutes(off), _stderr_min(off))}
+    groups["exhaustive lib."] = {"robot min / object": (robot_minutes(exhaustive), _stderr_min(exhaustive))}
     bars(out / "baselines.png", f"robot minutes per test object (noise {EXECUTION_NOISE}, ± s.e.)", "minutes",
          groups)
     left_out = sorted(set(CRITERIA) - set(by_criterion))

@@ -8,19 +8,17 @@ the upside-down tumbler, misclassified once, is classified right the next time.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from executive.experiment.conditions import EXECUTION_NOISE
 from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.episodes import EpisodeRow, EpisodeSpec, Results
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 
 TITLE = "Incremental learning: the learning curve"
 TUMBLER = "tumbler-20oz/upside-down"
 
-Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(config: ExperimentConfig, seed: int) -> EpisodeSpec:

@@ -10,13 +10,13 @@ so the defaults can follow it.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF, STRATEGIES_ON, Control
 from executive.experiment.config import ExperimentConfig
 from learner.criteria import DEFAULT_CRITERION
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.episodes import EpisodeSpec, Results, robot_minutes, success_rate
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
@@ -24,7 +24,6 @@ TITLE = "Noise: success and cost vs noise rate"
 SETTINGS = (STRATEGIES_ON, STRATEGIES_OFF, Control(alternatives=1), Control(alternatives=5),
             Control(nearest_after=1))
 
-Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(control: Control, factor: float, seed: int) -> EpisodeSpec:
@@ -51,7 +50,7 @@ def _success_gain(results: Results, setting: Control, factors: Sequence[float],
     mean and its standard error."""
 
     def rate(control: Control, factor: float, seed: int) -> float:
-        return mean(float(r.success) for r in results[_spec(control, factor, seed)])
+        return success_rate(results[_spec(control, factor, seed)])
 
     pairs = [(f, s) for f in factors for s in seeds]
     return paired_difference([rate(setting, f, s) for f, s in pairs], [rate(STRATEGIES_ON, f, s) for f, s in pairs])
@@ -63,7 +62,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
     measured: dict[tuple[Control, float], tuple[float, float]] = {}
     for control, factor in grid:
         rows = [r for s in seeds for r in results[_spec(control, factor, s)]]
-        measured[(control, factor)] = (mean(float(r.success) for r in rows), mean(r.robot_s for r in rows) / 60.0)
+        measured[(control, factor)] = (success_rate(rows), robot_minutes(rows))
     top = max(config.noise_factors)
     table = []
     for control in SETTINGS:

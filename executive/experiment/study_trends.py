@@ -9,19 +9,18 @@ were made and how often a grasp was tried as a feature.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 from executive.experiment.conditions import NO_NOISE, CostScale
 from executive.experiment.config import ExperimentConfig
 from learner.criteria import DEFAULT_CRITERION
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec
+from executive.experiment.episodes import EpisodeSpec, Results, robot_minutes
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num
 
 TITLE = "Cost trends: move and sensing cost multipliers"
 
-Results = Mapping[EpisodeSpec, Sequence[EpisodeRow]]
 
 
 def _spec(scale: CostScale, seed: int) -> EpisodeSpec:
@@ -43,7 +42,7 @@ def _measure(results: Results, scale: CostScale, seeds: Sequence[int]) -> tuple[
     """Mean sensing distance (in), grasps tried as features per object, robot min per object."""
     rows = [r for s in seeds for r in results[_spec(scale, s)]]
     distance = mean(r.sense_distance_in for r in rows if r.sense_distance_in is not None)
-    return distance, mean(r.grasps_as_features for r in rows), mean(r.robot_s for r in rows) / 60.0
+    return distance, mean(r.grasps_as_features for r in rows), robot_minutes(rows)
 
 
 def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyResult:

@@ -21,16 +21,16 @@ def check_recording_options(args: argparse.Namespace) -> None:
     """Refuse a companion option without ``--live`` and an unwritable ``--record`` at
     once, before any robot time."""
     for option in ("--live-port", "--live-pace"):
-        if getattr(args, option[2:].replace("-", "_"), None) is not None and not getattr(args, "live", False):
+        if getattr(args, option[2:].replace("-", "_")) is not None and not args.live:
             raise ValueError(f"{option} goes with --live")
-    if getattr(args, "record", None) is not None:
+    if args.record is not None:
         writable_file(args.record, "--record")
 
 
 def open_recording(args: argparse.Namespace, profile: RobotProfile) -> Recording | None:
     """The recording the options ask for (None: neither ``--record`` nor ``--live``);
     with ``--live``, its address is printed and the episode waits for a client."""
-    record, live = getattr(args, "record", None), getattr(args, "live", False)
+    record, live = args.record, args.live
     if record is None and not live:
         return None
     from executive.recording.session import Recording

@@ -50,13 +50,20 @@ class MarkerBoard:
         return self.marker_in * (1 + 2 * QUIET_MODULES / self.modules())
 
 
-def board_path(world: str | Path) -> Path:
-    """The board file world ``world`` (a shipped world's name or a world file) names;
-    ValueError when it names none."""
+def _spec(world: WorldSpec | str | Path) -> WorldSpec:
+    """A world spec as given, or loaded from a shipped world's name or a world file."""
+    if isinstance(world, WorldSpec):
+        return world
     from hero_driver.sim.world import profile_and_catalogue  # the world imports this module
     from hero_driver.sim.worldfile import load_world
 
-    spec = load_world(world, profile_and_catalogue()[1])
+    return load_world(world, profile_and_catalogue()[1])
+
+
+def board_path(world: str | Path) -> Path:
+    """The board file world ``world`` (a shipped world's name or a world file) names;
+    ValueError when it names none."""
+    spec = _spec(world)
     if spec.board is None:
         raise ValueError(f"{spec.source}: names no marker board (field 'board', docs/camera.md)")
     return spec.board
@@ -65,12 +72,8 @@ def board_path(world: str | Path) -> Path:
 def board_for(world: WorldSpec | str | Path) -> MarkerBoard | None:
     """The board printed on a world's floor (a spec, a shipped world's name or a world
     file), or None when it has none."""
-    if not isinstance(world, WorldSpec):
-        from hero_driver.sim.world import profile_and_catalogue
-        from hero_driver.sim.worldfile import load_world
-
-        world = load_world(world, profile_and_catalogue()[1])
-    return None if world.board is None else load_board(world.board)
+    spec = _spec(world)
+    return None if spec.board is None else load_board(spec.board)
 
 
 def load_board(path: Path) -> MarkerBoard:

@@ -123,8 +123,7 @@ class SimWorld:
     def dock(self) -> Pose | None:
         """Where the charging dock is, as the robot's dead reckoning places it."""
         dock = self.spec.dock
-        return None if dock is None else Pose(dock.x_in - self.drift.dx_in, dock.y_in - self.drift.dy_in,
-                                              dock.heading_deg)
+        return None if dock is None else self._reckoned(dock.pose)
 
     def charge(self) -> RobotState:
         """Charge to full at the dock (docs/simulator.md, Battery). The beacon guides the
@@ -145,7 +144,11 @@ class SimWorld:
 
     def reported_pose(self) -> Pose:
         """Where the robot's dead reckoning says it is (docs/simulator.md, Moving)."""
-        return Pose(self.pose.x_in - self.drift.dx_in, self.pose.y_in - self.drift.dy_in, self.pose.heading_deg)
+        return self._reckoned(self.pose)
+
+    def _reckoned(self, pose: Pose) -> Pose:
+        """A true pose as the robot's dead reckoning places it: less the drift."""
+        return Pose(pose.x_in - self.drift.dx_in, pose.y_in - self.drift.dy_in, pose.heading_deg)
 
     def truth(self) -> list[ObjectTruth]:
         return [ObjectTruth(o.index, o.entry.id, o.entry.name, o.entry.pose, o.x_in, o.y_in, o.yaw_deg,

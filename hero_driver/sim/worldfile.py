@@ -244,6 +244,11 @@ class WorldRefused(ValueError):
     """A world ``reset`` will not load; the text is safe to send to any client: it names
     nothing of the driver's file system beyond the name the client itself sent."""
 
+    @classmethod
+    def cannot_load(cls, name: str) -> WorldRefused:
+        """World ``name`` exists but does not load (the reason goes to the driver's log)."""
+        return cls(f"world: {name!r} cannot be loaded on this driver (see the driver's log)")
+
 
 @dataclass(frozen=True)
 class WorldShelf:
@@ -280,7 +285,7 @@ class WorldShelf:
             return parse_world(json.loads(text), str(path), catalogue)
         except (ValueError, RecursionError) as exc:  # JSONDecodeError is a ValueError
             log.warning("world %r (%s) cannot be loaded: %s", name, path, exc)
-            raise WorldRefused(f"world: {name!r} cannot be loaded on this driver (see the driver's log)") from None
+            raise WorldRefused.cannot_load(name) from None
 
 
 def _read_regular_file(path: Path) -> str | None:

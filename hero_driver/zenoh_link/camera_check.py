@@ -101,7 +101,8 @@ def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
     stray = int(robot.sum()) - len(rows)
     if stray > STRAY_PIXELS:
         raise MappingError(f"{stray} pixels away from the robot are drawn in its levels "
-                           f"{ROBOT_BAND[0]}-{ROBOT_BAND[1]}: objects belong at 195-234, furniture at 70-139")
+                           f"{ROBOT_BAND[0]}-{ROBOT_BAND[1]}: objects belong at "
+                           f"{OBJECT_BAND[0]}-{OBJECT_BAND[1]}, furniture at 70-139")
     return (f"robot drawn at ({x:.1f}, {y:.1f}) heading {bearing:.0f} deg, {off_in:.1f} in from the published pose")
 
 
@@ -140,24 +141,29 @@ def check_objects_drawn(image: CameraImage, objects: Sequence[PlacedObject]) -> 
         row = (image.origin_y_in - placed.y_in) / s - 0.5
         col = (placed.x_in - image.origin_x_in) / s - 0.5
         gaps = [s * float(np.min(np.hypot(rows - row, cols - col))) for rows, cols in blobs]
-        mirrored = pixels.shape[0] - 1 - row
-        hint = (" (one is at the row-mirrored place: rows must count down from the high-y edge)"
-                if any(s * float(np.min(np.hypot(rows - mirrored, cols - col))) <= OBJECT_TOLERANCE_IN
-                       for rows, cols in blobs) else "")
         if not gaps or min(gaps) > SEARCH_IN:
             raise MappingError(f"{placed.name}: nothing drawn in the object levels {OBJECT_BAND[0]}-{OBJECT_BAND[1]} "
                                f"within {SEARCH_IN:g} in of ({placed.x_in:g}, {placed.y_in:g}), where reset "
-                               f"placed it{hint}")
+                               f"placed it{_mirrored_hint(pixels, blobs, row, col, s)}")
         rows, cols = blobs[int(np.argmin(gaps))]
         x, y = _world(image, rows, cols)
         off_in = math.hypot(x - placed.x_in, y - placed.y_in)
         if off_in > OBJECT_TOLERANCE_IN:
             raise MappingError(f"{placed.name}: drawn at ({x:.1f}, {y:.1f}), {off_in:.1f} in from "
                                f"({placed.x_in:g}, {placed.y_in:g}) where reset placed it; at most "
-                               f"{OBJECT_TOLERANCE_IN:g} in{hint}")
+                               f"{OBJECT_TOLERANCE_IN:g} in{_mirrored_hint(pixels, blobs, row, col, s)}")
         area_in2 = len(rows) * s * s
         if not placed.area_in2 / OBJECT_AREA_RATIO <= area_in2 <= placed.area_in2 * OBJECT_AREA_RATIO:
             raise MappingError(f"{placed.name}: drawn over {area_in2:.1f} sq in, its footprint is "
                                f"{placed.area_in2:.1f} sq in (within a factor {OBJECT_AREA_RATIO:g} expected)")
         worst = max(worst, off_in)
     return f"{len(objects)} objects drawn where reset placed them, the farthest {worst:.1f} in off"
+
+
+def _mirrored_hint(pixels: np.ndarray, blobs: list[tuple[np.ndarray, np.ndarray]], row: float, col: float,
+                   s: float) -> str:
+    """For an object's error message: a hint when a blob lies at its row-mirrored place."""
+    mirrored = pixels.shape[0] - 1 - row
+    return (" (one is at the row-mirrored place: rows must count down from the high-y edge)"
+            if any(s * float(np.min(np.hypot(rows - mirrored, cols - col))) <= OBJECT_TOLERANCE_IN
+                   for rows, cols in blobs) else "")

@@ -126,8 +126,7 @@ class ZenohDriver:
         self._liveliness_events = 0  # bumped by every token change, to ignore stale queries
         self._state: RobotState | None = None
         self._agreement: Agreement | None = None  # with the live driver, once it answered hello
-        self._profile: ProfileStamp | None = None  # the robot profile it said it serves, if it said
-        self._dock: Pose | None = None  # where it charges (the battery feature), if it said
+        self._greeting: Greeting | None = None  # its hello (profile, dock), once agreed on a version
         self._refusal: str | None = None  # why the live driver cannot be used, if it cannot
         self._pending: set[_Call] = set()
         self._closed = False
@@ -163,14 +162,14 @@ class ZenohDriver:
         None when it does not say (a driver from before the feature) or has not yet
         answered ``hello``. A caller compares it with the profile it plans with."""
         with self._lock:
-            return self._profile
+            return None if self._greeting is None else self._greeting.profile
 
     def dock(self) -> Pose | None:
         """Where the live driver's base charges (the ``battery`` feature, from its
         ``hello``); None without the feature or before ``hello`` was answered, which
         leaves the executive's low-battery guard off."""
         with self._lock:
-            return self._dock
+            return None if self._greeting is None else self._greeting.dock
 
     def wait_ready(self, timeout_s: float) -> bool:
         """Wait until a driver is alive, agreed on a version and published its state;
@@ -210,7 +209,7 @@ class ZenohDriver:
         """With the lock held: no driver, no state; the verbs in flight, to fail."""
         self._alive = False
         self._state = None
-        self._agreement = self._refusal = self._profile = self._dock = None
+        self._agreement = self._refusal = self._greeting = None
         orphans, self._pending = self._pending, set()
         self._lock.notify_all()
         return orphans
@@ -248,7 +247,7 @@ class ZenohDriver:
             if self._closed:
                 return
             generation = self._liveliness_events
-            self._agreement = self._refusal = self._profile = self._dock = None
+            self._agreement = self._refusal = self._greeting = None
         self.hello().add_done_callback(lambda answered: self._settle(generation, answered))
 
     def _settle(self, generation: int, answered: Future[Greeting]) -> None:
@@ -267,8 +266,7 @@ class ZenohDriver:
         with self._lock:
             if self._liveliness_events == generation and self._alive and not self._closed:
                 self._agreement, self._refusal = agreement, refusal
-                self._profile = greeting.profile if agreement is not None else None
-                self._dock = greeting.dock if agreement is not None else None
+                self._greeting = greeting if agreement is not None else None
                 self._lock.notify_all()
 
     # --------------------------------------------------------------------- state

@@ -510,8 +510,8 @@ def hello_out(hello: object) -> Json:
                              "sha256": _sha256(hello.profile.sha256, "profile.sha256")}
     if hello.dock is not None:
         fields["dock"] = _pose_out(hello.dock, "dock")
-    _profile_listed(fields["features"], hello.profile is not None)
-    _dock_listed(fields["features"], hello.dock is not None)
+    _listed(fields["features"], "profile", PROFILE, hello.profile is not None)
+    _listed(fields["features"], "dock", BATTERY, hello.dock is not None)
     return fields
 
 
@@ -522,8 +522,8 @@ def hello_in(message: Json) -> Greeting:
     if "profile" in fields:
         body = _fields(fields["profile"], "profile", ("name", "sha256"))
         profile = ProfileStamp(_name(body["name"], "profile.name"), _sha256(body["sha256"], "profile.sha256"))
-    _profile_listed(list(served.features), profile is not None)
-    _dock_listed(list(served.features), "dock" in fields)
+    _listed(served.features, "profile", PROFILE, profile is not None)
+    _listed(served.features, "dock", BATTERY, "dock" in fields)
     return Greeting(served, profile, _pose_in(fields["dock"], "dock") if "dock" in fields else None)
 
 
@@ -534,18 +534,12 @@ def _sha256(value: object, path: str) -> str:
     return text
 
 
-def _profile_listed(features: list[str], stated: bool) -> None:
-    """The ``profile`` field and the ``profile`` feature come together or not at all."""
-    if stated != (PROFILE in features):
-        raise CodecError("profile: sent without the 'profile' feature" if stated
-                         else "profile: missing field (the 'profile' feature is listed)")
-
-
-def _dock_listed(features: list[str], stated: bool) -> None:
-    """The ``dock`` field and the ``battery`` feature come together or not at all."""
-    if stated != (BATTERY in features):
-        raise CodecError("dock: sent without the 'battery' feature" if stated
-                         else "dock: missing field (the 'battery' feature is listed)")
+def _listed(features: Sequence[str], field: str, feature: str, stated: bool) -> None:
+    """Field ``field`` and feature ``feature`` come together or not at all (``profile``
+    with ``profile``, ``dock`` with ``battery``)."""
+    if stated != (feature in features):
+        raise CodecError(f"{field}: sent without the '{feature}' feature" if stated
+                         else f"{field}: missing field (the '{feature}' feature is listed)")
 
 
 def _versions(value: object) -> list[int]:

@@ -75,10 +75,10 @@ class Outbox:
 
     def put(self, learner: str, description: ObjectDescription, key: str) -> None:
         """Queue ``description`` for ``learner`` under ``key``, committed before return."""
-        text = descriptions_to_json([description])
+        text = json.dumps(descriptions_to_json([description]), ensure_ascii=False, allow_nan=False)
         with self._db:
             self._db.execute("INSERT INTO outbox (learner, learn_key, description, queued_at) VALUES (?,?,?,?)",
-                             (learner, key, _dumps(text), time.time()))
+                             (learner, key, text, time.time()))
 
     def waiting(self, learner: str) -> list[Waiting]:
         """What waits for ``learner``, oldest first (refused rows excluded)."""
@@ -204,10 +204,6 @@ class OutboxLearner:
     def _check_open(self) -> None:
         if self._closed:
             raise LearnerUnavailable(f"learner {self.learner!r}: the client is closed")
-
-
-def _dumps(document: object) -> str:
-    return json.dumps(document, ensure_ascii=False, allow_nan=False)
 
 
 def _loads(text: str, where: str) -> ObjectDescription:

@@ -5,28 +5,22 @@ cancelled and answered ``timeout``, leaving the robot free for the next verb."""
 from __future__ import annotations
 
 import json
-import threading
 
 import pytest
 import zenoh
 
-from hero_driver.interface import BAD_REQUEST, NO_TARGET, TIMEOUT, UNAVAILABLE, DriverError, Pose, SenseResult
+from hero_driver.interface import BAD_REQUEST, NO_TARGET, TIMEOUT, UNAVAILABLE, Pose, SenseResult
 from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
 from hero_driver.zenoh_link.codec import MAX_REQUEST_BYTES, MAX_WAYPOINTS, MoveRequest
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import DriverNode, verb_bounds
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
+from tests.hero_driver.test_zenoh_node import ask, error_of
 from tests.hero_driver.test_zenoh_support import FakeHero, HangingHero
 from tests.zenoh_rpc.support import wait_until
 from zenoh_rpc.config import open_session
 
 REPLY_S = 5.0
-
-
-def error_of(future: object) -> DriverError:
-    with pytest.raises(DriverError) as caught:
-        future.result(REPLY_S)  # type: ignore[attr-defined]
-    return caught.value
 
 
 # ------------------------------------------------------------------------- the bounds
@@ -78,21 +72,6 @@ def test_one_waypoint_too_many_is_refused_by_the_client_before_sending() -> None
 # ------------------------------------------------------------------ over the wire
 
 
-def raw_ask(session: zenoh.Session, key: str, payload: bytes) -> list[tuple[str, dict]]:
-    replies: list[tuple[str, dict]] = []
-    finished = threading.Event()
-
-    def on_reply(reply: zenoh.Reply) -> None:
-        if reply.ok is not None:
-            replies.append(("ok", json.loads(reply.ok.payload.to_bytes())))
-        else:
-            replies.append(("err", json.loads(reply.err.payload.to_bytes())))
-
-    session.get(key, zenoh.handlers.Callback(on_reply, finished.set), payload=payload, timeout=30.0)
-    finished.wait(35.0)
-    return replies
-
-
 @pytest.mark.zenoh
 def test_a_million_waypoint_move_is_bad_request_and_the_robot_stays(server: zenoh.Session, endpoint: str) -> None:
     hero = FakeHero()
@@ -100,12 +79,13 @@ def test_a_million_waypoint_move_is_bad_request_and_the_robot_stays(server: zeno
         waypoint = b'{"x_in":1e308,"y_in":1e308,"heading_deg":0}'
         body = b'{"v":1,"waypoints":[' + b",".join([waypoint] * 1_000_000) + b"]}"
         assert len(body) > 40_000_000
-        [(kind, reply)] = raw_ask(session, robot_keys("r1").rpc("move"), body)
+        [(kind, reply)] = ask(session, robot_keys("r1").rpc("move"), body, timeout_s=30.0)
         assert kind == "err" and reply["code"] == BAD_REQUEST
         assert reply["message"] == f"message: {len(body)} bytes, more than the {MAX_REQUEST_BYTES} a request may have"
         assert hero.pose == Pose(30.0, 30.0, 0.0) and hero.clock_s == 0.0
-        [(kind, _)] = raw_ask(session, robot_keys("r1").rpc("move"),
-                              json.dumps({"v": 1, "waypoints": [{"x_in": 50, "y_in": 40, "heading_deg": 0}]}).encode())
+        [(kind, _)] = ask(session, robot_keys("r1").rpc("move"),
+                          json.dumps({"v": 1, "waypoints": [{"x_in": 50, "y_in": 40, "heading_deg": 0}]}).encode(),
+                          timeout_s=30.0)
         assert kind == "ok" and hero.pose == Pose(50.0, 40.0, 0.0)
 
 

@@ -130,7 +130,7 @@ def test_bad_arguments_fail_the_future_without_sending(server: zenoh.Session, en
         assert error_of(client.sense(42)).code == BAD_REQUEST  # type: ignore[arg-type]
 
 
-def ask(session: zenoh.Session, key: str, payload: bytes) -> list[tuple[str, dict]]:
+def ask(session: zenoh.Session, key: str, payload: bytes, timeout_s: float = REPLY_S) -> list[tuple[str, dict]]:
     """Raw query: every reply as ("ok" | "err", body)."""
     replies: list[tuple[str, dict]] = []
     finished = threading.Event()
@@ -141,8 +141,8 @@ def ask(session: zenoh.Session, key: str, payload: bytes) -> list[tuple[str, dic
         else:
             replies.append(("err", json.loads(reply.err.payload.to_bytes())))
 
-    session.get(key, zenoh.handlers.Callback(on_reply, finished.set), payload=payload, timeout=REPLY_S)
-    assert finished.wait(REPLY_S + 1)
+    session.get(key, zenoh.handlers.Callback(on_reply, finished.set), payload=payload, timeout=timeout_s)
+    assert finished.wait(timeout_s + 1)
     return replies
 
 

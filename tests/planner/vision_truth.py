@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from behaviours.bridge import overhead as camera_overhead
 from hero_driver.interface import Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
@@ -66,9 +67,7 @@ def lab_at(pose: int, seed: int = 0) -> SimWorld:
 
 
 def overhead(sim: SimWorld, preset: str) -> OverheadImage:
-    image = render_world(sim, preset)
-    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                         image.camera_matrix, image.fisheye)
+    return camera_overhead(render_world(sim, preset))
 
 
 def lab_camera() -> Camera:
