@@ -12,6 +12,7 @@ from __future__ import annotations
 import abc
 from collections.abc import Callable
 from concurrent.futures import Future
+from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import py_trees
@@ -20,8 +21,9 @@ from py_trees.common import Access, Status
 from behaviours.bridge import to_planner_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
+from behaviours.resume import Reconnecting, relocate, same_robot
 from behaviours.services import Services, namespace
-from hero_driver.interface import UNAVAILABLE, DriverError
+from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, DriverError
 from planner import Pose as PlannerPose
 
 T = TypeVar("T")
@@ -87,15 +89,32 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
 
 
 class DriverAction(CslBehaviour):
-    """Starts one driver verb and reports RUNNING until its future completes."""
+    """Starts one driver verb and reports RUNNING until its future completes.
+
+    How a verb that did not come back ends (docs/reliability.md): one the robot left
+    unanswered (``timeout``) gives up the object at hand, which then sends no further
+    verb; the next object goes on once the robot takes verbs again
+    (:mod:`behaviours.overdue`). A driver that went away (``unavailable``) stops the
+    episode, unless ``Params.wait_driver_s`` lets the behaviour wait for a driver under
+    the same robot name: it then stays RUNNING while none serves, has the objects
+    located again once one does (:func:`behaviours.resume.relocate`), and fails, so
+    the step under way starts over from where the robot now stands.
+    """
 
     def __init__(self, name: str, robot: str) -> None:
         super().__init__(name, robot)
+        self._robot = robot
         self._future: Future[Any] | None = None
         self._skip: Status | None = None
+        self._lost: _Lost | None = None
 
     def initialise(self) -> None:
-        self._future, self._skip = None, None
+        self._future, self._skip, self._lost = None, None, None
+        obj = self._object_at_hand()
+        if obj is not None and obj in self.services.given_up:
+            self.feedback_message = f"object {obj.index} was given up: no verb is sent for it"
+            self._skip = Status.FAILURE
+            return
         started = self.start()
         if isinstance(started, Status):
             self._skip = started
@@ -105,6 +124,8 @@ class DriverAction(CslBehaviour):
     def update(self) -> Status:
         if self._skip is not None:
             return self._skip
+        if self._lost is not None:
+            return self._await_driver(self._lost)
         assert self._future is not None
         if not self._future.done():
             self.feedback_message = "waiting for the robot"
@@ -115,13 +136,17 @@ class DriverAction(CslBehaviour):
             self.feedback_message = str(exc)
             self.note(Event.DRIVER_ERROR, code=exc.code, message=exc.message)
             if exc.code == UNAVAILABLE:
-                raise  # the robot is gone: no recovery branch can help, the episode stops
+                return self._driver_lost(exc)
+            if exc.code == TIMEOUT:
+                return self._unanswered(exc)
             return self.failed(exc)
         return self.finish(result)
 
     def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID and self._future is not None and not self._future.done():
-            self._future.cancel()  # pre-empted: the result is no longer wanted
+        if new_status == Status.INVALID:  # pre-empted: the results are no longer wanted
+            for pending in (self._future, None if self._lost is None else self._lost.image):
+                if pending is not None and not pending.done():
+                    pending.cancel()
         self._future = None
 
     @abc.abstractmethod
@@ -135,3 +160,66 @@ class DriverAction(CslBehaviour):
     def failed(self, exc: DriverError) -> Status:
         """The driver refused or failed; by default the behaviour fails."""
         return Status.FAILURE
+
+    def _object_at_hand(self) -> ObjectRecord | None:
+        return self.bb.get("object") if self.bb.exists("object") else None
+
+    def _unanswered(self, exc: DriverError) -> Status:
+        """The robot did not answer in time: what it measured or did is unknown, so the
+        object at hand is given up (an object already handled stays handled)."""
+        obj = self._object_at_hand()
+        if obj is not None:
+            self.services.given_up.add(obj)
+            if not obj.done:
+                obj.finish("failed")
+                self.note(Event.GAVE_UP, reason=f"the robot did not answer in time ({exc.message})")
+        self.feedback_message = f"the robot did not answer in time ({exc.message})"
+        return Status.FAILURE
+
+    def _driver_lost(self, exc: DriverError) -> Status:
+        wait_s = self.services.params.wait_driver_s
+        if wait_s <= 0 or not isinstance(self.services.driver, Reconnecting):
+            raise exc  # the robot is gone: no recovery branch can help, the episode stops
+        self._lost = _Lost(self.services.clock())
+        self.feedback_message = f"driver for {self._robot} lost: waiting up to {wait_s:g} s for one to come back"
+        return Status.RUNNING
+
+    def _await_driver(self, lost: _Lost) -> Status:
+        """Paused: wait for a driver, then look again (module docstring of :mod:`behaviours.resume`)."""
+        services, wait_s = self.services, self.services.params.wait_driver_s
+        driver = services.driver
+        if lost.image is None:
+            assert isinstance(driver, Reconnecting)
+            if not driver.wait_ready(0.0):
+                waited = services.clock() - lost.since
+                if waited > wait_s:
+                    raise DriverError(UNAVAILABLE, f"no driver for robot {self._robot} came back within {wait_s:g} s")
+                return Status.RUNNING
+            same_robot(services, self._robot)
+            if self._object_at_hand() is None:  # nothing located yet: this verb (the first image) again
+                self.initialise()
+                return Status.RUNNING if self._skip is None else self._skip
+            lost.image = driver.camera()
+            self.feedback_message = "driver back: locating the objects again"
+        if not lost.image.done():
+            return Status.RUNNING
+        try:
+            image = lost.image.result()
+        except DriverError as exc:
+            if exc.code == UNAVAILABLE:  # gone again before it answered: wait again
+                self._lost = _Lost(services.clock())
+                return Status.RUNNING
+            raise DriverError(UNAVAILABLE, f"driver for robot {self._robot} came back, but its camera failed: "
+                              f"{exc}") from None
+        waited = services.clock() - lost.since
+        relocate(services, self._robot, image, f"driver for {self._robot} came back after {waited:.1f} s")
+        self.feedback_message = "driver back, objects located again: the step starts over"
+        return Status.FAILURE
+
+
+@dataclass
+class _Lost:
+    """A verb lost with its driver: since when, and the image asked of the driver that came back."""
+
+    since: float
+    image: Future[CameraImage] | None = None

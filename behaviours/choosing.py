@@ -7,14 +7,18 @@ leaf, a failed grasp) is in :mod:`behaviours.recovery`.
 
 from __future__ import annotations
 
+import math
+
 from py_trees.common import Status
 
 from behaviours.base import CslBehaviour
+from behaviours.bridge import other_end
 from behaviours.events import Event
 from behaviours.records import GraspAttempt
 from learner.runtime import Decision, Matched
 from learner.selection import ScoredTest
 from learner.decision_tree import GraspLeaf
+from learner.position import Position
 
 
 class Choose(CslBehaviour):
@@ -42,11 +46,24 @@ class Choose(CslBehaviour):
         return Status.SUCCESS
 
     def chose_grasp(self, leaf: GraspLeaf, how: str) -> Status:
-        self.step.attempt = GraspAttempt(leaf.grasp, leaf.position)
-        self.feedback_message = f"{leaf.grasp}{leaf.position}"
-        self.note(Event.CHOOSE_GRASP, how=how, grasp=leaf.grasp, at=leaf.position.to_json(),
-                  move_s=round(leaf.move_cost, 1), candidates=list(self.obj.session.candidates))
+        position, move_s = self.reachable_end(leaf.position, leaf.move_cost)
+        self.step.attempt = GraspAttempt(leaf.grasp, position)
+        self.feedback_message = f"{leaf.grasp}{position}"
+        self.note(Event.CHOOSE_GRASP, how=how, grasp=leaf.grasp, at=position.to_json(),
+                  move_s=round(move_s, 1), candidates=list(self.obj.session.candidates))
         return Status.SUCCESS
+
+    def reachable_end(self, position: Position, move_s: float) -> tuple[Position, float]:
+        """The grasp position, or its other end when the planner has no path to it and
+        has one there (vision knows the object's reference direction only up to a half
+        turn, so both ends are as good): the robot then drives to the free end at once
+        instead of failing a plan first (``OtherEnd`` stays the recovery for a plan that
+        fails when driven)."""
+        if math.isfinite(move_s) or position.orientation_deg is None:
+            return position, move_s
+        flipped = other_end(position)
+        flipped_s = self.obj.estimator.move_cost(self.obj.session.position, flipped)
+        return (flipped, flipped_s) if math.isfinite(flipped_s) else (position, move_s)
 
 
 class BestTest(Choose):

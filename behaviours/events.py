@@ -49,6 +49,10 @@ class Event(str, Enum):
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
     CHARGE = "charge", "the battery ran low: the robot drove to its dock and charged (levels, seconds), then resumed"
+    DISTURBANCE = "disturbance", "the camera check before a sensing or grasp: the object moved, changed or gone"
+    RELOCATE = "relocate", "the object was moved: followed to its new place, every value measured kept", True
+    START_AFRESH = "start_afresh", "another object where ours was: started over on it, nothing kept", True
+    GONE = "gone", "the object was taken away: reported gone (not a failure), on to the next one"
     EPISODE_END = "episode_end", "the tree finished (status, ticks)"
 
 

@@ -9,6 +9,7 @@ the robot stands) lives on the blackboard (``behaviours.records``).
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -21,6 +22,7 @@ from learner.knowledge import Knowledge
 from learner.matrix import DescriptionMatrix
 from learner.service.interface import LearnerService
 from planner import Navigator
+from robot_profile import ProfileStamp
 
 NAMESPACE = "/csl"
 
@@ -42,6 +44,25 @@ class Params:
     seed: int = 0  # for choices the criterion leaves to chance; object i draws from seed + i
     use_appearance: bool = False  # rule candidates out by the camera's area and elongation, free
     battery_low: float = 0.2  # below this charge the guard sends the robot to its dock; 0: guard off
+    wait_driver_s: float = 0.0  # a lost driver: wait this long for one under the same name; 0: stop at once
+    overdue_wait_s: float = 900.0  # after a verb timed out: wait this long for the robot to take verbs again
+    check_in_place: bool = True  # a camera look before each sensing and grasp (behaviours.disturbance)
+    search_in: float = 24.0  # how far from its place a moved object is looked for before it counts as gone
+    learned_grasp_costs: bool = False  # record each object's grasp costs and price grasps by them (method §5.7)
+
+
+class GivenUp:
+    """The objects given up because the robot left one of their verbs unanswered: no
+    further verb is sent for them (the rest of their step only decides, then ends)."""
+
+    def __init__(self) -> None:
+        self._records: list[object] = []
+
+    def add(self, record: object) -> None:
+        self._records.append(record)
+
+    def __contains__(self, record: object) -> bool:
+        return any(given is record for given in self._records)  # by identity: records are not hashable
 
 
 class EventSink(Protocol):
@@ -58,6 +79,22 @@ class LibraryMatrix:
     def __init__(self, learner: LearnerService, knowledge: Knowledge) -> None:
         self._learner, self._knowledge = learner, knowledge
         self._built: tuple[int, DescriptionMatrix] | None = None
+
+    @property
+    def knowledge(self) -> Knowledge:
+        """What the learner's choices are priced by."""
+        return self._knowledge
+
+    def priced_by(self, knowledge: Knowledge) -> None:
+        """Price the choices of objects started from now on by ``knowledge`` (the same
+        robot, its grasps priced by what they cost: docs/method.md §5.7). Prices are
+        read at choice time and change no value in the matrix, so the matrix is the same
+        rows under new prices, not rebuilt; a session under way keeps the one it has."""
+        self._knowledge = knowledge
+        if self._built is not None:
+            repriced = copy.copy(self._built[1])
+            repriced.knowledge = knowledge
+            self._built = (self._built[0], repriced)
 
     def current(self) -> DescriptionMatrix:
         version = self._learner.version()
@@ -86,3 +123,5 @@ class Services:
     log: EventSink
     library: LibraryMatrix
     clock: Callable[[], float] = field(default=time.perf_counter)
+    given_up: GivenUp = field(default_factory=GivenUp)
+    served: ProfileStamp | None = None  # the robot profile the driver said it served at the start (None: unsaid)

@@ -6,11 +6,13 @@ folder, then loaded by:
 
 - ``baseline``: a copy of the reader before the faster reader (every position parsed and
   validated, every field's error text built, observations sorted by ``__lt__``);
-- ``now``: ``read_library_json`` / ``LibraryStore.descriptions``;
+- ``now``: ``read_library_json`` / ``LibraryStore.descriptions`` (the store read through
+  its observation codes, docs/library-format.md);
 
 each the median of a few runs, with ``json.loads`` alone timed as the floor any JSON
 reader pays, and the memory held by the loaded library (tracemalloc, parse excluded).
-Both readers must give equal libraries, or the bench stops.
+Both readers must give equal libraries, or the bench stops. Last, the one-off upgrade
+of a store from before observation codes (opening it, codes written), once per size.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ import datetime
 import gc
 import json
 import math
+import shutil
+import sqlite3
 import statistics
 import sys
 import tempfile
@@ -111,6 +115,23 @@ def baseline_store(store: LibraryStore) -> list[ObjectDescription]:
             for seq, i, g, d, o, r, a, e in rows]
 
 
+def upgrade_seconds(db: Path, library: list[ObjectDescription]) -> float:
+    """Open a copy of ``db`` made as the previous csl left it (no codes): the upgrade."""
+    old = db.with_name(db.stem + "-before-codes.sqlite")
+    shutil.copy(db, old)
+    with sqlite3.connect(old) as raw:
+        raw.execute("ALTER TABLE descriptions DROP COLUMN observation_codes")
+        raw.execute("DROP TABLE observation_codes")
+    raw.close()
+    began = time.perf_counter()
+    with LibraryStore(old) as store:
+        took = time.perf_counter() - began
+        if store.descriptions() != library:
+            sys.exit(f"{len(library)}: the upgraded store differs")
+    old.unlink()
+    return took
+
+
 # -- measuring ----------------------------------------------------------------------
 def median_time(run: Callable[[], object], repeats: int) -> float:
     times = []
@@ -147,6 +168,7 @@ def main() -> None:
           f"--max {args.max} --repeats {args.repeats}")
     print("| descriptions | store | json.loads | baseline s | now s | speed-up | baseline MB | now MB |")
     print("|---|---|---|---|---|---|---|---|")
+    upgrades = []
     with tempfile.TemporaryDirectory() as folder:
         for n in (s for s in SIZES if s <= args.max):
             library = synthetic_library(knowledge, n, 0, base=base)
@@ -168,7 +190,13 @@ def main() -> None:
                     m_old, m_new = held_bytes(old), held_bytes(new)
                     print(f"| {n:,} | {kind} | {parse if kind == 'JSON' else math.nan:.2f} | {t_old:.2f} | "
                           f"{t_new:.2f} | {t_old / t_new:.1f}x | {m_old / 1e6:.0f} | {m_new / 1e6:.0f} |", flush=True)
+            upgrades.append((n, upgrade_seconds(db, library)))
             del library
+    print()
+    print("| descriptions | upgrade of a store from before codes (once) s |")
+    print("|---|---|")
+    for n, took in upgrades:
+        print(f"| {n:,} | {took:.2f} |")
 
 
 if __name__ == "__main__":

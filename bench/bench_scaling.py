@@ -5,12 +5,15 @@ library's, perturbed within its features' errors, so the structure (which featur
 which positions, what is missing, the few grasps) stays the robot's. Per size, medians of:
 
 - building the ``DescriptionMatrix`` (once per library change);
-- one test choice at the root (``rank`` on ``Node.root``, cs-id3, ``ModelMoveCost``);
+- one test choice at the root (``rank`` on ``Node.root``, cs-id3, ``ModelMoveCost``):
+  the first, worked out (the matrix's memo of the root's partition cleared each time),
+  and a repeated one (memoised: what every object after the first pays);
 - one object's whole run-time tree: a ``RecognitionSession`` driven noise-free with a
   description's own values until it executes that description's grasp (a value the
   description lacks takes the first branch; a wrong grasp is dropped and the session
   goes on), for a few descriptions chosen at random as the object;
-- loading the library from JSON (``read_library_json``);
+- loading the library from JSON (``read_library_json``) and from a SQLite store
+  (``LibraryStore.descriptions``);
 - peak memory (tracemalloc) of loading the JSON, building the matrix and one choice,
   measured in a separate pass because tracing slows everything it traces.
 
@@ -49,7 +52,7 @@ from learner.costs import ModelMoveCost  # noqa: E402
 from learner.criteria import Criterion, criterion  # noqa: E402
 from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.description import ObjectDescription  # noqa: E402
-from learner.library import read_library_json, write_library_json  # noqa: E402
+from learner.library import LibraryStore, read_library_json, write_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable  # noqa: E402
@@ -89,10 +92,12 @@ class Row:
     n: int
     tests: int
     build_s: float
+    first_choice_s: float
     choice_s: float
     object_s: float
     decisions: float
     load_s: float
+    store_s: float
     peak_bytes: int
 
 
@@ -156,6 +161,12 @@ def measure(label: str, library: list[ObjectDescription], knowledge, crit: Crite
     matrix = DescriptionMatrix(library, knowledge)
     ctx = Context(matrix, crit, estimator)
     root = Node.root(len(library))
+
+    def first_choice() -> None:
+        matrix.root_splits.clear()
+        rank(root, START, ctx, {})
+
+    first = median_time(first_choice, reps.choice)
     choice = median_time(lambda: rank(root, START, ctx, {}), reps.choice)
     per_object, decisions = [], []
     for row in objects:
@@ -165,6 +176,11 @@ def measure(label: str, library: list[ObjectDescription], knowledge, crit: Crite
     path = folder / f"library-{len(library)}.json"
     write_library_json(path, library)
     load = median_time(lambda: read_library_json(path), reps.load)
+    db = folder / f"library-{len(library)}.sqlite"
+    with LibraryStore(db) as store:
+        store.add(library)
+        stored = median_time(store.descriptions, reps.load)
+    db.unlink()
     tests = len(matrix.tests)
     tracemalloc.start()
     loaded = read_library_json(path)
@@ -172,8 +188,8 @@ def measure(label: str, library: list[ObjectDescription], knowledge, crit: Crite
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     path.unlink()
-    return Row(label, len(library), tests, build, choice, statistics.median(per_object),
-               statistics.mean(decisions), load, peak)
+    return Row(label, len(library), tests, build, first, choice, statistics.median(per_object),
+               statistics.mean(decisions), load, stored, peak)
 
 
 def slope(rows: Sequence[Row], of: Callable[[Row], float]) -> float:
@@ -202,9 +218,11 @@ def ms(seconds: float) -> str:
 
 MEASURES: tuple[tuple[str, Callable[[Row], float]], ...] = (
     ("build matrix", lambda r: r.build_s),
+    ("first root choice", lambda r: r.first_choice_s),
     ("root choice", lambda r: r.choice_s),
     ("one object", lambda r: r.object_s),
     ("load JSON", lambda r: r.load_s),
+    ("load store", lambda r: r.store_s),
     ("peak memory", lambda r: float(r.peak_bytes)),
 )
 
@@ -242,12 +260,13 @@ def main() -> None:
     print(f"command: python bench/bench_scaling.py {' '.join(sys.argv[1:])}".rstrip())
     print(f"total wall time: {total:.0f} s")
     print()
-    print("| descriptions | tests | build matrix ms | root choice ms | one object ms (mean decisions) "
-          "| load JSON ms | peak memory MB |")
-    print("|---|---|---|---|---|---|---|")
+    print("| descriptions | tests | build matrix ms | first root choice ms | root choice ms "
+          "| one object ms (mean decisions) | load JSON ms | load store ms | peak memory MB |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r.label} | {r.tests} | {ms(r.build_s)} | {ms(r.choice_s)} | {ms(r.object_s)} "
-              f"({r.decisions:.1f}) | {ms(r.load_s)} | {r.peak_bytes / 2**20:.1f} |")
+        print(f"| {r.label} | {r.tests} | {ms(r.build_s)} | {ms(r.first_choice_s)} | {ms(r.choice_s)} "
+              f"| {ms(r.object_s)} ({r.decisions:.1f}) | {ms(r.load_s)} | {ms(r.store_s)} "
+              f"| {r.peak_bytes / 2**20:.1f} |")
     synthetic = rows[1:]
     tail = [r for r in synthetic if r.n >= 3_000]
     print()
@@ -268,14 +287,18 @@ def goals(rows: Sequence[Row]) -> None:
     shipped = rows[0]
     print(f"- one object's whole run-time tree at the shipped size ({shipped.n}): "
           f"{ms(shipped.object_s)} ms (goal < 50 ms): {'met' if shipped.object_s < 0.05 else 'NOT met'}")
-    if 1_000 in by_n:
-        r = by_n[1_000]
-        print(f"- one test choice at 1,000 descriptions: {ms(r.choice_s)} ms (goal < 5 ms): "
-              f"{'met' if r.choice_s < 0.005 else 'NOT met'}")
+    for n, choice_goal, object_goal in ((10_000, 0.005, 0.05), (100_000, 0.05, 0.25)):
+        if n in by_n:
+            r = by_n[n]
+            verdict = ("met" if r.first_choice_s < choice_goal
+                       else "met only repeated" if r.choice_s < choice_goal else "NOT met")
+            print(f"- at {n:,} descriptions: first root choice {ms(r.first_choice_s)} ms, repeated "
+                  f"{ms(r.choice_s)} ms (goal < {ms(choice_goal)} ms): {verdict}; one object "
+                  f"{ms(r.object_s)} ms (goal < {ms(object_goal)} ms): {'met' if r.object_s < object_goal else 'NOT met'}")
     if 100_000 in by_n:
         r = by_n[100_000]
-        print(f"- loading a 100,000-description library: {r.load_s:.2f} s (goal < 2 s): "
-              f"{'met' if r.load_s < 2 else 'NOT met'}")
+        print(f"- loading a 100,000-description library: store {r.store_s:.2f} s, JSON {r.load_s:.2f} s "
+              f"(goal < 2 s): store {'met' if r.store_s < 2 else 'NOT met'}")
 
 
 if __name__ == "__main__":

@@ -6,7 +6,8 @@ Runs the surfaces of ``tests/fuzz/surfaces.py`` (knowledge profile, world file,
 library, episode log, CLI arguments, driver verb payloads, learner requests) in this
 process, each against its real parser or handler, ``--cases`` hostile cases each (the
 suite runs a few hundred). A case that breaks the property is counted, its first
-case is printed, and the surface goes on; cases that hit a finding already reduced
+case is printed (on stderr when first seen, and again at the end), and the surface
+goes on; cases that hit a finding already reduced
 to a regression test (``tests/fuzz/test_findings.py``) are counted under it. Prints a
 Markdown table of counts with the machine and date; ``docs/reliability.md`` keeps the
 counts of record. Exit status 1 when a new finding turned up.
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import logging
 import platform
 import re
 import sys
@@ -61,7 +63,9 @@ def fuzz(surface: Surface, cases: int, folder: Path, seed_value: int) -> tuple[C
         except Finding as exc:
             kind = _kind(str(exc))
             seen[f"new:{kind}"] += 1
-            first.setdefault(kind, f"{str(exc)[:800]} <- {case!r:.300}")
+            if kind not in first:  # at once, on stderr: a later crash must not lose it
+                first[kind] = f"{str(exc)[:800]} <- {case!r:.300}"
+                print(f"{surface.name}: new finding, {kind}: {first[kind]}", file=sys.stderr, flush=True)
 
     started = time.perf_counter()
     try:
@@ -77,6 +81,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--surface", action="append", choices=sorted(BY_NAME), help="only this surface (repeatable)")
     parser.add_argument("--seed", type=int, default=0, help="Hypothesis seed (default 0)")
     args = parser.parse_args(argv)
+    logging.disable(logging.WARNING)  # a refused case's reason in a node's log is expected: the table is the output
     if args.cases < 1:
         parser.error("--cases must be at least 1")
     chosen = [BY_NAME[name] for name in args.surface] if args.surface else list(SURFACES)

@@ -5,8 +5,11 @@ and the shape snapshot build the tree alone. Every recovery is a branch you can 
 reselection (gated by ``Unreliable?``), backtracking and nearest neighbour under
 "choose a test" / "step"; the ambiguous leaf under "choose a grasp"; the other end
 under "reach the grasp"; and, gated by ``GraspFailed?``, side effects or dropping a
-failed grasp under "recover". Above it all, the low-battery guard ("battery check",
-``behaviours.battery``) sends the robot to its dock and lets the work resume where it was.
+failed grasp under "recover". Before each sensing and each grasp, ``Disturbed?`` looks
+with the camera and, when the object moved, changed or is gone, relocates it, starts
+afresh or reports it gone (``behaviours.disturbance``). Above it all, the low-battery
+guard ("battery check", ``behaviours.battery``) sends the robot to its dock and lets the
+work resume where it was.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from py_trees.composites import Selector, Sequence
 from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
 from behaviours.battery import guarded
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
+from behaviours.disturbance import look_before
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
                                  GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
@@ -30,11 +34,12 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         Sequence("reselect", memory=True, children=[ValueUnreliable(robot), Reselect(robot)]),
         Backtrack(robot)])
     follow = Sequence("follow the tree", memory=True, children=[
-        choose, MoveTo(robot, "test"), ApplyTest(robot), FollowBranch(robot)])
+        choose, MoveTo(robot, "test"),
+        look_before(robot, "test", Sequence("measure", memory=True, children=[ApplyTest(robot), FollowBranch(robot)]))])
     grasp = Sequence("grasp", memory=True, children=[
         Selector("choose a grasp", memory=True, children=[ChooseGrasp(robot), AmbiguousGrasp(robot)]),
         Selector("reach the grasp", memory=True, children=[MoveTo(robot, "grasp"), OtherEnd(robot)]),
-        Grasp(robot)])
+        look_before(robot, "grasp", Grasp(robot))])
     recover = Sequence("recover", memory=True, children=[
         GraspFailed(robot),
         Selector("how it failed", memory=True, children=[

@@ -41,7 +41,10 @@ class _Parser(argparse.ArgumentParser):
     """argparse, but a bad argument is one line (and where to read more), exit 2."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(BAD_INPUT, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        """One line even when the message quotes an argument holding a newline (argparse
+        names unrecognised arguments as they are): control characters are escaped."""
+        line = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+        self.exit(BAD_INPUT, f"{self.prog}: error: {line} (see '{self.prog} --help')\n")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -10,6 +10,10 @@ training again. Any changed input, the code included, is a new hash and trains a
 the hash too: training does not read it today, but a demo is described by its world,
 and retraining when it changes costs a second, while a stale library would cost a
 wrong demo.
+
+``csl run`` with another robot's profile than the HERO 2000's starts a new library
+from the lab's trained library here too: the shipped example serves only the HERO, and
+one hash store means a robot's demo and its first run train once between them.
 """
 
 from __future__ import annotations
@@ -31,10 +35,11 @@ FORMAT = "csl-trained-library"
 VERSION = 1
 REPOSITORY = Path(__file__).resolve().parents[1]
 # The code a trained library depends on: the learner, the simulated robot and its
-# camera, the vision that makes training objects of what the camera sees, the profile
-# reader, and the executive modules that drive training and read the knowledge.
-TRAINING_CODE = ("learner/**/*.py", "hero_driver/sim/**/*.py", "hero_driver/interface.py", "planner/*.py",
-                 "robot_profile/*.py", "behaviours/appearance.py", "behaviours/bridge.py",
+# camera, the camera's published model and the vision that makes training objects of
+# what the camera sees, the profile reader, and the executive modules that drive
+# training and read the knowledge.
+TRAINING_CODE = ("learner/**/*.py", "hero_driver/sim/**/*.py", "hero_driver/interface.py", "camera_model/*.py",
+                 "planner/*.py", "robot_profile/*.py", "behaviours/appearance.py", "behaviours/bridge.py",
                  "executive/sim_training.py", "executive/training_sources.py", "executive/profile.py")
 TRAINING_NOISE = False  # demo training measures the objects exactly, as the shipped library was made
 

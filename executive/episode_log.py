@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import IO
 
 from behaviours.events import Event
+from learner.input_file import open_input, read_input
+from learner.json_text import NotJson, parse_json
 
 
 class EpisodeLog:
@@ -67,30 +69,44 @@ def read_log(path: str | Path) -> list[dict[str, object]]:
     """Read an episode log back (for replay and analysis): an ``episode.jsonl``, or the
     events channel of a ``--record`` MCAP file."""
     path = Path(path)
-    try:
-        if _is_mcap(path):
-            from executive.recording.reader import read_recorded_events  # the mcap library: only for a recording
+    data = _read_log_file(path)
+    if data is None:
+        from executive.recording.reader import read_recorded_events  # the mcap library: only for a recording
 
-            return read_recorded_events(path)
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ValueError(f"{path}: episode log not found") from None
-    except IsADirectoryError:
-        raise ValueError(f"{path}: is a folder, not an episode log") from None
+        return read_recorded_events(path)
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not an episode log (not text)") from None
+    lines = text.split("\n")  # not splitlines: a string may hold U+2028 or U+0085 as it is (ensure_ascii=False)
+    if lines[-1] == "":
+        lines.pop()  # after the last line's newline
     events = []
-    for n, line in enumerate(text.splitlines(), 1):
+    for n, line in enumerate(lines, 1):
         try:
-            events.append(json.loads(line))
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{path}:{n}: not a JSON event: {exc.msg}") from None
+            events.append(parse_json(line))
+        except NotJson as exc:
+            raise ValueError(f"{path}:{n}: not a JSON event: {exc}") from None
     return events
 
 
-def _is_mcap(path: Path) -> bool:
-    with path.open("rb") as f:
-        return f.read(len(_MCAP_MAGIC)) == _MCAP_MAGIC
+MAX_LOG_BYTES = 64 * 2**20
+"""The largest episode.jsonl read back: a seven-object episode logs 20-80 kB, so this
+is hundreds of episodes, and a file beyond it is not one episode's log."""
+
+
+def _read_log_file(path: Path) -> bytes | None:
+    """The bytes of the episode log at ``path``, or None when it is an MCAP recording
+    (read by the mcap library instead).
+
+    Only a regular file is read (a FIFO or ``/dev/zero`` is refused instead of
+    waiting for a writer or reading for ever), and an episode.jsonl only up to
+    :data:`MAX_LOG_BYTES`.
+    """
+    with open_input(path, "episode log") as stream:
+        if stream.peek(len(_MCAP_MAGIC))[:len(_MCAP_MAGIC)] == _MCAP_MAGIC:
+            return None
+        return read_input(stream, path, "episode log", MAX_LOG_BYTES)
 
 
 _MCAP_MAGIC = b"\x89MCAP"  # how every MCAP file begins

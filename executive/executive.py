@@ -15,18 +15,20 @@ import py_trees
 from py_trees.common import Status
 
 from behaviours.base import DriverAction
+from behaviours.overdue import OverdueRobot
 from behaviours.records import ObjectRecord, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.episode_log import EpisodeLog
+from executive.grasp_attempts import LearnedGraspCosts
 from executive.profile import knowledge_of
 from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
-from learner.service.interface import LearnerService
+from learner.service.interface import KeepsGraspCosts, LearnerService
 from planner import Navigator
 from planner.calibration import MarkerBoard
 from planner.segmentation import Camera
-from robot_profile import RobotProfile, load_profile
+from robot_profile import ProfileStamp, RobotProfile, load_profile
 
 
 @dataclass
@@ -57,11 +59,15 @@ class Executive:
         self.on_tick = on_tick
         profile = profile or load_profile()
         knowledge = knowledge_of(profile)
-        self.services = Services(
-            driver=driver, navigator=Navigator(profile.robot, camera=camera, board=board), learner=learner,
+        self.services = Services(  # a verb refused busy after a timeout is sent again (behaviours.overdue)
+            driver=OverdueRobot(driver, params.overdue_wait_s),
+            navigator=Navigator(profile.robot, camera=camera, board=board), learner=learner,
             knowledge=knowledge,
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
-            library=LibraryMatrix(learner, knowledge))
+            library=LibraryMatrix(learner, knowledge), served=_served(driver))
+        self.grasp_costs = (  # docs/method.md §5.7: priced by what grasps cost, recorded after each object
+            LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events)
+            if params.learned_grasp_costs and isinstance(learner, KeepsGraspCosts) else None)
         self.namespace = namespace(driver.robot)
         self.root = build_tree(driver.robot)
         self.tree = py_trees.trees.BehaviourTree(self.root)
@@ -85,8 +91,11 @@ class Executive:
         def report_finished() -> list[ObjectRecord]:
             nonlocal reported
             results = py_trees.blackboard.Blackboard.get(f"{self.namespace}/results")
-            while on_object is not None and reported < len(results) and results[reported].done:
-                on_object(results[reported])
+            while reported < len(results) and results[reported].done:
+                if self.grasp_costs is not None:
+                    self.grasp_costs.finished(results[reported])
+                if on_object is not None:
+                    on_object(results[reported])
                 reported += 1
             return results
 
@@ -127,3 +136,10 @@ class Executive:
     def shutdown(self) -> None:
         self.tree.shutdown()
         self.log.close()
+
+
+def _served(driver: Driver) -> ProfileStamp | None:
+    """The robot profile the driver says it serves (the zenoh client's ``profile``), to
+    hold a driver that comes back to it; None when it does not say."""
+    stamp = getattr(driver, "profile", None)
+    return stamp if isinstance(stamp, ProfileStamp) else None

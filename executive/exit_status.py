@@ -20,6 +20,9 @@ LOST = 3
 """The robot's driver or the learner service refused, vanished or could not be reached."""
 
 HANDLED_OUTCOMES = frozenset({"grasped", "left"})
+NOT_FAILED = HANDLED_OUTCOMES | {"gone"}
+"""Handled, or ``gone``: taken away while the robot worked on it (docs/executive.md,
+"Disturbances"), which no executive could retrieve: reported, not a failure."""
 
 
 def episode_status(outcomes: Sequence[str | None]) -> tuple[int, str]:
@@ -32,7 +35,10 @@ def episode_status(outcomes: Sequence[str | None]) -> tuple[int, str]:
     """
     if not outcomes:
         return SOME_FAILED, "no object was located on the floor: nothing was retrieved"
-    missed = [o for o in outcomes if o not in HANDLED_OUTCOMES]
+    missed = [o for o in outcomes if o not in NOT_FAILED]
     if missed:
         return SOME_FAILED, f"{len(missed)} of {len(outcomes)} objects were not handled"
+    gone = outcomes.count("gone")
+    if gone:
+        return ALL_HANDLED, f"{len(outcomes) - gone} of {len(outcomes)} objects were handled, {gone} gone (taken away)"
     return ALL_HANDLED, f"all {len(outcomes)} objects were handled"

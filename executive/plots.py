@@ -17,7 +17,9 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle, Patch, Rectangle  # noqa: E402
 import py_trees  # noqa: E402
 
+from behaviours.bridge import overhead  # noqa: E402
 from behaviours.records import ObjectRecord  # noqa: E402
+from executive.history import CurvePoint  # noqa: E402
 from executive.tree_figure import (BOX_PT, LABEL_H, LABEL_PT, LINE_H, PAD, Box, Link, TreeLayout,  # noqa: E402
                                    layout, object_figures)
 from hero_driver.interface import CameraImage  # noqa: E402
@@ -52,48 +54,112 @@ def legs(events: Sequence[dict], start: tuple[float, float] | None) -> list[Leg]
     return out
 
 
+@dataclass(frozen=True)
+class Ending:
+    """Where one object was first seen and where the episode last saw it: the region the
+    tree followed it to when a failed grasp pushed it or knocked it over (the side-effect
+    check's new image), else where it was first seen."""
+
+    index: int
+    first: tuple[tuple[float, float], ...]  # polygon, world inches
+    last: tuple[tuple[float, float], ...]
+    shift_in: float  # between the two centroids
+    change: str | None  # pushed | knocked over | lost from sight | None
+
+
+def endings(records: Sequence[ObjectRecord], events: Sequence[dict]) -> list[Ending]:
+    """Each object's first and last region, and what moved it: its worst side effect
+    in the log (knocked over beats pushed; a region the camera lost is said so, as its
+    last region is then where it was before)."""
+    out = []
+    for record in records:
+        seen = {(e.get("effect"), e.get("reason")) for e in events
+                if e.get("event") == "side_effect" and e.get("object") == record.index}
+        change = next((word for (effect, reason), word in _CHANGES if (effect, reason) in seen), None)
+        first, last = record.first_region, record.region
+        out.append(Ending(record.index, tuple(first.polygon), tuple(last.polygon),
+                          math.dist(first.centroid, last.centroid), change))
+    return out
+
+
+_CHANGES = ((("changed", None), "knocked over"), (("changed", "region lost"), "lost from sight"),
+            (("pushed", None), "pushed"))
+"""A side-effect event's (effect, reason) and how the map says it, worst first."""
+_MOVED_IN = 0.5  # a shift the map draws as an arrow (vision's centroids jitter less)
+
+
+def map_image(image: CameraImage) -> CameraImage:
+    """The image the map is drawn on: a fish-eye image undistorted first (the planner's
+    ``cv2.fisheye`` model with Knew = K, which keeps the pixel-to-world mapping), so
+    that paths and regions drawn in world inches land on what they mark; the raw image
+    is inches off towards its corners."""
+    if image.fisheye is None:
+        return image
+    flat = overhead(image).undistorted()
+    return CameraImage(pixels=flat.pixels, inches_per_pixel=flat.inches_per_pixel, origin_x_in=flat.origin_x_in,
+                       origin_y_in=flat.origin_y_in, clock_s=image.clock_s, meta=image.meta)
+
+
 def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], events: Sequence[dict],
              labels: Sequence[str], start: tuple[float, float] | None = None, *, base_radius_in: float) -> None:
-    """The overhead image at the start, each object's region where it was first seen
-    (coloured by outcome), and where the robot went: every move's planned path (a
-    straight line between stops would cut through boxes the planner went round), its
-    order number, and the base's footprint and heading where it stopped."""
+    """The overhead image at the start (undistorted), each object where it ended
+    (coloured by outcome; dashed where it was first seen and an arrow when a failed
+    grasp pushed it or knocked it over), and where the robot went: every move's
+    planned path (a straight line between stops would cut through boxes the planner
+    went round), its order number, and the base's footprint and heading where it
+    stopped. Inches on both axes, equal aspect, so a footprint is a true circle."""
+    image = map_image(image)
     h, w = image.pixels.shape
     extent = (image.origin_x_in, image.origin_x_in + w * image.inches_per_pixel,
               image.origin_y_in - h * image.inches_per_pixel, image.origin_y_in)
-    fig, ax = plt.subplots(figsize=(10, 7.5))
+    fig, ax = plt.subplots(figsize=(13, 7.5))
     ax.imshow(image.pixels, cmap="gray", extent=extent, origin="upper", vmin=0, vmax=255)
-    for record, label in zip(records, labels):
-        region = record.first_region
-        xs, ys = zip(*region.polygon)
-        colour = _COLOURS.get(record.outcome, "tab:gray")
-        ax.fill(xs, ys, facecolor="none", edgecolor=colour, linewidth=2)
-        ax.annotate(f"{record.index}: {label}\n{record.grasp or '-'} ({record.outcome})",
-                    region.centroid, xytext=(8, 8), textcoords="offset points", fontsize=7, color=colour,
-                    bbox={"facecolor": "white", "alpha": 0.75, "edgecolor": "none"})
+    for record, label, ending in zip(records, labels, endings(records, events)):
+        _draw_object(ax, record, label, ending)
     for leg in legs(events, start):
         _draw_leg(ax, leg, base_radius_in)
     if start:
         ax.plot(*start, marker="*", color="tab:orange", markersize=14, markeredgecolor="black", zorder=6)
     handles = [
-        Line2D([], [], color="tab:green", linewidth=2, label="grasped"),
+        Line2D([], [], color="tab:green", linewidth=2, label="grasped (where it was picked up)"),
         Line2D([], [], color="tab:blue", linewidth=2, label="left (No-Grab)"),
         Line2D([], [], color="tab:red", linewidth=2, label="failed"),
+        Line2D([], [], color="black", linestyle="--", linewidth=1,
+               label="where first seen, when a failed grasp\npushed it or knocked it over (arrow)"),
         Line2D([], [], color="tab:orange", linewidth=1.2,
-               label="each move's path as planned (number: move order; red: stopped on contact)"),
+               label="each move's path as planned\n(number: move order; red: stopped on contact)"),
         Line2D([], [], color="tab:orange", linestyle=":", linewidth=1, label="last waypoint to where the base stopped"),
         Patch(facecolor="none", edgecolor="tab:orange", label="the base's footprint and heading at each stop"),
         Line2D([], [], color="tab:orange", marker="*", markersize=10, linestyle="none", markeredgecolor="black",
                label="robot start"),
         Patch(facecolor="#6e6e6e", label="walls, furniture (light grey: the robot's base)"),
     ]
-    ax.legend(handles=handles, loc="lower right", fontsize=7, framealpha=0.9)
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5, framealpha=0.9)
+    ax.set_aspect("equal")
     ax.set_xlabel("x (in)")
     ax.set_ylabel("y (in)")
-    ax.set_title("The lab from the overhead camera: objects where first seen, outcomes, the robot's moves as planned")
+    ax.set_title("The lab from the overhead camera: objects where they ended, outcomes, the robot's moves as planned",
+                 fontsize=10, loc="left")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _draw_object(ax: Axes, record: ObjectRecord, label: str, ending: Ending) -> None:
+    colour = _COLOURS.get(record.outcome, "tab:gray")
+    moved = ending.shift_in > _MOVED_IN
+    if moved or ending.change:
+        xs, ys = zip(*ending.first)
+        ax.fill(xs, ys, facecolor="none", edgecolor=colour, linewidth=1, linestyle="--", alpha=0.8)
+    xs, ys = zip(*ending.last)
+    ax.fill(xs, ys, facecolor="none", edgecolor=colour, linewidth=2)
+    first, last = record.first_region.centroid, record.region.centroid
+    if moved:
+        ax.annotate("", last, xytext=first, arrowprops={"arrowstyle": "->", "color": colour, "linewidth": 1.2})
+    how = {None: "", "pushed": f"\npushed {ending.shift_in:.1f} in"}.get(ending.change, f"\n{ending.change}")
+    ax.annotate(f"{record.index}: {label}\n{record.grasp or '-'} ({record.outcome}){how}", last,
+                xytext=(8, 8), textcoords="offset points", fontsize=7, color=colour, zorder=7,
+                bbox={"facecolor": "white", "alpha": 0.6, "edgecolor": "none"})
 
 
 def _draw_leg(ax: Axes, leg: Leg, base_radius_in: float) -> None:
@@ -222,4 +288,30 @@ def plot_behaviour_tree(path: Path, root: py_trees.behaviour.Behaviour) -> None:
                 bbox={"boxstyle": "round" if not node.children else "square", "facecolor": face, "alpha": 0.8})
     ax.set_title("csl-executive behaviour tree (→ sequence, ? selector, khaki: loop decorators)")
     fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_learning_curve(path: Path, points: Sequence[CurvePoint], source: str) -> None:
+    """The learning curve over runs (``csl library history``), as the paper reads it:
+    robot minutes per object above, errors per object (grasps at a leaf that did not
+    hold) and the share of objects not handled below, one point per run in the order they were made."""
+    runs = [p.run for p in points]
+    fig, (cost, wrong) = plt.subplots(2, 1, sharex=True, figsize=(max(6.0, min(16.0, 0.35 * len(runs) + 4.0)), 6))
+    cost.plot(runs, [p.minutes_per_object for p in points], "o-", color="tab:blue")
+    cost.set_ylabel("robot minutes per object")
+    cost.set_ylim(bottom=0)
+    cost.grid(alpha=0.3)
+    wrong.plot(runs, [p.errors_per_object for p in points], "o-", color="tab:red",
+               label="errors per object (grasps at a leaf that did not hold)")
+    wrong.plot(runs, [p.failed_per_object for p in points], "s--", color="tab:gray",
+               label="share of objects not handled")
+    wrong.set_ylabel("per object")
+    wrong.set_ylim(bottom=0)
+    wrong.grid(alpha=0.3)
+    wrong.legend(fontsize=8, loc="best")
+    wrong.set_xlabel("run (in the order appended to the history)")
+    wrong.xaxis.get_major_locator().set_params(integer=True)
+    cost.set_title(f"Learning over {len(runs)} runs ({source})", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
     plt.close(fig)

@@ -21,11 +21,12 @@ class Truth:
     grasps: tuple[str, ...]
     x_in: float
     y_in: float
+    ended_as: str | None = None  # the entry it became when knocked over or turned (None: unchanged)
 
 
 @dataclass(frozen=True)
 class Row:
-    object: str
+    object: str  # the object as the robot found it
     grasp: str
     outcome: str
     correct: bool | None
@@ -37,6 +38,7 @@ class Row:
     recoveries: str
     index: int  # the object's number in the episode (``csl log --object N``)
     recovery_counts: tuple[tuple[str, int], ...]  # ``recoveries`` by kind, for --json
+    ended_as: str | None = None  # what it became during the episode (knocked over), when it changed
 
     @property
     def robot_s(self) -> float:
@@ -60,13 +62,13 @@ def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[
         correct = None
         if truth is not None and r.outcome in HANDLED_OUTCOMES:
             correct = (r.grasp in truth.grasps) if r.outcome == "grasped" else ("No-Grab" in truth.grasps)
-        elif truth is not None:
+        elif truth is not None and r.outcome != "gone":  # taken away: nothing left to judge
             correct = False
         counts = tuple(sorted(r.ledger.recoveries.items()))
         recov = ", ".join(f"{k} ×{v}" for k, v in counts) or "-"
         out.append(Row(name, r.grasp or "-", r.outcome or "unfinished", correct, r.ledger.moving_s,
                        r.ledger.sensing_s, r.ledger.grasping_s, r.ledger.computing_s * 1000.0,
-                       len(r.ledger.tests), recov, r.index, counts))
+                       len(r.ledger.tests), recov, r.index, counts, truth.ended_as if truth else None))
     return out
 
 
@@ -80,19 +82,21 @@ CAPTION = "min: robot minutes moving, sensing and grasping; ms: learner + planne
 
 
 def table_cells(row: Row) -> list[str]:
-    ok = {True: "yes", False: "NO", None: "?"}[row.correct]
-    return [str(row.index), row.object, row.grasp, row.outcome, ok, f"{row.robot_s / 60:.1f}",
+    ok = "-" if row.outcome == "gone" else {True: "yes", False: "NO", None: "?"}[row.correct]
+    return [str(row.index), row.object + ("*" if row.ended_as else ""), row.grasp, row.outcome, ok, f"{row.robot_s / 60:.1f}",
             f"{row.computing_ms:.0f}", str(row.tests)]
 
 
 def recovery_lines(table: Sequence[Row]) -> list[str]:
     """One line per object that needed a recovery, by its number in the table."""
-    return [f"  {r.index} {r.object}: {r.recoveries}" for r in table if r.recovery_counts]
+    return [f"  {r.index} {r.object}" + (f" (ended as {r.ended_as})" if r.ended_as else "") + f": {r.recoveries}"
+            for r in table if r.recovery_counts or r.ended_as]
 
 
 def print_report(table: Sequence[Row]) -> None:
     """The per-object table, its recoveries and the summary, on standard output."""
-    print_table(COLUMNS, [table_cells(r) for r in table], title=TITLE, caption=CAPTION)
+    changed = "; *: it changed during the episode (knocked over: below)" if any(r.ended_as for r in table) else ""
+    print_table(COLUMNS, [table_cells(r) for r in table], title=TITLE, caption=CAPTION + changed)
     lines = recovery_lines(table)
     if lines:
         print("recoveries:")
@@ -113,7 +117,10 @@ def _totals(table: Sequence[Row]) -> tuple[int, int, float, float]:
 
 def summary(table: Sequence[Row]) -> str:
     judged, ok, mean_s, mean_ms = _totals(table)
-    rate = f"{ok}/{judged} handled correctly ({100 * ok / judged:.0f}%)" if judged else "no truth to judge by"
+    gone = sum(r.outcome == "gone" for r in table)
+    rate = (f"{ok}/{judged} handled correctly ({100 * ok / judged:.0f}%)" if judged
+            else "none left to judge" if gone else "no truth to judge by")
+    rate += f", {gone} taken away" if gone else ""
     return (f"{len(table)} objects: {rate}; {mean_s / 60:.1f} robot minutes and "
             f"{mean_ms:.0f} ms of computation per object (paper: ~12 min, ~20 s)")
 
@@ -128,7 +135,7 @@ def time_split(table: Sequence[Row]) -> str:
 
 def row_json(row: Row) -> dict[str, object]:
     """One object for ``--json``: seconds unrounded, recoveries by kind."""
-    return {"index": row.index, "object": row.object, "grasp": None if row.grasp == "-" else row.grasp,
+    return {"index": row.index, "object": row.object, "ended_as": row.ended_as, "grasp": None if row.grasp == "-" else row.grasp,
             "outcome": row.outcome, "correct": row.correct, "robot_s": row.robot_s, "moving_s": row.moving_s,
             "sensing_s": row.sensing_s, "grasping_s": row.grasping_s, "computing_ms": row.computing_ms,
             "tests": row.tests, "recoveries": dict(row.recovery_counts)}

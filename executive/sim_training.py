@@ -12,12 +12,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from executive.training_sources import RecordingSource, SeenObjects, SimulatorSource, camera_objects
+from executive.training_sources import RecordingSource, SeenObjects, SimulatorGrasps, SimulatorSource, camera_objects
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.training import TrainingResult, train
 from learner.training_fidelity import FidelityReport, check_fidelity
+from learner.training_grasps import GraspSearch, find_grasps
 from learner.training_summary import TrainingSummary, summarise
 from robot_profile import RobotProfile
 
@@ -31,20 +32,34 @@ class SimTraining:
     result: TrainingResult
     summary: TrainingSummary
     source: RecordingSource
+    grasp_search: GraspSearch | None = None  # without a teacher: how the grasps were found
+
+    @property
+    def robot_s(self) -> float:
+        """The whole training's robot time: phases 1 and 2, and finding grasps if it did."""
+        search = self.grasp_search
+        return self.summary.total_s + (0.0 if search is None else search.grasping_s + search.moving_s)
 
 
 def train_in_simulator(knowledge: Knowledge, profile: RobotProfile | None = None, seed: int = 0,
-                       noise: bool = False) -> SimTraining:
+                       noise: bool = False, teacher: bool = True) -> SimTraining:
     """Train on the catalogue's training objects (Table 3) as the robot of ``profile`` sees
-    and senses it; moves are priced with the knowledge's move model."""
+    and senses it; moves are priced with the knowledge's move model. Without a
+    ``teacher`` the catalogue's grasp labels are not used: each object's grasp is found
+    by trying grasps on it first (``learner.training_grasps``), and training goes on with
+    the grasps found."""
     seen = camera_objects("training", profile, seed, noise)
     for o in seen.objects:
         if not knowledge.has_grasp(o.grasp):
             raise ValueError(f"simulator catalogue: object {o.object_id!r}: grasp {o.grasp!r} is not in "
                              f"{knowledge.source}")
+    moves = ModelMoveCost(knowledge.move)
+    search = None if teacher else find_grasps(seen.objects, knowledge,
+                                              SimulatorGrasps(seed, profile, seen.axis_offsets_deg), moves)
+    objects = seen.objects if search is None else search.objects
     source = RecordingSource(SimulatorSource(seed, noise, profile, seen.axis_offsets_deg))
-    result = train(seen.objects, knowledge, source, ModelMoveCost(knowledge.move))
-    return SimTraining(seen, result, summarise(result, seen.objects, knowledge), source)
+    result = train(objects, knowledge, source, moves)
+    return SimTraining(seen, result, summarise(result, objects, knowledge), source, search)
 
 
 def ground_truth(descriptions: Sequence[ObjectDescription], seen: SeenObjects,

@@ -21,6 +21,7 @@ from hero_driver.sim.probe import approach_pose, probe, probe_world
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
+from learner.training_grasps import GraspOutcome
 from planner.vision import Region, look
 from robot_profile import RobotProfile
 
@@ -69,6 +70,30 @@ class SimulatorSource:
         except DriverError as exc:
             raise ValueError(f"simulator: {procedure} of {object_id!r} at {position}: {exc.message}") from None
         return dict(result.values)
+
+
+class SimulatorGrasps:
+    """Tries grasps on catalogue objects in the simulator, as a team would stage them for
+    grasping experiments: each attempt on the object alone, freshly placed (a failed grasp
+    may have pushed or knocked it over), the robot at the approach position. Orientations
+    are relative to the camera's reference axis, as in :class:`SimulatorSource`."""
+
+    def __init__(self, seed: int = 0, profile: RobotProfile | None = None,
+                 axis_offsets_deg: Mapping[str, float] | None = None) -> None:
+        self.seed, self.profile = seed, profile
+        self.axis_offsets_deg = dict(axis_offsets_deg or {})
+
+    def try_grasp(self, object_id: str, grasp: str, position: Position) -> GraspOutcome:
+        if position.distance_in is None:
+            raise ValueError(f"grasp position {position} needs a distance to stage the robot")
+        orientation = ((position.orientation_deg or 0.0) + self.axis_offsets_deg.get(object_id, 0.0)) % 360.0
+        sim = probe_world(object_id, self.seed, False, self.profile)
+        sim.pose = approach_pose(sim, 0, position.distance_in, orientation)
+        try:
+            result = sim.grasp(grasp)
+        except DriverError as exc:
+            raise ValueError(f"simulator: {grasp} of {object_id!r} at {position}: {exc.message}") from None
+        return GraspOutcome(result.success, result.duration_s)
 
 
 class RecordingSource:

@@ -23,6 +23,17 @@ DEFAULT_CHECK_TIMEOUT_S = 30.0
 CAMERA_PRESETS = ("simple", "realistic")  # hero_driver.sim.camera.PRESETS, without importing OpenCV
 
 
+def disturb_preset(text: str) -> object:
+    """argparse type of ``--disturb`` (hero_driver.sim.events.parse_disturb), imported
+    only when the flag is given: ``csl --help`` needs no physics."""
+    from hero_driver.sim.events import parse_disturb
+
+    try:
+        return parse_disturb(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--disturb: ")) from None
+
+
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``driver`` group and its ``sim`` and ``check`` commands."""
     group = subparsers.add_parser(
@@ -63,6 +74,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple)")
+    sim.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
+                     help="someone disturbs objects while the robot senses them: each object, when first "
+                          "sensed, is nudged, removed or replaced with probability P (e.g. nudge:0.2; "
+                          "docs/simulator.md, Disturbances; default: only the world file's events)")
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "
@@ -93,6 +108,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="knowledge profile of the robot: its procedures are the ones exercised, "
                             "and a driver whose hello names another profile fails in one line "
                             "(default: the HERO 2000's)")
+    check.add_argument("--camera-calibration", type=Path, default=None, metavar="FILE",
+                       help="the driver camera's calibration ('csl camera calibrate'; the empty floor image beside "
+                            "it): the camera-mapping and reset-objects checks read a real camera's images through "
+                            "it, as 'csl run' does (default: band images; others are not checked; docs/camera.md)")
     check.add_argument("--json", action="store_true",
                        help="print the results as one JSON document: checks (name, passed, detail), passed, failed")
     check.set_defaults(handler=_run_check)
@@ -109,6 +128,7 @@ def _run_sim(args: argparse.Namespace) -> int:
     listen = endpoint_of("--listen", args.listen, DRIVER_ENDPOINT, LISTEN_KEY, zenoh_config)
     # Imported here: the simulator pulls in pymunk and the world files, which
     # `csl --help` and `csl driver check` have no use for.
+    from hero_driver.sim.events import DisturbPreset
     from hero_driver.sim_driver import SimulatedHero
     from hero_driver.zenoh_link.node import serve
     from zenoh_rpc.serving import stop_on_signals
@@ -118,7 +138,7 @@ def _run_sim(args: argparse.Namespace) -> int:
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     noise = None if args.noise is None else NoiseConfig.preset(args.noise)
     driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, profile=profile, noise=noise,
-                           worlds_dir=args.worlds_dir, camera=args.camera)
+                           worlds_dir=args.worlds_dir, camera=args.camera, disturb=args.disturb or DisturbPreset())
 
     def on_ready() -> None:
         print(f"serving {keys.rpc('*')} on {where(listen, LISTEN_KEY, zenoh_config)} (Ctrl-C to stop)",
@@ -144,8 +164,16 @@ def _run_check(args: argparse.Namespace) -> int:
     from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
+    vision = None
+    if args.camera_calibration is not None:
+        from hero_driver.zenoh_link.camera_check import calibrated_reader
+
+        try:
+            vision = calibrated_reader(args.camera_calibration)
+        except ValueError as exc:
+            raise ValueError(f"--camera-calibration: {exc}") from None
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
-                         zenoh_config=zenoh_config, profile=profile_stamp(profile))
+                         zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision)
     if args.json:
         failed = sum(not r.passed for r in results)
         print(json.dumps({"robot": args.robot, "checks": [dataclasses.asdict(r) for r in results],

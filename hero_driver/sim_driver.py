@@ -17,6 +17,7 @@ from typing import TypeVar
 from hero_driver.interface import (
     BAD_REQUEST, UNAVAILABLE, CameraImage, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
+from hero_driver.sim.events import DisturbPreset, Happened
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld
 from hero_driver.sim.worldfile import WorldRefused, shelf_for
@@ -39,13 +40,17 @@ class SimulatedHero:
 
     ``camera`` is the overhead camera's preset: ``simple`` (grey bands) or
     ``realistic`` (what a real ceiling camera shows; docs/camera.md).
+
+    ``disturb`` is the ``--disturb`` preset: objects nudged, taken away or swapped
+    during their sensing (docs/simulator.md, Disturbances).
     """
 
     def __init__(self, robot: str = "r1", world: str | Path | None = None, seed: int = 0,
                  profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
-                 worlds_dir: Path | None = None, camera: str = "simple") -> None:
+                 worlds_dir: Path | None = None, camera: str = "simple",
+                 disturb: DisturbPreset = DisturbPreset()) -> None:
         self.robot = robot
-        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise, camera)
+        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise, camera, disturb)
         self.worlds = shelf_for(world, worlds_dir)
 
     def _live(self) -> SimWorld:
@@ -114,6 +119,10 @@ class SimulatedHero:
     def truth(self) -> list[ObjectTruth]:
         """Ground truth of every object, for reports, training and tests."""
         return self._live().truth()
+
+    def disturbances(self) -> list[Happened]:
+        """The disturbances that took place so far, for reports and tests."""
+        return self._live().disturbances
 
     @property
     def last_side_effect(self) -> str:

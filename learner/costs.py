@@ -1,16 +1,24 @@
-"""Move costs: what it costs the robot to go from one position to another.
+"""Costs: what it costs the robot to move, and what its grasps have cost.
 
-The learner prices every candidate test from where the robot stands *now*, so the
+The learner prices every candidate test from where the robot stands *now*, so the move
 estimator is pluggable: the knowledge file's simple model by default, the planner's
 map-based heuristic once an executive provides one (any object with ``move_cost``).
+
+Grasps are priced by the knowledge file until the robot has tried them: the paper
+"neglects learning failure recovery costs for grasping procedures"; here each grasp's
+attempts are kept (:class:`GraspCostRecord`) and :func:`with_learned_grasp_costs` prices
+it by their Bayesian mean, the file's cost its prior (docs/method.md §5.7).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
-from learner.knowledge import MoveModel
+from learner.knowledge import Knowledge, MoveModel
 from learner.position import Position
 
 
@@ -55,3 +63,67 @@ def _point(p: Position) -> tuple[float, float]:
 
 def _wrap(deg: float) -> float:
     return (deg + 180.0) % 360.0 - 180.0
+
+
+# -- grasp costs learned from what grasps actually cost ------------------------------
+PRIOR_WEIGHT = 3.0
+"""How many attempts the knowledge file's grasp cost counts for (docs/method.md §5.7):
+the learned cost moves halfway to what attempts cost after three of them."""
+
+
+@dataclass(frozen=True)
+class GraspCostRecord:
+    """What one grasping procedure has cost on this robot so far: robot seconds spent on
+    the attempts that held and on those that failed, a failure's recovery included (the
+    executive decides what a failure cost; the learner only adds it up)."""
+
+    grasp: str
+    successes: int = 0
+    success_s: float = 0.0
+    failures: int = 0
+    failure_s: float = 0.0
+
+    @property
+    def attempts(self) -> int:
+        return self.successes + self.failures
+
+    def with_attempt(self, seconds: float, success: bool) -> GraspCostRecord:
+        """This record with one more attempt of ``seconds`` (finite, >= 0)."""
+        if not (math.isfinite(seconds) and seconds >= 0):
+            raise ValueError(f"grasp {self.grasp}: an attempt's cost must be a finite number >= 0, got {seconds!r}")
+        if success:
+            return dataclasses.replace(self, successes=self.successes + 1, success_s=self.success_s + seconds)
+        return dataclasses.replace(self, failures=self.failures + 1, failure_s=self.failure_s + seconds)
+
+
+def bayesian_mean(prior_s: float, total_s: float, count: int, weight: float = PRIOR_WEIGHT) -> float:
+    """The mean cost with the prior counted as ``weight`` attempts of ``prior_s``:
+    ``(weight * prior_s + total_s) / (weight + count)``; the prior alone with no attempt."""
+    return (weight * prior_s + total_s) / (weight + count)
+
+
+def with_learned_grasp_costs(knowledge: Knowledge, records: Iterable[GraspCostRecord],
+                             weight: float = PRIOR_WEIGHT) -> Knowledge:
+    """``knowledge`` with each recorded grasp priced by what it has cost, not by the file.
+
+    A grasp's ``time_s`` (what a leaf's grasp costs when it holds) becomes the Bayesian
+    mean of the attempts that held, and its ``feature_cost_s`` (what a failure costs, side
+    effects included: what a grasp tried as a feature is charged) the mean of those that
+    failed, each with the file's value as the prior of ``weight`` attempts. The penalty is
+    what separates the two, never below 0: a failure is not priced under the grasp's own
+    time. Everything that prices a grasp reads these two, so ranking grasps as tests and
+    ordering an ambiguous leaf's grasps both use the learned costs. A grasp with no record
+    keeps the file's costs; a record of a grasp the knowledge lacks is ignored.
+    """
+    by_grasp = {r.grasp: r for r in records}
+    grasping = []
+    for g in knowledge.grasping:
+        r = by_grasp.get(g.name)
+        if r is None or r.attempts == 0:
+            grasping.append(g)
+            continue
+        time_s = bayesian_mean(g.time_s, r.success_s, r.successes, weight)
+        failure_s = bayesian_mean(g.feature_cost_s, r.failure_s, r.failures, weight)
+        grasping.append(dataclasses.replace(g, time_s=time_s, side_effect_penalty_s=max(0.0, failure_s - time_s)))
+    return dataclasses.replace(knowledge, grasping=tuple(grasping),
+                               source=f"{knowledge.source} (learned grasp costs)")

@@ -37,57 +37,74 @@ class Split:
 
 
 def partition_columns(rows: Sequence[int], matrix: DescriptionMatrix, columns: np.ndarray) -> Split:
-    """Chain-merged ranges and information gain of every column at once."""
-    n, k, m = len(rows), len(matrix.classes), len(columns)
-    order, vals = matrix.order[columns], matrix.sorted_values[columns]
-    if n < len(matrix.descriptions):  # keep the node's rows, still sorted by value, NaN last
+    """Chain-merged ranges and information gain of ``columns`` at once.
+
+    Only the known values are read (:attr:`DescriptionMatrix.known`), every column's one
+    after another in one flat array, worked on whole and the asked columns picked at
+    the end (a choice asks for nearly all of them); a column's missing rows are the
+    node's rows less its known ones, counted per class by subtraction.
+    """
+    n, k, t = len(rows), len(matrix.classes), len(matrix.tests)
+    everyone = n == len(matrix.descriptions)  # rows are distinct: the root of a whole library
+    if everyone and (found := matrix.root_splits.get(columns.tobytes())) is not None:
+        return found
+    known = matrix.known
+    row_index = np.asarray(rows, dtype=np.int64)
+    totals = np.bincount(matrix.class_of[row_index], minlength=k).astype(float)
+    vals, vcls, col, within = known.values, known.class_of, known.column, known.within
+    if not everyone:  # keep the node's rows, still sorted by value
         member = np.zeros(len(matrix.descriptions), dtype=bool)
-        member[list(rows)] = True
-        keep = member[order]
-        order, vals = order[keep].reshape(m, n), vals[keep].reshape(m, n)
-    vcls = matrix.class_of[order]
-    known = ~np.isnan(vals)
-    n_known = known.sum(axis=1)
-    err = matrix.errors[columns][:, None]
-    step = np.zeros_like(vals)
-    step[:, 1:] = vals[:, 1:] - vals[:, :-1]
-    breaks = known & (step > err + _EPS)
-    starts = breaks.copy()
-    starts[:, 0] = known[:, 0]
-    range_id = np.cumsum(starts, axis=1, dtype=np.int32) - 1
-    n_ranges = starts.sum(axis=1)
+        member[row_index] = True
+        keep = member[known.rows]
+        vals, vcls, col, within = vals[keep], vcls[keep], col[keep], within[keep]
+    n_known = np.bincount(col, minlength=t) if not everyone else np.diff(known.start)
+    step = np.diff(vals)
+    same_column = col[1:] == col[:-1]
+    breaks = same_column & (step > within[1:])
+    starts = np.ones(len(vals), dtype=bool)
+    starts[1:] = breaks | ~same_column
+    range_global = np.cumsum(starts, dtype=np.int32) - 1
+    n_ranges = np.bincount(col[starts], minlength=t)
+    max_r = int(n_ranges.max()) + 1 if t else 1
+    first_range = (np.cumsum(n_ranges) - n_ranges).astype(np.int32)
+    cell = (col * max_r + (range_global - first_range[col])) * k + vcls
+    counts = np.bincount(cell, minlength=t * max_r * k).astype(float).reshape(t, max_r, k)
+    missing = totals[None, :] - counts.sum(axis=1)
 
     # the "unknown" subset: the ranges widened by the error leave part of the domain open
-    last = np.take_along_axis(vals, np.maximum(n_known - 1, 0)[:, None], axis=1)[:, 0]
-    widest_gap = np.where(breaks, step, 0.0).max(axis=1) if n > 1 else np.zeros(m)
-    e = err[:, 0]
-    numeric_covered = ((vals[:, 0] - e <= matrix.span_lo[columns] + _EPS)
-                       & (last + e >= matrix.span_hi[columns] - _EPS) & (widest_gap <= 2 * e + _EPS))
-    unknown = np.where(matrix.binary[columns], n_ranges < 2, ~numeric_covered) & ~matrix.is_grasp[columns]
+    padded = np.append(vals, np.nan)  # a column with no known value reads the NaN past the end
+    after = np.cumsum(n_known)
+    first_value = padded[np.where(n_known > 0, after - n_known, len(vals))]
+    last = padded[np.where(n_known > 0, after - 1, len(vals))]
+    widest_gap = np.zeros(t)
+    np.maximum.at(widest_gap, col[1:][breaks], step[breaks])
+    err = matrix.errors
+    numeric_covered = ((first_value - err <= matrix.span_lo + _EPS)
+                       & (last + err >= matrix.span_hi - _EPS) & (widest_gap <= 2 * err + _EPS))
+    unknown = np.where(matrix.binary, n_ranges < 2, ~numeric_covered) & ~matrix.is_grasp
 
+    ends = np.ones(len(vals), dtype=bool)
+    ends[:-1] = starts[1:]
+    los, his = vals[starts].tolist(), vals[ends].tolist()
+    bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
+
+    # the asked columns only, from here on
+    counts, missing, n_ranges, unknown = counts[columns], missing[columns], n_ranges[columns], unknown[columns]
+    max_r = int(n_ranges.max()) + 1 if len(columns) else 1
+    counts = counts[:, :max_r]
     subsets = n_ranges + unknown
-    max_r = int(n_ranges.max()) + 1 if m else 1
-    col = np.arange(m, dtype=np.int32)[:, None]
-    counts = np.bincount(((col * max_r + range_id) * k + vcls)[known],
-                         minlength=m * max_r * k).astype(float).reshape(m, max_r, k)
-    missing = np.bincount((col * k + vcls)[~known], minlength=m * k).astype(float).reshape(m, k)
     share = missing / np.maximum(subsets, 1)[:, None]
     in_range = np.arange(max_r)[None, :] < n_ranges[:, None]
     counts += np.where(in_range[:, :, None], share[:, None, :], 0.0)
     weights = np.concatenate([counts, np.where(unknown[:, None], share, 0.0)[:, None, :]], axis=1)
-    totals = np.bincount(matrix.class_of[list(rows)], minlength=k).astype(float)
     h_total = entropy(totals[None, :])[0]
     remainder = (weights.sum(axis=2) / max(n, 1) * entropy(weights)).sum(axis=1)
     gains = np.where(n_ranges >= 2, np.maximum(h_total - remainder, 0.0), 0.0)
-
-    ends = starts.copy()
-    ends[:, :-1] = starts[:, 1:]
-    ends[:, -1] = False
-    ends |= known & (np.arange(n)[None, :] == (n_known - 1)[:, None])
-    los, his = vals[starts].tolist(), vals[ends].tolist()
-    bounds = np.concatenate([[0], np.cumsum(n_ranges)]).tolist()
-    ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in range(m)]
-    return Split(ranges, unknown, gains, n_ranges, counts.sum(axis=2) / max(n, 1))
+    ranges = [list(zip(los[bounds[j]:bounds[j + 1]], his[bounds[j]:bounds[j + 1]])) for j in columns.tolist()]
+    found = Split(ranges, unknown, gains, n_ranges, counts.sum(axis=2) / max(n, 1))
+    if everyone:  # every object's session starts here: work it out once per matrix
+        matrix.root_splits[columns.tobytes()] = found
+    return found
 
 
 def joint_gain(rows: Sequence[int], matrix: DescriptionMatrix, columns: Sequence[int],

@@ -57,8 +57,7 @@ class Node:
 
     @staticmethod
     def root(n: int, exclude: Sequence[int] = ()) -> Node:
-        dropped = set(exclude)
-        rows = tuple(i for i in range(n) if i not in dropped)
+        rows = tuple(range(n)) if not exclude else tuple(sorted(set(range(n)).difference(exclude)))
         return Node(rows, (False,) * len(rows))
 
 
@@ -109,8 +108,12 @@ def deciding_rows(node: Node) -> list[int]:
 
 
 def leaf_classes(node: Node, matrix: DescriptionMatrix) -> list[str]:
-    """Grasps of the deciding rows, sorted: exactly one means the node is a leaf."""
-    return sorted({matrix.descriptions[r].grasp for r in deciding_rows(node)})
+    """Grasps of the deciding rows, sorted: exactly one means the node is a leaf
+    (read from the matrix's classes, sorted grasp names, so no description is visited)."""
+    rows = np.asarray(node.rows, dtype=np.int64)
+    genuine = rows[~np.asarray(node.carried, dtype=bool)] if len(rows) else rows
+    deciding = genuine if len(genuine) else rows
+    return [matrix.classes[c] for c in np.unique(matrix.class_of[deciding]).tolist()]
 
 
 def measured_value(test: Test, measurements: Measurements) -> float | None:
@@ -351,25 +354,21 @@ def _cheaper(a: ScoredTest, b: ScoredTest) -> int:
 
 def split(node: Node, scored: ScoredTest, matrix: DescriptionMatrix) -> list[Node]:
     """The node of each branch: rows in its range, plus every row lacking the value
-    (carried, so it does not decide a leaf, and ``1/k`` as likely: ``Node.likelihood``)."""
-    j = matrix.column[scored.test]
+    (carried, so it does not decide a leaf, and ``1/k`` as likely: ``Node.likelihood``).
+    A value within two ranges goes to the first; rows keep the node's order."""
     k = len(scored.ranges)
-    rows: list[list[int]] = [[] for _ in scored.ranges]
-    carried: list[list[bool]] = [[] for _ in scored.ranges]
-    likely: list[list[float]] = [[] for _ in scored.ranges]
-    for r, c, w in zip(node.rows, node.carried, node.likelihood or (1.0,) * len(node.rows)):
-        v = matrix.values[r, j]
-        if np.isnan(v):
-            for b in range(len(rows)):
-                rows[b].append(r)
-                carried[b].append(True)
-                likely[b].append(w / k)
-            continue
-        for b, (lo, hi) in enumerate(scored.ranges):
-            if lo - _EPS <= v <= hi + _EPS:
-                rows[b].append(r)
-                carried[b].append(c)
-                likely[b].append(w)
-                break
-    return [Node(tuple(r), tuple(c), None if all(x == 1.0 for x in w) else tuple(w))
-            for r, c, w in zip(rows, carried, likely)]
+    rows = np.asarray(node.rows, dtype=np.int64)
+    carried = np.asarray(node.carried, dtype=bool)
+    likely = np.ones(len(rows)) if node.likelihood is None else np.asarray(node.likelihood, dtype=float)
+    values = matrix.values[rows, matrix.column[scored.test]] if len(rows) else np.zeros(0)
+    missing = np.isnan(values)
+    taken = missing.copy()
+    out = []
+    for lo, hi in scored.ranges:
+        inside = ~taken & (values >= lo - _EPS) & (values <= hi + _EPS)
+        taken |= inside
+        here = inside | missing
+        weights = np.where(missing, likely / k, likely)[here]
+        out.append(Node(tuple(rows[here].tolist()), tuple((carried | missing)[here].tolist()),
+                        None if bool((weights == 1.0).all()) else tuple(weights.tolist())))
+    return out

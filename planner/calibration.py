@@ -23,73 +23,14 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from camera_model.board import MarkerBoard
+from camera_model.floor_grid import FloorGrid
 from planner.image import OverheadImage
 
 MIN_MARKERS = 4  # 16 corners: a homography and two distortion terms with room to spare
 RECTIFIED_INCHES_PER_PIXEL = 0.8  # the band image's grid: the planner's costs are tuned to it
 CALIBRATION_FORMAT = 1
 UNDISTORT_CRITERIA = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 40, 1e-6)
-
-
-@dataclass(frozen=True)
-class BoardMarker:
-    """One printed marker: its id and its centre on the floor, top edge towards +y."""
-
-    marker_id: int
-    x_in: float
-    y_in: float
-
-
-@dataclass(frozen=True)
-class MarkerBoard:
-    """ArUco markers of one OpenCV dictionary, each ``marker_in`` wide (black border
-    included), axis-aligned on the floor."""
-
-    dictionary: str
-    marker_in: float
-    markers: tuple[BoardMarker, ...]
-
-    def corners(self, marker_id: int) -> np.ndarray:
-        """The marker's floor corners in ArUco's order: top-left, top-right,
-        bottom-right, bottom-left of the printed image (the top edge faces +y)."""
-        m = next(m for m in self.markers if m.marker_id == marker_id)
-        h = self.marker_in / 2
-        return np.array([[m.x_in - h, m.y_in + h], [m.x_in + h, m.y_in + h],
-                         [m.x_in + h, m.y_in - h], [m.x_in - h, m.y_in - h]], dtype=np.float64)
-
-    def detector(self) -> cv2.aruco.ArucoDetector:
-        params = cv2.aruco.DetectorParameters()
-        params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_SUBPIX
-        return cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary)), params)
-
-
-def load_board(path: Path) -> MarkerBoard:
-    """Read a board file (docs/camera.md); a bad one raises ValueError naming the file
-    and the field."""
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read the marker board: {exc}") from None
-    if not isinstance(data, dict):
-        raise ValueError(f"{path}: a marker board is a JSON object")
-    dictionary = data.get("dictionary")
-    if not (isinstance(dictionary, str) and dictionary.startswith("DICT_") and hasattr(cv2.aruco, dictionary)):
-        raise ValueError(f"{path}: dictionary: expected an OpenCV ArUco dictionary name such as DICT_4X4_50")
-    marker_in = _number(path, "marker_in", data.get("marker_in"))
-    if marker_in <= 0:
-        raise ValueError(f"{path}: marker_in: must be positive")
-    raw = data.get("markers")
-    if not isinstance(raw, list) or not raw:
-        raise ValueError(f"{path}: markers: expected a non-empty list")
-    markers = []
-    for i, m in enumerate(raw):
-        if not isinstance(m, dict) or not isinstance(m.get("id"), int) or isinstance(m.get("id"), bool):
-            raise ValueError(f"{path}: markers[{i}].id: expected an integer")
-        markers.append(BoardMarker(m["id"], _number(path, f"markers[{i}].x_in", m.get("x_in")),
-                                   _number(path, f"markers[{i}].y_in", m.get("y_in"))))
-    if len({m.marker_id for m in markers}) != len(markers):
-        raise ValueError(f"{path}: markers: ids must be distinct")
-    return MarkerBoard(dictionary, marker_in, tuple(markers))
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,8 +66,8 @@ class Calibration:
         """For each floor-grid pixel, where it lies in the raw image."""
         width, height = self.floor_size
         cols, rows = np.meshgrid(np.arange(width, dtype=np.float64), np.arange(height, dtype=np.float64))
-        world = np.stack([self.origin_x_in + (cols + 0.5) * self.inches_per_pixel,
-                          self.origin_y_in - (rows + 0.5) * self.inches_per_pixel], axis=-1).reshape(-1, 1, 2)
+        grid = FloorGrid(self.inches_per_pixel, self.origin_x_in, self.origin_y_in)
+        world = grid.to_world(rows.ravel(), cols.ravel()).reshape(-1, 1, 2)
         flat = cv2.perspectiveTransform(world, np.linalg.inv(self.homography)).reshape(-1, 2)
         rays = np.column_stack([flat, np.ones(len(flat))]) @ np.linalg.inv(self.camera_matrix).T
         raw, _ = cv2.projectPoints(rays, np.zeros(3), np.zeros(3), self.camera_matrix, self.distortion)
@@ -146,9 +87,16 @@ class Calibration:
         return OverheadImage(flat, self.inches_per_pixel, self.origin_x_in, self.origin_y_in)
 
 
+def _detector(board: MarkerBoard) -> cv2.aruco.ArucoDetector:
+    """OpenCV's detector for the board's dictionary, corners refined to sub-pixel."""
+    params = cv2.aruco.DetectorParameters()
+    params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_SUBPIX
+    return cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, board.dictionary)), params)
+
+
 def detect_markers(pixels: np.ndarray, board: MarkerBoard) -> dict[int, np.ndarray]:
     """The board's markers found in a raw image: id -> 4x2 (col, row) corners."""
-    corners, ids, _ = board.detector().detectMarkers(np.ascontiguousarray(pixels, dtype=np.uint8))
+    corners, ids, _ = _detector(board).detectMarkers(np.ascontiguousarray(pixels, dtype=np.uint8))
     known = {m.marker_id for m in board.markers}
     if ids is None:
         return {}
@@ -164,7 +112,7 @@ def calibrate(pixels: np.ndarray, board: MarkerBoard,
         raise ValueError(f"calibration: the image shows {len(found)} of the board's markers, at least "
                          f"{MIN_MARKERS} are needed (is the board on the floor and in view?)")
     image_pts = np.concatenate([found[i] for i in sorted(found)])
-    floor_pts = np.concatenate([board.corners(i) for i in sorted(found)])
+    floor_pts = np.array([corner for i in sorted(found) for corner in board.corners(i)], dtype=np.float64)
     height, width = pixels.shape[:2]
     guess = np.array([[float(width), 0, (width - 1) / 2], [0, float(width), (height - 1) / 2], [0, 0, 1]])
     flags = (cv2.CALIB_USE_INTRINSIC_GUESS | cv2.CALIB_FIX_FOCAL_LENGTH | cv2.CALIB_FIX_PRINCIPAL_POINT

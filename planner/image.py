@@ -1,20 +1,21 @@
 """The planner's view of an overhead camera image and its pixel-to-world mapping.
 
 :class:`OverheadImage` carries the same fields, with the same meaning, as the driver's
-``CameraImage``; the executive builds one from the other. Pixel ``(row, col)``'s centre
-is at world ``x = origin_x_in + (col + 0.5) * inches_per_pixel`` and
-``y = origin_y_in - (row + 0.5) * inches_per_pixel`` once undistorted.
+``CameraImage``; the executive builds one from the other. The pixel-to-world mapping
+(once undistorted) is the protocol's, :class:`camera_model.floor_grid.FloorGrid`.
 """
 
 from __future__ import annotations
 
 import hashlib
-import math
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import cv2
 import numpy as np
+
+from camera_model.fisheye import undistortion_maps
+from camera_model.floor_grid import FloorGrid
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,12 +33,14 @@ class OverheadImage:
         pixels = np.asarray(self.pixels)
         if pixels.ndim != 2 or pixels.size == 0:
             raise ValueError(f"overhead image must be a non-empty HxW array, got shape {pixels.shape}")
-        if not (math.isfinite(self.inches_per_pixel) and self.inches_per_pixel > 0):
-            raise ValueError(f"inches_per_pixel must be positive, got {self.inches_per_pixel}")
-        if not (math.isfinite(self.origin_x_in) and math.isfinite(self.origin_y_in)):
-            raise ValueError("overhead image origin is not finite")
+        FloorGrid(self.inches_per_pixel, self.origin_x_in, self.origin_y_in)  # raises on a bad mapping
         if self.fisheye is not None and self.camera_matrix is None:
             raise ValueError("a fisheye image needs its camera_matrix to be undistorted")
+
+    @cached_property
+    def grid(self) -> FloorGrid:
+        """The image's pixel-to-floor mapping."""
+        return FloorGrid(self.inches_per_pixel, self.origin_x_in, self.origin_y_in)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -60,10 +63,10 @@ class OverheadImage:
         """The image with fish-eye distortion removed (itself when there is none).
 
         The mapping is ``cv2.fisheye.undistortImage``'s with ``Knew = K`` (so the scale,
-        hence the pixel-to-world mapping, is kept), but sampled nearest-neighbour:
-        interpolating would blend an object's 220 with the floor's 30 into the
-        furniture and robot bands along every edge, and thin objects would lose the
-        pixels that tell what they are.
+        hence the pixel-to-world mapping, is kept; :mod:`camera_model.fisheye`), but
+        sampled nearest-neighbour: interpolating would blend an object's 220 with the
+        floor's 30 into the furniture and robot bands along every edge, and thin
+        objects would lose the pixels that tell what they are.
         """
         if self.fisheye is None:
             return self
@@ -77,20 +80,15 @@ class OverheadImage:
 
     def to_world(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
         """World (x, y) inches of (fractional) pixel coordinates, as an Nx2 array."""
-        ipp = self.inches_per_pixel
-        xs = self.origin_x_in + (np.asarray(cols, dtype=float) + 0.5) * ipp
-        ys = self.origin_y_in - (np.asarray(rows, dtype=float) + 0.5) * ipp
-        return np.column_stack([xs, ys])
+        return self.grid.to_world(rows, cols)
 
     def to_pixel(self, x_in: float, y_in: float) -> tuple[float, float]:
         """Fractional (row, col) of a world point; the inverse of :meth:`to_world`."""
-        ipp = self.inches_per_pixel
-        return (self.origin_y_in - y_in) / ipp - 0.5, (x_in - self.origin_x_in) / ipp - 0.5
+        return self.grid.to_pixel(x_in, y_in)
 
 
 @lru_cache(maxsize=4)
 def _undistortion_maps(matrix: bytes, coefficients: bytes, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
     """Remap tables for one lens and image size (computed once: the camera is fixed)."""
     k = np.frombuffer(matrix, dtype=np.float64).reshape(3, 3)
-    d = np.frombuffer(coefficients, dtype=np.float64).reshape(4, 1)
-    return cv2.fisheye.initUndistortRectifyMap(k, d, np.eye(3), k, (cols, rows), cv2.CV_32FC1)
+    return undistortion_maps(k, np.frombuffer(coefficients, dtype=np.float64), rows, cols)

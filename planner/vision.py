@@ -3,9 +3,9 @@
 Real camera images (a calibrated :class:`~planner.segmentation.Camera` given) are cut
 up by :mod:`planner.segmentation`; the rest of this docstring is about band images.
 The camera cannot identify objects; it tells things apart by the intensity bands of
-docs/conventions.md (floor 30, walls/furniture 110, robot 170, heading marker 250,
-objects 220, noise within ±12). Band limits sit halfway between neighbouring levels,
-so noise never moves a pixel into the wrong band. Where two levels meet, blurring (and
+docs/conventions.md (:mod:`camera_model.bands`: floor 30, walls/furniture 110, robot
+170, heading marker 250, objects 220, noise within ±12). Band limits sit halfway
+between neighbouring levels, so noise never moves a pixel into the wrong band. Where two levels meet, blurring (and
 fish-eye undistortion) leaves thin rims of in-between intensities: a rim of "furniture"
 around every object and a rim of "object" around the heading marker. Furniture and the
 robot body are therefore opened (they are thick, rims are not), and object pixels near
@@ -22,15 +22,11 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from camera_model.bands import MARKER_BAND, OBJECT_BAND, ROBOT_BAND, WALL_BAND
 from planner.geometry import Pose, wrap_360
 from planner.image import OverheadImage
 from planner.segmentation import Camera, segment
 
-# Inclusive intensity bands (lo, hi), halfway between the rendered levels.
-WALL_BAND = (70, 139)
-ROBOT_BAND = (140, 194)
-OBJECT_BAND = (195, 234)
-MARKER_BAND = (235, 255)
 
 MIN_OBJECT_PIXELS = 2  # one stray pixel is not an object
 MIN_ROBOT_PIXELS = 40  # the HERO's base covers ~400 pixels at 0.8 in/pixel

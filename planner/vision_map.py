@@ -45,16 +45,11 @@ class VisionMap:
     @property
     def bounds(self) -> tuple[float, float, float, float]:
         """World extent ``(x_min, x_max, y_min, y_max)`` in inches."""
-        rows, cols = self.image.shape
-        ipp = self.image.inches_per_pixel
-        x0, y1 = self.image.origin_x_in, self.image.origin_y_in
-        return x0, x0 + cols * ipp, y1 - rows * ipp, y1
+        return self.image.grid.extent(*self.image.shape)
 
     def cell_of(self, x_in: float, y_in: float) -> tuple[int, int] | None:
         """The (row, col) containing a world point, or None outside the map."""
-        ipp = self.image.inches_per_pixel
-        gx = (x_in - self.image.origin_x_in) / ipp
-        gy = (self.image.origin_y_in - y_in) / ipp
+        gy, gx = self.image.grid.to_cell(x_in, y_in)
         if not (math.isfinite(gx) and math.isfinite(gy)):
             return None
         row, col = math.floor(gy), math.floor(gx)
@@ -95,9 +90,8 @@ class VisionMap:
 
     def points_strictly_free(self, points: np.ndarray) -> np.ndarray:
         """For an Nx2 array of world points, which lie in ``free_strict`` (vectorised)."""
-        ipp = self.image.inches_per_pixel
-        cols = np.floor((points[:, 0] - self.image.origin_x_in) / ipp).astype(int)
-        rows = np.floor((self.image.origin_y_in - points[:, 1]) / ipp).astype(int)
+        gy, gx = self.image.grid.to_cell(points[:, 0], points[:, 1])
+        cols, rows = np.floor(gx).astype(int), np.floor(gy).astype(int)
         n_rows, n_cols = self.free_strict.shape
         inside = (rows >= 0) & (rows < n_rows) & (cols >= 0) & (cols < n_cols)
         out = np.zeros(len(points), dtype=bool)
@@ -111,9 +105,8 @@ class VisionMap:
         piece is tested, so no cell it enters is skipped (touching a cell corner only is
         not entering it).
         """
-        ipp = self.image.inches_per_pixel
-        gx0, gy0 = (start[0] - self.image.origin_x_in) / ipp, (self.image.origin_y_in - start[1]) / ipp
-        gx1, gy1 = (end[0] - self.image.origin_x_in) / ipp, (self.image.origin_y_in - end[1]) / ipp
+        gy0, gx0 = self.image.grid.to_cell(*start)
+        gy1, gx1 = self.image.grid.to_cell(*end)
         cuts = [np.array([0.0, 1.0])]
         for a, b in ((gx0, gx1), (gy0, gy1)):
             if a != b:

@@ -10,10 +10,12 @@ silently change every tree.
 from __future__ import annotations
 
 import dataclasses
+import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TypeVar
+from typing import BinaryIO, TypeVar
 
 from robot_profile import fields
 from robot_profile.model import (
@@ -29,7 +31,7 @@ def load_profile(path: str | Path = DEFAULT_PROFILE) -> RobotProfile:
     """Read and validate a profile file; errors name the file, entry and problem."""
     path = Path(path)
     try:
-        with path.open("rb") as fh:
+        with _open_regular(path) as fh:
             data = tomllib.load(fh)
     except FileNotFoundError:
         raise ValueError(f"{path}: knowledge file not found") from None
@@ -42,6 +44,28 @@ def load_profile(path: str | Path = DEFAULT_PROFILE) -> RobotProfile:
     except OSError as exc:
         raise ValueError(f"{path}: cannot read knowledge file: {exc.strerror}") from None
     return profile_from_dict(data, str(path))
+
+
+def _shown(name: str) -> str:
+    """An entry's name as an error shows it: as written, unless it holds a newline or
+    another unprintable character, which would split the one-line error."""
+    return name if name.isprintable() else repr(name)
+
+
+def _open_regular(path: Path) -> BinaryIO:
+    """``path`` opened for reading when it is a regular file. Opened without blocking
+    and checked on the open descriptor: a FIFO would otherwise wait for a writer for
+    ever, and /dev/zero would be read until memory runs out (the driver side may not
+    import the learner's ``input_file``, so this small guard is kept here)."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    mode = os.fstat(fd).st_mode
+    if stat.S_ISDIR(mode):
+        os.close(fd)
+        raise IsADirectoryError(path)
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        raise ValueError(f"{path}: is a device or a pipe, not a knowledge file")
+    return os.fdopen(fd, "rb")
 
 
 def profile_from_dict(data: Mapping[str, object], source: str = "<profile>") -> RobotProfile:
@@ -119,7 +143,7 @@ def _part(part: type[_Part], table: Mapping[str, object], where: str) -> _Part:
 def _sensing(entry: object, where: str) -> SensingProcedure:
     entry = fields.as_table(entry, where)
     name = fields.name(entry, where)
-    where = f"{where} ({name})"
+    where = f"{where} ({_shown(name)})"
     fields.only_keys(entry, {"name", "time_s", "range_in", "features"}, where)
     features_raw = entry.get("features")
     if not isinstance(features_raw, list) or not features_raw:
@@ -133,7 +157,7 @@ def _sensing(entry: object, where: str) -> SensingProcedure:
 def _feature(entry: object, where: str) -> FeatureSpec:
     entry = fields.as_table(entry, where)
     name = fields.name(entry, where)
-    where = f"{where} ({name})"
+    where = f"{where} ({_shown(name)})"
     fields.only_keys(entry, {"name", "error", "unit", "span", "binary", "angular_of"}, where)
     binary = fields.flag(entry, "binary", False, where)
     unit = entry.get("unit")
@@ -155,7 +179,7 @@ def _feature(entry: object, where: str) -> FeatureSpec:
 def _grasping(entry: object, where: str) -> GraspingProcedure:
     entry = fields.as_table(entry, where)
     name = fields.name(entry, where)
-    where = f"{where} ({name})"
+    where = f"{where} ({_shown(name)})"
     fields.only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "verifiable"}, where)
     penalty = fields.cost(entry, "side_effect_penalty_s", where) if "side_effect_penalty_s" in entry else 0.0
     return GraspingProcedure(

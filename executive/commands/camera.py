@@ -57,7 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_calibrate(args: argparse.Namespace) -> int:
     # OpenCV and the planner load only when calibrating (``csl --help`` stays light).
-    from planner.calibration import load_board
+    from camera_model.board import load_board
     from planner.segmentation import calibrated_camera, empty_floor_path, save_camera
 
     board = load_board(args.board)

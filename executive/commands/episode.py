@@ -8,6 +8,7 @@ the behaviour tree and matplotlib just to print a usage line.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,25 +20,27 @@ from rich.console import Console
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.services import Params
+from camera_model.board import MarkerBoard, load_board
 from executive import defaults
 from executive.args import criterion_from_args, library_path, output_folder
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status
+from executive.history import append_run, default_history, episode_run
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from executive.profile import knowledge_of
 from executive.recording.options import check_recording_options, open_recording
 from executive.recording.status import status_tree
-from executive.report import Truth, episode_json, match_truth, print_report, rows
+from executive.report import Row, Truth, episode_json, match_truth, print_report, rows
 from executive.tables import print_json
 from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
 from learner.criteria import Criterion
+from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.library import check_library, read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
-from planner.calibration import MarkerBoard, load_board
 from planner.segmentation import Camera, load_camera
 from robot_profile import RobotProfile, load_profile, profile_stamp
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, LEARNER_ENDPOINT
@@ -70,7 +73,9 @@ def _setup(args: argparse.Namespace) -> Setup:
     return Setup(profile, knowledge_of(profile),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=args.seed or 0,
-                        use_appearance=args.appearance, battery_low=args.battery_low),
+                        use_appearance=args.appearance, battery_low=args.battery_low,
+                        wait_driver_s=getattr(args, "wait_driver", 0.0),  # csl run only
+                        learned_grasp_costs=args.learned_grasp_costs),
                  criterion_from_args(args), *_camera(args))
 
 
@@ -85,6 +90,9 @@ def _camera(args: argparse.Namespace) -> tuple[Camera | None, MarkerBoard | None
             raise ValueError(f"--camera-calibration: {exc}") from None
     if args.camera != "realistic":
         return None, None
+    saved = _saved_camera(args)
+    if saved is not None:
+        return saved, None
     from hero_driver.sim.render_board import board_path
 
     try:
@@ -93,13 +101,51 @@ def _camera(args: argparse.Namespace) -> tuple[Camera | None, MarkerBoard | None
         raise ValueError(f"--camera realistic: {exc}; or give --camera-calibration FILE") from None
 
 
+def _saved_camera(args: argparse.Namespace) -> Camera | None:
+    """The robot's calibration as ``csl camera calibrate`` saved it
+    ($CSL_HOME/camera/ROBOT.json), said in one line; None when there is none."""
+    from executive.commands.camera import default_calibration
+
+    path = default_calibration(getattr(args, "robot", "r1"))
+    if not path.exists():
+        return None
+    try:
+        camera = load_camera(path)
+    except ValueError as exc:
+        raise ValueError(f"the saved camera calibration: {exc}; calibrate again with 'csl camera calibrate'") from None
+    print(f"camera: reading images through the saved calibration {path} (or give --camera-calibration FILE)",
+          file=sys.stderr)
+    return camera
+
+
+def _camera_of_driver(args: argparse.Namespace, driver: Driver, setup: Setup) -> Setup:
+    """A driver over zenoh whose images are not band images (a real camera's) is read
+    through the robot's saved calibration; without one, one line naming the command
+    that makes it (exit 2) before the robot moves."""
+    if getattr(args, "driver", "sim") != "zenoh" or setup.camera is not None:
+        return setup
+    from camera_model.bands import looks_like_bands
+
+    if looks_like_bands(driver.camera().result(timeout=60).pixels):
+        return setup
+    camera = _saved_camera(args)
+    if camera is None:
+        from executive.commands.camera import default_calibration
+
+        raise ValueError(f"driver {args.robot}'s camera gives real images (no grey bands) and no calibration is "
+                         f"saved at {default_calibration(args.robot)}: run 'csl camera calibrate --robot "
+                         f"{args.robot}' first, or give --camera-calibration FILE (docs/camera.md)")
+    return dataclasses.replace(setup, camera=camera)
+
+
 def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Namespace) -> None:
     """A calibration is for one camera: an image of another size is another camera."""
     if camera is None:
         return
     height, width = image.pixels.shape[:2]
     if (width, height) != camera.calibration.image_size:
-        raise ValueError(f"--camera-calibration: {args.camera_calibration} is for {camera.calibration.image_size[0]}x"
+        given = args.camera_calibration or "the saved calibration"
+        raise ValueError(f"--camera-calibration: {given} is for {camera.calibration.image_size[0]}x"
                          f"{camera.calibration.image_size[1]} images, the driver's camera gives {width}x{height} "
                          "(another camera, or the simulator without --camera realistic)")
 
@@ -140,6 +186,8 @@ def run_run(args: argparse.Namespace) -> int:
     else:
         _only_with(args, "--driver", "sim", ("--world", "--seed", "--noise", "--camera"))
     timeouts = _verb_timeouts(args)  # a bad verb name fails before anything connects
+    if args.wait_driver > 0 and args.driver != "zenoh":
+        raise ValueError("--wait-driver goes with --driver zenoh (the in-process simulator cannot be lost)")
     if args.learner == "local":
         _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect", "--outbox"))
     else:
@@ -148,7 +196,7 @@ def run_run(args: argparse.Namespace) -> int:
         _only_with(args, "--driver or --learner", "zenoh", ("--zenoh-config",))
     zenoh_config = user_config(args.zenoh_config) if "zenoh" in (args.driver, args.learner) else None
     output_folder(args.out, "--out")
-    learner = _learner(args, zenoh_config)
+    learner = _learner(args, zenoh_config, setup)
     try:
         driver = _driver(args, setup.profile, zenoh_config, timeouts)
     except BaseException:
@@ -161,8 +209,10 @@ def _simulator(args: argparse.Namespace, robot: str, profile: RobotProfile) -> D
     """The in-process simulator the options describe (``csl demo``, ``csl run --driver sim``)."""
     from hero_driver.sim_driver import SimulatedHero
 
+    from hero_driver.sim.events import DisturbPreset
+
     return SimulatedHero(robot, world=args.world or "lab", seed=args.seed or 0, profile=profile, noise=_noise(args),
-                         camera=args.camera or "simple")
+                         camera=args.camera or "simple", disturb=args.disturb or DisturbPreset())
 
 
 def _noise(args: argparse.Namespace) -> NoiseConfig | None:
@@ -170,7 +220,7 @@ def _noise(args: argparse.Namespace) -> NoiseConfig | None:
     return None if args.noise is None else NoiseConfig.preset(args.noise)
 
 
-def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None) -> LearnerService:
+def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None, setup: Setup) -> LearnerService:
     if args.learner == "zenoh":
         from learner.service.outbox import Outbox, OutboxLearner
         from learner.service.zenoh_client import ZenohLearner
@@ -186,7 +236,26 @@ def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None) -> Learn
         return OutboxLearner(service, outbox, name)
     path = library_path(args.library, "--library")
     args.library_created = not path.exists()  # said in the report: a run that fails still says one line
-    return LocalLearner(path, seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
+    return LocalLearner(path, seed_library=_seed_library(args, setup) if args.library_created else None)
+
+
+def _seed_library(args: argparse.Namespace, setup: Setup) -> list[ObjectDescription]:
+    """What a new library starts from: the shipped example when it serves the robot
+    (the HERO 2000's), else a library trained for the robot in the simulator, as
+    ``csl demo`` trains it and kept under the same hash (executive/demo_library.py)."""
+    example = read_library_json(defaults.EXAMPLE_LIBRARY)
+    try:
+        check_library(example, setup.knowledge, "the example library")
+    except ValueError:
+        from executive.demo_library import trained_library  # the simulator: only for another robot
+
+        trained = trained_library(setup.knowledge, setup.profile, "lab", 0,
+                                  say=lambda line: print(line, file=sys.stderr, flush=True))
+        robot = profile_stamp(setup.profile).name
+        args.library_seed = f"a library trained for {robot} in the simulator ({trained.key[:12]})"
+        return list(trained.descriptions)
+    args.library_seed = defaults.EXAMPLE_LIBRARY.name
+    return example
 
 
 def _verb_timeouts(args: argparse.Namespace) -> VerbTimeouts | None:
@@ -257,11 +326,16 @@ def _report_outbox(learner: LearnerService) -> None:
     if isinstance(learner, OutboxLearner) and learner.waiting_at_close:
         print(f"outbox: {learner.waiting_at_close} learned descriptions wait in {learner.outbox.path} for learner "
               f"{learner.learner!r}; the next run delivers them", file=sys.stderr, flush=True)
+    if isinstance(learner, OutboxLearner) and learner.grasp_records_lost:
+        print(f"grasp costs: {learner.grasp_records_lost} objects' grasp attempts were not recorded (learner "
+              f"{learner.learner!r} unreachable or without grasp costs; docs/learner-protocol.md)",
+              file=sys.stderr, flush=True)
 
 
 def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, setup: Setup,
                     console: Console) -> int:
     check_library(learner.library().descriptions, setup.knowledge, "the library")  # before the robot moves
+    setup = _camera_of_driver(args, driver, setup)
     log = EpisodeLog(args.out / "episode.jsonl")
     recording = open_recording(args, setup.profile)  # --record/--live (docs/recording.md)
     if recording is not None:
@@ -309,8 +383,9 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     library = learner.path if isinstance(learner, LocalLearner) else None
     created = getattr(args, "library_created", False)  # run's --library (or the default) did not exist
     unanswered = _unanswered(log.events)
-    status, why = episode_status(["failed" if record.index in unanswered else record.outcome
-                                  for record in result.objects])
+    outcomes = ["failed" if record.index in unanswered else record.outcome for record in result.objects]
+    status, why = episode_status(outcomes)
+    history = _append_history(args, setup, learner, library, outcomes, table, log.events)
     for index, message in unanswered.items():
         print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
     if as_json:
@@ -318,9 +393,24 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
                                 library=library, library_created=created, status=status, why=why))
         return status
     if library is not None:
-        print(f"library: {library}{f' (new, seeded with {defaults.EXAMPLE_LIBRARY.name})' if created else ''}")
+        print(f"library: {library}{f' (new, seeded with {args.library_seed})' if created else ''}")
+    print(f"history: {history} (csl library history)")
     print(f"exit status {status}: {why}")
     return status
+
+
+def _append_history(args: argparse.Namespace, setup: Setup, learner: LearnerService, library: Path | None,
+                    outcomes: list[str | None], table: list[Row], events: list[dict[str, object]]) -> Path:
+    """One row for the learning history (executive/history.py), whatever the exit status:
+    a run that failed objects is a point on the curve too."""
+    simulated = args.command == "demo" or args.driver == "sim"
+    run = episode_run(command=args.command, robot=getattr(args, "robot", "r1"),
+                      world=(args.world or "lab") if simulated else None, seed=(args.seed or 0) if simulated else None,
+                      criterion=setup.criterion.name, outcomes=outcomes, robot_s=sum(r.robot_s for r in table),
+                      events=events, library_size=len(learner.library().descriptions), library=library)
+    path = default_history()
+    append_run(path, run)
+    return path
 
 
 def _say_battery_guard(driver: Driver, threshold: float) -> None:
@@ -361,14 +451,14 @@ def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:
     now = truth()
     out = []
     for i, t in enumerate(now):
-        name = t.entry_id
+        name, ended_as = t.entry_id, None
         x, y = t.x_in, t.y_in
         if at_start:
             before = at_start[i]
             x, y = before.x_in, before.y_in
             if before.name != t.entry_id:
-                name = f"{before.name} -> {t.entry_id.split('/')[-1]}"
-        out.append(Truth(name, tuple(g.procedure for g in t.grasps), x, y))
+                name, ended_as = before.name, t.entry_id
+        out.append(Truth(name, tuple(g.procedure for g in t.grasps), x, y, ended_as))
     return out
 
 

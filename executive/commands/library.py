@@ -1,13 +1,16 @@
-"""``csl library``: the persistent library of object descriptions (SQLite)."""
+"""``csl library``: the persistent library of object descriptions (SQLite), and the
+history of the runs that learned into it (``executive/history.py``)."""
 
 from __future__ import annotations
 
 import argparse
 from collections import Counter
+from dataclasses import asdict
 from pathlib import Path
 
 from executive import defaults
-from executive.args import library_path
+from executive.args import library_path, writable_file
+from executive.history import Run, default_history, learning_curve, read_history
 from executive.profile import load_knowledge
 from executive.tables import Column, print_json, print_table
 from learner.library import (LibraryStore, check_library, descriptions_to_json, read_library_json,
@@ -17,7 +20,7 @@ from learner.library import (LibraryStore, check_library, descriptions_to_json, 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "library",
-        help="show, import, export or summarise the persistent library",
+        help="show, import, export or summarise the persistent library; the learning history",
         description=(
             "The library of learned object descriptions, kept in a SQLite file (default "
             "$CSL_HOME/library.sqlite, CSL_HOME defaulting to ~/.local/share/csl). Every "
@@ -55,6 +58,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                    description="Summarise the library: descriptions per grasp, features per position.")
     stats.add_argument("--json", action="store_true", help="print the counts as one JSON document")
     stats.set_defaults(handler=run_stats)
+    history = action("history", help="the runs so far and the learning curve (cost and errors per object)",
+                     description=("List the runs csl demo and csl run appended to the history file, one row each "
+                                  "(docs/recording.md, The learning history), and with --out draw the learning "
+                                  "curve: robot minutes, errors and failures per object over the runs. With --db, "
+                                  "only the runs that learned into that library."))
+    history.add_argument("--history", type=Path, default=None, metavar="FILE",
+                         help="the history file (default: $CSL_HOME/history.jsonl)")
+    history.add_argument("--out", type=Path, default=None, metavar="PNG",
+                         help="draw the learning curve to this PNG file")
+    history.add_argument("--json", action="store_true", help="print the runs as one JSON document")
+    history.set_defaults(handler=run_history)
 
 
 def _store(args: argparse.Namespace) -> LibraryStore:
@@ -120,6 +134,49 @@ def run_stats(args: argparse.Namespace) -> int:
     print_table([Column("feature(position)"), count], [[f, str(n)] for f, n in sorted(features.items())],
                 title="by feature")
     return 0
+
+
+HISTORY_COLUMNS = (Column("#", numeric=True), Column("date", fold=True), Column("cmd"), Column("world", fold=True),
+                   Column("seed", numeric=True), Column("criterion", fold=True), Column("obj", numeric=True),
+                   Column("done", numeric=True), Column("fail", numeric=True), Column("err", numeric=True),
+                   Column("min", numeric=True), Column("lib", numeric=True))
+"""Fits 80 columns: the date (UTC), world and criterion wrap; the rest keep whole."""
+HISTORY_CAPTION = ("obj: objects seen, done: handled (grasped or left), fail: not handled; err: grasps at a leaf "
+                   "that did not hold; min: robot minutes per object; lib: descriptions in the library after the run")
+
+
+def run_history(args: argparse.Namespace) -> int:
+    if args.out is not None:
+        if args.out.suffix.lower() != ".png":
+            raise ValueError(f"--out: {args.out} is not a .png file")
+        writable_file(args.out, "--out")  # before reading anything
+    path = args.history or default_history()
+    runs = read_history(path)
+    if args.db is not None:
+        library = str(library_path(args.db, "--db").resolve())
+        runs = [r for r in runs if r.library == library]
+    if not runs:
+        raise ValueError(f"{path}: no runs recorded{' on ' + str(args.db) if args.db is not None else ''} yet")
+    if args.out is not None:
+        from executive.plots import plot_learning_curve  # matplotlib: only to draw
+
+        plot_learning_curve(args.out, learning_curve(runs), str(path))
+    if args.json:
+        print_json({"history": str(path), "runs": [asdict(r) for r in runs],
+                    "plot": None if args.out is None else str(args.out)})
+        return 0
+    print_table(HISTORY_COLUMNS, [_history_cells(n, r) for n, r in enumerate(runs, 1)],
+                title=f"{_count(len(runs), 'run')} in {path}", caption=HISTORY_CAPTION)
+    if args.out is not None:
+        print(f"learning curve: {args.out}")
+    return 0
+
+
+def _history_cells(n: int, run: Run) -> list[str]:
+    minutes = "-" if run.robot_min_per_object is None else f"{run.robot_min_per_object:.1f}"
+    return [str(n), run.date.replace("T", " ")[:16], run.command, run.world or f"({run.robot})",
+            "-" if run.seed is None else str(run.seed), run.criterion, str(run.objects), str(run.handled),
+            str(run.failed), str(run.errors), minutes, str(run.library_size)]
 
 
 def _count(n: int, noun: str) -> str:

@@ -31,6 +31,8 @@ def run_log(args: argparse.Namespace) -> int:
     events = read_log(args.file)
     if not events:
         raise ValueError(f"{args.file}: the episode log is empty")
+    for n, e in enumerate(events, 1):
+        _check_event(e, f"{args.file}: event {n}")
     kinds = set(args.events.split(",")) if args.events else None
     unknown = sorted((kinds or set()) - set(EVENT_KINDS))
     if unknown:
@@ -41,8 +43,6 @@ def run_log(args: argparse.Namespace) -> int:
         raise ValueError(f"--object: no object {args.object} in {args.file} (objects: {known})")
     current = None
     for e in events:
-        if not isinstance(e, dict) or "event" not in e:
-            raise ValueError(f"{args.file}: not an episode log (an entry has no 'event')")
         if args.object is not None and e.get("object") != args.object:
             continue
         if kinds is not None and e["event"] not in kinds:
@@ -53,6 +53,20 @@ def run_log(args: argparse.Namespace) -> int:
         detail = ", ".join(_field(k, v) for k, v in e.items() if k not in _SKIP)
         print(f"  tick {e.get('tick', '?'):>4}  {e['event']:<18} {detail}")
     return 0
+
+
+def _check_event(e: object, where: str) -> None:
+    """An event has the shape the story prints: an ``event`` kind that is a string,
+    and a ``tick`` and an ``object`` that are integers when present (``object`` may be
+    null), as :class:`~executive.episode_log.EpisodeLog` writes them."""
+    if not isinstance(e, dict) or "event" not in e:
+        raise ValueError(f"{where}: not an episode event (no 'event')")
+    if not isinstance(e["event"], str):
+        raise ValueError(f"{where}: 'event' must be a string, got {type(e['event']).__name__}")
+    for key, may_be_null in (("tick", False), ("object", True)):
+        value = e.get(key, 0)
+        if not (isinstance(value, int) and not isinstance(value, bool)) and not (may_be_null and value is None):
+            raise ValueError(f"{where}: {key!r} must be an integer, got {type(value).__name__}")
 
 
 def _field(key: str, value: object) -> str:

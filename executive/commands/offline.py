@@ -26,6 +26,7 @@ from learner.decision_tree import grow
 
 if TYPE_CHECKING:  # the simulator stack is imported only when --sim is used
     from executive.sim_training import SimTraining
+    from learner.training_grasps import GraspSearch
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,6 +71,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="measure in the simulator instead: the catalogue's Table 3 training objects, each "
                         "alone, its footprint as the overhead camera sees it, with the robot staged at every "
                         "training position; also checks the library against the simulator's exact values")
+    t.add_argument("--no-teacher", action="store_true",
+                   help="with --sim: find each object's grasp by trying grasps on it (most likely to hold per "
+                        "expected second first, learning from each outcome) instead of taking the catalogue's; "
+                        "the attempts count in the training cost")
     t.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (with --sim)")
     t.add_argument("--noise", action="store_true", help="simulated sonar noise on (with --sim; default: exact)")
     t.add_argument("--record", type=Path, metavar="FILE",
@@ -77,6 +82,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--out", type=Path, required=True,
                    help="where to write the library: .json, or .sqlite to add to a store (same ids replaced)")
     t.set_defaults(handler=run_train)
+
+
+MAX_POSE_DISTANCE_IN = 10_000.0
+"""The farthest ``--pose``: 833 ft, more than any room one overhead camera sees. A tree
+priced from farther is the first move's cost and nothing else, and from 1e308 in every
+cost overflows to inf."""
 
 
 def run_tree(args: argparse.Namespace) -> int:
@@ -88,6 +99,9 @@ def run_tree(args: argparse.Namespace) -> int:
     start = parse_position(args.pose, "--pose")
     if start.distance_in is None or start.orientation_deg is None:
         raise ValueError("--pose: the robot's pose must be concrete (no '*')")
+    if start.distance_in > MAX_POSE_DISTANCE_IN:
+        raise ValueError(f"--pose: a distance of {start.distance_in:g} in is farther than any room "
+                         f"(at most {MAX_POSE_DISTANCE_IN:g} in)")
     matrix = DescriptionMatrix(library, knowledge, grasps_as_features=not args.no_grasp_features)
     ctx = Context(matrix, criterion_from_args(args), ModelMoveCost(knowledge.move))
     tree = grow(Node.root(len(library)), start, ctx)
@@ -113,9 +127,12 @@ def run_train(args: argparse.Namespace) -> int:
             raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
         from executive.sim_training import train_in_simulator
 
-        sim = train_in_simulator(knowledge, profile, args.seed, args.noise)
-        objects, result, summary = list(sim.seen.objects), sim.result, sim.summary
+        sim = train_in_simulator(knowledge, profile, args.seed, args.noise, teacher=not args.no_teacher)
+        objects = list(sim.seen.objects if sim.grasp_search is None else sim.grasp_search.objects)
+        result, summary = sim.result, sim.summary
     else:
+        if args.no_teacher:
+            raise ValueError("--no-teacher tries grasps in the simulator: it goes with --sim")
         if not (args.objects and args.measurements):
             raise ValueError("train needs --objects and --measurements (or --sim)")
         if args.record:
@@ -126,7 +143,11 @@ def run_train(args: argparse.Namespace) -> int:
                 raise ValueError(f"{args.objects}: object {o.object_id!r}: grasp {o.grasp!r} is not in the knowledge file")
         result = train(objects, knowledge, read_replay(args.measurements), ModelMoveCost(knowledge.move))
         summary = summarise(result, objects, knowledge)
+    if sim is not None and sim.grasp_search is not None:
+        _print_grasp_search(sim.grasp_search, list(sim.seen.objects))
     _print_training(objects, result, summary)
+    if sim is not None and sim.grasp_search is not None:
+        print_paragraph(f"with finding the grasps: {sim.robot_s:.0f} s of robot time ({sim.robot_s / 3600:.1f} h)")
     if sim is not None:
         from executive.sim_training import ground_truth
 
@@ -151,6 +172,21 @@ def run_train(args: argparse.Namespace) -> int:
 
 MEASURED_COLUMNS = (Column("object"), Column("n", numeric=True), Column("procedures applied", fold=True))
 """Whole ids, and every procedure applied, folded onto as many lines as it takes."""
+
+
+SEARCH_COLUMNS = (Column("object"), Column("found"), Column("catalogue's"), Column("tries", numeric=True),
+                  Column("s", numeric=True))
+
+
+def _print_grasp_search(search: GraspSearch, taught: list[TrainingObject]) -> None:
+    """Each object's grasp as found, next to the catalogue's label it was not given."""
+    print_table(SEARCH_COLUMNS, [
+        [o.object_id, f"{o.grasp}{o.grasp_position}", f"{t.grasp}{t.grasp_position}",
+         str(sum(1 for x in search.trials if x.object_id == o.object_id)),
+         f"{sum(x.seconds + x.move_s for x in search.trials if x.object_id == o.object_id):.0f}"]
+        for o, t in zip(search.objects, taught)], title="grasps found by trying them")
+    print_paragraph(f"finding the grasps: {len(search.trials)} attempts, {search.grasping_s:.0f} s grasping and "
+                    f"{search.moving_s:.0f} s moving")
 
 
 def _print_training(objects: list[TrainingObject], result: TrainingResult, summary: TrainingSummary) -> None:

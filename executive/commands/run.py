@@ -8,8 +8,10 @@ import argparse
 from pathlib import Path
 
 from executive import defaults
-from executive.args import (add_criterion_options, add_recording_options, add_retrain_option, add_verb_timeout_option,
-                            battery_level, endpoint, non_negative_int, positive_int)
+from executive.args import (add_criterion_options, add_learned_grasp_costs_option, add_recording_options,
+                            add_retrain_option, add_verb_timeout_option, battery_level, endpoint, non_negative_int,
+                            non_negative_seconds, positive_int)
+from hero_driver.cli import disturb_preset
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
@@ -38,6 +40,7 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                    help="the overhead camera's calibration (written by 'csl camera calibrate', the empty floor "
                         "image beside it): vision reads real images through it (docs/camera.md; default: "
                         "band images)")
+    add_learned_grasp_costs_option(p)
     add_recording_options(p)
     p.add_argument("--json", action="store_true",
                    help="print one JSON document on standard output instead of the tables (for scripts)")
@@ -54,6 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
     _noise_option(demo, "")
     _camera_option(demo, "")
+    _disturb_option(demo, "")
     add_retrain_option(demo)
     _executive_options(demo)
     demo.set_defaults(handler=_handler("run_demo"))
@@ -71,6 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
     _noise_option(run, "with --driver sim; ")
     _camera_option(run, "with --driver sim; ")
+    _disturb_option(run, "with --driver sim; ")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",
@@ -83,6 +88,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                           "with --learner zenoh; default $CSL_HOME/outbox.sqlite)")
     add_zenoh_config_option(run)
     add_verb_timeout_option(run)
+    run.add_argument("--wait-driver", type=non_negative_seconds, default=0.0, metavar="SECONDS",
+                     help="when the driver's liveliness token disappears, pause the object in hand and wait up to "
+                          "SECONDS for a driver under the same robot name, then locate the objects again from a new "
+                          "camera image (those already handled stay handled) and go on; no driver in time: one "
+                          "line, exit status 3 (with --driver zenoh; default 0: stop at once; docs/reliability.md)")
     _executive_options(run)
     run.set_defaults(handler=_handler("run_run"))
 
@@ -110,6 +120,13 @@ def _camera_option(p: argparse.ArgumentParser, when: str) -> None:
                    help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
                         "camera's image; calibrated from the world's marker board on the first image unless "
                         f"--camera-calibration is given; docs/camera.md) ({when}default simple)")
+
+
+def _disturb_option(p: argparse.ArgumentParser, when: str) -> None:
+    p.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
+                   help="someone disturbs objects while the robot senses them: each object, right after its "
+                        "first sensing, is nudged, taken away or swapped with probability P (KIND: nudge, remove, "
+                        f"replace; docs/simulator.md, 'Disturbances') ({when}default none)")
 
 
 def _handler(name: str):  # noqa: ANN202

@@ -46,7 +46,9 @@ class Control:
     ``alternatives``: the paper's N, tests tried at a node before backtracking.
     ``nearest_after``: unreliable values before following the nearest branch (None:
     only as the last resort; 0: at once, which switches reselection and backtracking
-    off, since the executive then trusts the nearest branch of every value).
+    off, since the executive then trusts the nearest branch of every value; where no
+    value was had, a dropout or an unreachable test, there is nothing to be near to and
+    the executive still backtracks: docs/method.md, "Findings").
     ``appearance``: rule candidates out by what the camera saw (``Params.use_appearance``).
     """
 

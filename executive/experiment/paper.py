@@ -21,8 +21,8 @@ from rich.console import Console
 
 from robot_profile import load_profile
 
-from executive.experiment import (study_appearance, study_execution, study_incremental, study_noise, study_optimum,
-                                  study_trends)
+from executive.experiment import (study_appearance, study_execution, study_grasp_costs, study_incremental, study_noise,
+                                  study_optimum, study_trends)
 from executive.experiment.config import ExperimentConfig
 from executive.experiment.csvfile import write_episodes
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, install_worker
@@ -47,12 +47,12 @@ class PaperRun:
     cpu_s: float
 
 
-def perform(job: EpisodeSpec | study_optimum.OptimumJob) -> list[object]:
+def perform(job: EpisodeSpec | study_optimum.OptimumJob | study_grasp_costs.GraspCostJob) -> list[object]:
     """A worker's entry point: run one job (module level, so spawned workers can import it)."""
     return list(job.run())
 
 
-def _study_of(job: EpisodeSpec | study_optimum.OptimumJob) -> str:
+def _study_of(job: EpisodeSpec | study_optimum.OptimumJob | study_grasp_costs.GraspCostJob) -> str:
     return job.study
 
 
@@ -71,7 +71,7 @@ def run_paper(config: ExperimentConfig, console: Console | None = None) -> Paper
     optimum_jobs = study_optimum.plan(config)
     # the longest jobs first (the optimum's, then chains of episodes), so no long one
     # starts last and leaves a worker idle at the end
-    jobs = [*optimum_jobs, *sorted(episodes, key=lambda spec: -spec.episodes)]
+    jobs = [*optimum_jobs, *study_grasp_costs.plan(config), *sorted(episodes, key=lambda spec: -spec.episodes)]
     results = run_all(jobs, perform, workers=config.jobs, group=_study_of,
                       initializer=install_worker, initargs=(libraries, profile), console=console)
     with console.status("summarising and plotting..."):
@@ -79,11 +79,12 @@ def run_paper(config: ExperimentConfig, console: Console | None = None) -> Paper
             trained.study,
             study_execution.summarise_execution(config, results),
             study_execution.summarise_baselines(config, results, trained.log, trained.knowledge, plots),
-            study_trends.summarise(config, results, plots),
+            study_trends.summarise(config, results, plots, trained.descriptions, trained.knowledge),
             study_incremental.summarise(config, results, plots),
             study_noise.summarise(config, results, plots),
             study_appearance.summarise(config, results),
             study_optimum.summarise(config, results, plots),
+            study_grasp_costs.summarise(config, results),
         )
         ran = list(dict.fromkeys(episodes))
         rows: list[EpisodeRow] = [row for spec in ran for row in results[spec]]

@@ -1,7 +1,7 @@
 """The overhead camera: a top-down grayscale image of the room with the fixed
-intensity bands of docs/conventions.md, optionally seen through a fish-eye lens, with
-pixel noise and with each object's orientation misjudged by a few degrees. This is
-the ``simple`` preset; ``realistic`` (:mod:`hero_driver.sim.render_realistic`) draws
+intensity bands of docs/conventions.md (:mod:`camera_model.bands`), optionally seen
+through a fish-eye lens, with pixel noise and with each object's orientation misjudged
+by a few degrees. This is the ``simple`` preset; ``realistic`` (:mod:`hero_driver.sim.render_realistic`) draws
 what a real ceiling camera would see instead (docs/camera.md).
 
 A pixel takes a layer's intensity when the layer covers at least half of it (each
@@ -20,6 +20,8 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
+from camera_model.bands import BASE, FLOOR, MARKER, OBJECT, PIXEL_NOISE_MAX, WALL
+from camera_model.floor_grid import FloorGrid
 from hero_driver.interface import CameraImage, Pose
 from hero_driver.sim import render_realistic
 from hero_driver.sim.catalogue import Footprint
@@ -28,8 +30,6 @@ from hero_driver.sim.physics import WALL_IN
 from hero_driver.sim.worldfile import WorldSpec, footprint_polygon, rect_polygon
 
 INCHES_PER_PIXEL = 0.8
-FLOOR, WALL, BASE, MARKER, OBJECT = 30, 110, 170, 250, 220
-PIXEL_NOISE_MAX = 12
 SHIFT = 4  # fillPoly fractional bits
 SUPERSAMPLE = 5
 FISHEYE_D = (0.05, 0.01, 0.0, 0.0)  # mild barrel on top of the equidistant projection
@@ -56,9 +56,8 @@ class Frame:
         """Fixed-point (col, row) on a ``scale`` times finer grid, pixel centres at
         integers, for cv2 drawing with SHIFT."""
         pts = np.asarray(points, dtype=np.float64)
-        step = INCHES_PER_PIXEL / scale
-        cols = (pts[:, 0] - self.origin_x_in) / step - 0.5
-        rows = (self.origin_y_in - pts[:, 1]) / step - 0.5
+        rows, cols = FloorGrid(INCHES_PER_PIXEL, self.origin_x_in, self.origin_y_in).finer(scale).to_pixel(
+            pts[:, 0], pts[:, 1])
         return np.round(np.stack([cols, rows], axis=1) * (1 << SHIFT)).astype(np.int32)
 
 

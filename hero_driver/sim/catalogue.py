@@ -9,6 +9,7 @@ loader checks every field so that a typo fails loudly, naming the entry.
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -70,6 +71,14 @@ class CatalogueEntry:
         return self.round and self.footprint.shape == "rect"
 
 
+def _finite(value: float) -> bool:
+    """True for a finite number that a float can hold."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an integer beyond the largest float
+        return False
+
+
 class FieldReader:
     """Field checks that name the file, the entry and the field in one line."""
 
@@ -85,11 +94,15 @@ class FieldReader:
             raise self.fail(unknown[0], f"is unknown (known: {', '.join(fields)})")
 
     def fail(self, field: str, problem: str) -> ValueError:
-        return ValueError(f"{self.source}: {self.where}: field '{field}' {problem}")
+        """The one-line error for ``field``; its name quoted by ``repr``, so a key
+        holding a newline cannot split the line."""
+        return ValueError(f"{self.source}: {self.where}: field {field!r} {problem}")
 
     def number(self, field: str, minimum: float = 0.0, default: float | None = None) -> float:
+        """A finite number >= ``minimum``: NaN passes every ``<`` test and an integer
+        of 400 digits has no float, so finiteness is checked, not assumed."""
         value = self.table.get(field, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or value < minimum:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not _finite(value) or value < minimum:
             raise self.fail(field, f"must be a number >= {minimum}, got {value!r}")
         return float(value)
 

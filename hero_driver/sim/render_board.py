@@ -2,52 +2,19 @@
 markers at known floor positions (docs/camera.md, "The marker board").
 
 A world has a board when its world file names one (``"board"``, docs/simulator.md; the
-lab ships one). The executive reads the same file to calibrate, so the two ends agree
-on where the markers are without the planner importing the simulator.
+lab ships one). The file is read by :mod:`camera_model.board`, as the executive reads
+it to calibrate, so the two ends agree on where the markers are.
 """
 
 from __future__ import annotations
 
-import json
-import math
-from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
 import numpy as np
 
+from camera_model.board import QUIET_MODULES, MarkerBoard, load_board
 from hero_driver.sim.worldfile import WorldSpec
-
-QUIET_MODULES = 1  # white paper around each marker, in marker modules
-
-
-@dataclass(frozen=True)
-class PrintedMarker:
-    """One axis-aligned marker: its id and its centre on the floor (inches)."""
-
-    marker_id: int
-    x_in: float
-    y_in: float
-
-
-@dataclass(frozen=True)
-class MarkerBoard:
-    """ArUco markers of one dictionary, all ``marker_in`` wide."""
-
-    dictionary: str
-    marker_in: float
-    markers: tuple[PrintedMarker, ...]
-
-    def aruco_dictionary(self) -> cv2.aruco.Dictionary:
-        return cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
-
-    def modules(self) -> int:
-        """Cells across one marker, its black border included."""
-        return int(self.aruco_dictionary().markerSize) + 2
-
-    def paper_in(self) -> float:
-        """Side of the white square a marker is printed on."""
-        return self.marker_in * (1 + 2 * QUIET_MODULES / self.modules())
 
 
 def _spec(world: WorldSpec | str | Path) -> WorldSpec:
@@ -76,22 +43,9 @@ def board_for(world: WorldSpec | str | Path) -> MarkerBoard | None:
     return None if spec.board is None else load_board(spec.board)
 
 
-def load_board(path: Path) -> MarkerBoard:
-    """Read a board file; a bad one raises ValueError naming the file and field."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-        dictionary = str(data["dictionary"])
-        if not dictionary.startswith("DICT_") or not hasattr(cv2.aruco, dictionary):
-            raise ValueError(f"dictionary: unknown ArUco dictionary {dictionary!r}")
-        marker_in = float(data["marker_in"])
-        if not (math.isfinite(marker_in) and marker_in > 0):
-            raise ValueError("marker_in: must be a positive number of inches")
-        markers = tuple(PrintedMarker(int(m["id"]), float(m["x_in"]), float(m["y_in"])) for m in data["markers"])
-    except (OSError, json.JSONDecodeError, KeyError, TypeError) as exc:
-        raise ValueError(f"{path}: not a marker board ({type(exc).__name__}: {exc})") from None
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
-    return MarkerBoard(dictionary, marker_in, markers)
+def aruco_dictionary(board: MarkerBoard) -> cv2.aruco.Dictionary:
+    """OpenCV's dictionary the board's markers come from."""
+    return cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, board.dictionary))
 
 
 def print_board(board: MarkerBoard, albedo: np.ndarray, world_to_pixel: np.ndarray, paper: float,
@@ -102,7 +56,7 @@ def print_board(board: MarkerBoard, albedo: np.ndarray, world_to_pixel: np.ndarr
     coordinates (pixel centres at integers). Each marker image is warped onto the
     floor with area averaging, as a camera pixel sees a printed edge.
     """
-    dictionary = board.aruco_dictionary()
+    dictionary = aruco_dictionary(board)
     modules = board.modules()
     side_px = (modules + 2 * QUIET_MODULES) * 8 * supersample
     half = board.paper_in() / 2

@@ -24,6 +24,7 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
+from camera_model.floor_grid import FloorGrid
 from hero_driver.interface import CameraImage, Pose
 from hero_driver.sim.catalogue import Footprint
 from hero_driver.sim.physics import WALL_IN
@@ -80,9 +81,7 @@ class Geometry:
         ox, oy = -WALL_IN, spec.room_depth_in + WALL_IN
         w = math.ceil((spec.room_width_in + 2 * WALL_IN) / INCHES_PER_PIXEL)
         h = math.ceil((spec.room_depth_in + 2 * WALL_IN) / INCHES_PER_PIXEL)
-        nominal = np.array([[1 / INCHES_PER_PIXEL, 0, -ox / INCHES_PER_PIXEL - 0.5],
-                            [0, -1 / INCHES_PER_PIXEL, oy / INCHES_PER_PIXEL - 0.5],
-                            [0, 0, 1]])
+        nominal = FloorGrid(INCHES_PER_PIXEL, ox, oy).world_to_pixel()
         cx, cy = (w - 1) / 2, (h - 1) / 2
         a = math.radians(MOUNT_ROTATION_DEG)
         about_centre = np.array([[1, 0, cx], [0, 1, cy], [0, 0, 1]]) @ np.array(

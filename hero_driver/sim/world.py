@@ -25,6 +25,7 @@ from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
 from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
+from hero_driver.sim.events import Disturber, DisturbPreset, Happened
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.odometry import Drift, slip
 from hero_driver.sim.physics import Physics, SimObject
@@ -89,12 +90,13 @@ class SimWorld:
 
     def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
                  profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
-                 camera: str = "simple") -> None:
+                 camera: str = "simple", disturb: DisturbPreset = DisturbPreset()) -> None:
         if camera not in PRESETS:
             raise ValueError(f"camera preset {camera!r}: expected one of {', '.join(PRESETS)}")
         self.profile, self.catalogue = profile_and_catalogue(profile)
         self.camera_preset = camera
         self._explicit_noise = noise
+        self.disturb = disturb  # the --disturb preset, kept across resets like the noise
         self.load(world if isinstance(world, WorldSpec) else load_world(world, self.catalogue), seed)
 
     def load(self, spec: WorldSpec, seed: int) -> None:
@@ -114,6 +116,18 @@ class SimWorld:
         self.battery = Battery(1.0 if spec.battery is None else spec.battery, metered)
         self.held: SimObject | None = None
         self.last_effect = grasping.NOTHING
+        self.disturber = Disturber(spec.events, self.disturb, seed, self.catalogue)
+
+    @property
+    def disturbances(self) -> list[Happened]:
+        """Every disturbance that took place so far (ground truth, docs/simulator.md)."""
+        return list(self.disturber.happened)
+
+    def _verb_ended(self, sensed: SimObject | None = None) -> None:
+        """A move, sensing, grasp or charge ended: whatever disturbance was due during
+        it takes effect now (hero_driver.sim.events)."""
+        base = (self.pose.x_in, self.pose.y_in, self.profile.robot.geometry.base_radius_in)
+        self.disturber.after_verb(self.physics, self.clock_s, base, sensed)
 
     # -- state -------------------------------------------------------------------
 
@@ -140,6 +154,7 @@ class SimWorld:
         self.battery.drain(approach_s, MOVING_PER_S)
         self.pose, self.drift = dock.pose, Drift()
         self.clock_s += approach_s + self.battery.charge()
+        self._verb_ended()
         return self.state()
 
     def reported_pose(self) -> Pose:
@@ -217,6 +232,7 @@ class SimWorld:
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
         self.battery.drain(duration, MOVING_PER_S)
+        self._verb_ended()
         return MoveResult(self.reported_pose(), duration, collided, centred)
 
     def _odometry(self, stop: tuple[float, float], course_deg: float, travel: float) -> tuple[float, float]:
@@ -297,6 +313,7 @@ class SimWorld:
             values[feature.name] = perturb(value, feature.error, step, self.rng, self.noise)
         self.clock_s += spec.time_s
         self.battery.drain(spec.time_s, SENSING_PER_S)
+        self._verb_ended(aim.target)
         return SenseResult(procedure, values, spec.time_s, aim.distance_in)
 
     def _curved_end_on(self, aim: sonar.Aim) -> bool:
@@ -330,6 +347,7 @@ class SimWorld:
                 self._knock_over(obj, aim.u)
         self.clock_s += spec.time_s
         self.battery.drain(spec.time_s, GRASPING_PER_S)
+        self._verb_ended()
         return GraspResult(procedure, success, spec.time_s)
 
     def _push(self, obj: SimObject, u: tuple[float, float]) -> None:

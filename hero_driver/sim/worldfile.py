@@ -20,6 +20,7 @@ from pathlib import Path
 
 from hero_driver.sim.battery import Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
+from hero_driver.sim.events import Disturbance, parse_events
 from hero_driver.sim.noise import NoiseConfig
 
 log = logging.getLogger(__name__)
@@ -65,6 +66,7 @@ class WorldSpec:
     board: Path | None = None  # the marker board printed on its floor (docs/camera.md)
     dock: Dock | None = None  # the charging dock, if the world has one (docs/simulator.md, Battery)
     battery: float | None = None  # the battery's level at the start; None: full, or tethered without a dock
+    events: tuple[Disturbance, ...] = ()  # scheduled disturbances (docs/simulator.md, Disturbances)
 
 
 def resolve(world: str | Path | None) -> Path:
@@ -114,7 +116,7 @@ def _overlap(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool
 def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
     """Check and build a world from decoded JSON (``source`` names it in errors)."""
     top = FieldReader(source, "world", data)
-    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery")
+    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery", "events")
     room = FieldReader(source, "room", top.table.get("room"))
     room.only("width_in", "depth_in")
     width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
@@ -128,6 +130,9 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     rr = FieldReader(source, "robot", top.table.get("robot"))
     rr.only("x_in", "y_in", "heading_deg")
     robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))
+    for field, value, side in (("x_in", robot[0], width), ("y_in", robot[1], depth)):
+        if not value <= side:  # also NaN, which every comparison refuses
+            raise rr.fail(field, f"puts the robot outside the {width:g}x{depth:g} in room, got {value:g}")
     objects = []
     for i, raw in enumerate(_array(top, "objects")):
         r = FieldReader(source, f"objects[{i}]", raw)
@@ -144,7 +149,8 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
         noise = NoiseConfig.from_mapping(noise_table, f"{source}: noise")
     spec = WorldSpec(str(top.table.get("name", Path(source).stem)), source, width, depth,
                      tuple(furniture), robot, tuple(objects), noise, _board(top, source),
-                     dock=_dock(source, top.table.get("dock"), width, depth), battery=_battery(top))
+                     dock=_dock(source, top.table.get("dock"), width, depth), battery=_battery(top),
+                     events=parse_events(top.table.get("events"), source, [p.entry_id for p in objects], catalogue))
     _check_layout(spec, catalogue)
     return spec
 
@@ -160,12 +166,21 @@ def _board(top: FieldReader, source: str) -> Path | None:
     if not isinstance(name, str) or not name:
         raise top.fail("board", "must be the name of a marker board file")
     path = Path(source).parent / name
-    if not path.is_file():
+    if not _is_file(path):
         shipped = WORLDS_DIR / name
-        if Path(name).name != name or not shipped.is_file():
+        if Path(name).name != name or not _is_file(shipped):
             raise top.fail("board", f"names {path}, which is not a file (nor a shipped board)")
         path = shipped
     return path
+
+
+def _is_file(path: Path) -> bool:
+    """``Path.is_file``, but a name the system refuses (longer than 255 bytes, say)
+    is not a file instead of an OSError."""
+    try:
+        return path.is_file()
+    except OSError:
+        return False
 
 
 def _dock(source: str, raw: object, width: float, depth: float) -> Dock | None:
@@ -221,7 +236,9 @@ def load_world(world: str | Path | None, catalogue: Mapping[str, CatalogueEntry]
     path = resolve(world)
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
+    except RecursionError:
+        raise ValueError(f"{path}: cannot read world file: JSON nested too deeply") from None
+    except (OSError, ValueError) as exc:  # ValueError: not JSON, not UTF-8, an integer too long
         raise ValueError(f"{path}: cannot read world file: {exc}") from exc
     return parse_world(data, str(path), catalogue)
 

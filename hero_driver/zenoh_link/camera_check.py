@@ -1,34 +1,40 @@
-"""Does a driver's overhead image show things where they are, in the grey levels of
-docs/driver-protocol.md?
+"""Does a driver's overhead image show things where they are?
 
 A camera reply can decode perfectly and still ruin every episode: rows counted from
 the bottom put each object at its mirror-image place, objects drawn at another grey
 level are no objects to the vision, and objects drawn off their place send the robot
 to empty floor. The conformance suite knows the position of two kinds of thing: the
-robot itself, whose base (levels 140-194) must lie around the published pose with its
-heading marker (235-255) ahead of it and nothing else in the robot's levels; and the
-objects a ``reset`` to a known world placed, each of which must be drawn in the
-object levels (195-234) around its place, at about its size.
+robot itself, which must lie around the published pose with its heading marker ahead
+of it; and the objects a ``reset`` to a known world placed, each of which must be seen
+around its place, at about its size.
+
+A band image (docs/driver-protocol.md) is read here by its grey levels
+(:mod:`camera_model.bands`): the base (140-194) with the marker (235-255) and nothing
+else in the robot's levels, the objects in 195-234. A real camera's image has no
+bands; it is read through the executive's own vision and the camera's calibration
+(:func:`calibrated_reader`, docs/camera.md), the way an episode will read it, and the
+same tolerances apply to what that vision sees.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import cv2
 import numpy as np
 
+from camera_model.bands import MARKER_BAND, OBJECT_BAND, ROBOT_BAND, WALL_BAND, in_band
+from camera_model.fisheye import undistortion_maps
+from camera_model.floor_grid import FloorGrid
 from hero_driver.interface import CameraImage, Pose
 
-ROBOT_BAND = (140, 194)
-MARKER_BAND = (235, 255)
 CENTRE_TOLERANCE_IN = 4.0  # base centroid vs published position (odometry, pixelisation)
 HEADING_TOLERANCE_DEG = 25.0  # marker bearing vs published heading (a small marker, few pixels)
 SEARCH_IN = 12.0  # how far from the published position a robot blob may start
 STRAY_PIXELS = 4  # robot-level pixels away from the robot tolerated (noise survivors)
-OBJECT_BAND = (195, 234)
 OBJECT_TOLERANCE_IN = 3.0  # footprint centroid vs where reset placed the object
 OBJECT_AREA_RATIO = 2.0  # drawn area within a factor of the footprint's (side-effect checks count pixels)
 _OPEN = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
@@ -43,23 +49,24 @@ def undistorted(image: CameraImage) -> np.ndarray:
     invented along edges), or as they are when the image carries no lens."""
     if image.fisheye is None or image.camera_matrix is None:
         return image.pixels
-    k = np.asarray(image.camera_matrix, dtype=np.float64)
-    d = np.asarray(image.fisheye, dtype=np.float64).reshape(4, 1)
     rows, cols = image.pixels.shape
-    map_x, map_y = cv2.fisheye.initUndistortRectifyMap(k, d, np.eye(3), k, (cols, rows), cv2.CV_32FC1)
+    map_x, map_y = undistortion_maps(np.asarray(image.camera_matrix, dtype=np.float64), image.fisheye, rows, cols)
     return cv2.remap(image.pixels, map_x, map_y, interpolation=cv2.INTER_NEAREST,
                      borderMode=cv2.BORDER_CONSTANT, borderValue=0)
 
 
 def _band(pixels: np.ndarray, band: tuple[int, int]) -> np.ndarray:
-    return ((pixels >= band[0]) & (pixels <= band[1])).astype(np.uint8)
+    return in_band(pixels, band).astype(np.uint8)
+
+
+def _grid(image: CameraImage) -> FloorGrid:
+    return FloorGrid(image.inches_per_pixel, image.origin_x_in, image.origin_y_in)
 
 
 def _world(image: CameraImage, rows: np.ndarray, cols: np.ndarray) -> tuple[float, float]:
     """The world position of the mean of pixel centres (docs/driver-protocol.md)."""
-    s = image.inches_per_pixel
-    return (image.origin_x_in + (float(np.mean(cols)) + 0.5) * s,
-            image.origin_y_in - (float(np.mean(rows)) + 0.5) * s)
+    x, y = _grid(image).to_world(float(np.mean(rows)), float(np.mean(cols)))[0]
+    return float(x), float(y)
 
 
 def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
@@ -69,8 +76,7 @@ def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
     robot = cv2.morphologyEx(_band(pixels, ROBOT_BAND) | _band(pixels, MARKER_BAND), cv2.MORPH_OPEN, _OPEN)
     count, labels = cv2.connectedComponents(robot, connectivity=8)
     s = image.inches_per_pixel
-    row = (image.origin_y_in - pose.y_in) / s - 0.5
-    col = (pose.x_in - image.origin_x_in) / s - 0.5
+    row, col = _grid(image).to_pixel(pose.x_in, pose.y_in)
     best, best_in = 0, math.inf
     for label in range(1, count):
         rows, cols = np.nonzero(labels == label)
@@ -102,7 +108,7 @@ def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
     if stray > STRAY_PIXELS:
         raise MappingError(f"{stray} pixels away from the robot are drawn in its levels "
                            f"{ROBOT_BAND[0]}-{ROBOT_BAND[1]}: objects belong at "
-                           f"{OBJECT_BAND[0]}-{OBJECT_BAND[1]}, furniture at 70-139")
+                           f"{OBJECT_BAND[0]}-{OBJECT_BAND[1]}, furniture at {WALL_BAND[0]}-{WALL_BAND[1]}")
     return (f"robot drawn at ({x:.1f}, {y:.1f}) heading {bearing:.0f} deg, {off_in:.1f} in from the published pose")
 
 
@@ -138,8 +144,7 @@ def check_objects_drawn(image: CameraImage, objects: Sequence[PlacedObject]) -> 
     s = image.inches_per_pixel
     worst = 0.0
     for placed in objects:
-        row = (image.origin_y_in - placed.y_in) / s - 0.5
-        col = (placed.x_in - image.origin_x_in) / s - 0.5
+        row, col = _grid(image).to_pixel(placed.x_in, placed.y_in)
         gaps = [s * float(np.min(np.hypot(rows - row, cols - col))) for rows, cols in blobs]
         if not gaps or min(gaps) > SEARCH_IN:
             raise MappingError(f"{placed.name}: nothing drawn in the object levels {OBJECT_BAND[0]}-{OBJECT_BAND[1]} "
@@ -167,3 +172,98 @@ def _mirrored_hint(pixels: np.ndarray, blobs: list[tuple[np.ndarray, np.ndarray]
     return (" (one is at the row-mirrored place: rows must count down from the high-y edge)"
             if any(s * float(np.min(np.hypot(rows - mirrored, cols - col))) <= OBJECT_TOLERANCE_IN
                    for rows, cols in blobs) else "")
+
+
+@dataclass(frozen=True)
+class SeenObject:
+    """An object as a vision saw it: its centre and its footprint's area."""
+
+    x_in: float
+    y_in: float
+    area_in2: float
+
+
+@dataclass(frozen=True)
+class Sight:
+    """What a vision made of one image: the robot's pose (None: no robot seen) and
+    the objects."""
+
+    robot: Pose | None
+    objects: tuple[SeenObject, ...]
+
+
+Vision = Callable[[CameraImage], Sight]
+
+
+def calibrated_reader(path: Path) -> Vision:
+    """The executive's own vision (``planner.vision.look``) through the calibration
+    file at ``path`` and the empty floor beside it, as ``csl run --camera-calibration``
+    reads images; ValueError (one line naming the file and field) for a bad file.
+
+    The planner is imported here, and only here, because a real camera's image means
+    only what that vision makes of it: a check with its own reading could pass images
+    an episode then misreads."""
+    from planner.image import OverheadImage
+    from planner.segmentation import load_camera
+    from planner.vision import look
+
+    camera = load_camera(path)
+    width, height = camera.calibration.image_size
+
+    def read(image: CameraImage) -> Sight:
+        rows, cols = image.pixels.shape[:2]
+        if (cols, rows) != (width, height):
+            raise MappingError(f"the calibration {path} is for {width}x{height} images, the driver's camera gives "
+                               f"{cols}x{rows} (a calibration of another camera?)")
+        scene = look(OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
+                                   image.camera_matrix, image.fisheye), camera)
+        robot = None if scene.robot is None else Pose(scene.robot.x_in, scene.robot.y_in, scene.robot.heading_deg)
+        # look() measures every region from pixels, so each has its area
+        return Sight(robot, tuple(SeenObject(r.centroid[0], r.centroid[1], float(r.area_in2 or 0.0))
+                                  for r in scene.regions))
+
+    return read
+
+
+def check_robot_seen(sight: Sight, pose: Pose) -> str:
+    """:func:`check_robot_drawn` for what a vision saw: the robot at ``pose`` within
+    CENTRE_TOLERANCE_IN, heading within HEADING_TOLERANCE_DEG; MappingError otherwise."""
+    if sight.robot is None:
+        raise MappingError("the calibrated vision finds no robot (a dark base with a white disc ahead of its "
+                           "centre, docs/camera.md)")
+    seen = sight.robot
+    off_in = math.hypot(seen.x_in - pose.x_in, seen.y_in - pose.y_in)
+    if off_in > CENTRE_TOLERANCE_IN:
+        raise MappingError(f"the calibrated vision sees the robot at ({seen.x_in:.1f}, {seen.y_in:.1f}), {off_in:.1f} "
+                           f"in from the published position ({pose.x_in:.1f}, {pose.y_in:.1f}); at most "
+                           f"{CENTRE_TOLERANCE_IN:g} in")
+    turn = (seen.heading_deg - pose.heading_deg + 180.0) % 360.0 - 180.0
+    if abs(turn) > HEADING_TOLERANCE_DEG:
+        raise MappingError(f"the calibrated vision sees the robot heading {seen.heading_deg:.0f} deg, the published "
+                           f"heading is {pose.heading_deg:.0f} deg")
+    return (f"robot seen through the calibration at ({seen.x_in:.1f}, {seen.y_in:.1f}) heading "
+            f"{seen.heading_deg:.0f} deg, {off_in:.1f} in from the published pose")
+
+
+def check_objects_seen(sight: Sight, objects: Sequence[PlacedObject]) -> str:
+    """:func:`check_objects_drawn` for what a vision saw: each placed object matched to
+    the seen object nearest its centre, within OBJECT_TOLERANCE_IN and at its size
+    within a factor OBJECT_AREA_RATIO; MappingError naming the first that is not."""
+    worst = 0.0
+    for placed in objects:
+        gaps = [math.hypot(seen.x_in - placed.x_in, seen.y_in - placed.y_in) for seen in sight.objects]
+        if not gaps or min(gaps) > SEARCH_IN:
+            raise MappingError(f"{placed.name}: the calibrated vision sees no object within {SEARCH_IN:g} in of "
+                               f"({placed.x_in:g}, {placed.y_in:g}), where reset placed it")
+        seen = sight.objects[int(np.argmin(gaps))]
+        off_in = min(gaps)
+        if off_in > OBJECT_TOLERANCE_IN:
+            raise MappingError(f"{placed.name}: seen at ({seen.x_in:.1f}, {seen.y_in:.1f}), {off_in:.1f} in from "
+                               f"({placed.x_in:g}, {placed.y_in:g}) where reset placed it; at most "
+                               f"{OBJECT_TOLERANCE_IN:g} in")
+        if not placed.area_in2 / OBJECT_AREA_RATIO <= seen.area_in2 <= placed.area_in2 * OBJECT_AREA_RATIO:
+            raise MappingError(f"{placed.name}: seen over {seen.area_in2:.1f} sq in, its footprint is "
+                               f"{placed.area_in2:.1f} sq in (within a factor {OBJECT_AREA_RATIO:g} expected)")
+        worst = max(worst, off_in)
+    return (f"{len(objects)} objects seen through the calibration where reset placed them, the farthest "
+            f"{worst:.1f} in off")

@@ -20,6 +20,7 @@ import binascii
 import json
 import math
 import numbers
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -105,6 +106,8 @@ def loads(data: bytes) -> Json:
         raise CodecError(f"message: malformed JSON ({exc.msg} at char {exc.pos})") from None
     except RecursionError:  # no message of the protocol nests more than a few levels
         raise CodecError("message: JSON nested too deeply") from None
+    except ValueError:  # int() refusing a literal of more than 4,300 digits
+        raise CodecError(f"message: an integer of more than {sys.get_int_max_str_digits()} digits") from None
     if not isinstance(message, dict):
         raise CodecError(f"message: expected a JSON object, got {_kind(message)}")
     if "v" not in message:
@@ -150,8 +153,8 @@ def _fields(obj: object, path: str, required: Sequence[str], optional: Sequence[
             raise CodecError(f"{prefix}{key}: missing field")
     allowed = set(required) | set(optional) | ({"v"} if not path else set())
     for key in obj:
-        if key not in allowed:
-            raise CodecError(f"{prefix}{key}: unknown field")
+        if key not in allowed:  # a key holding a newline must not split the line
+            raise CodecError(f"{prefix}{key if key.isprintable() else repr(key)}: unknown field")
     return obj
 
 

@@ -7,6 +7,10 @@ unknown verb, another protocol version) and it decodes every reply with the stri
 codec, so a driver whose replies the executive would reject fails here first, with
 the check and the field named.
 
+The camera checks read band images by their grey bands and a real camera's images
+through its calibration, with the executive's vision (``vision``, given by ``csl driver
+check --camera-calibration``); a non-band image without one is "not checked".
+
 The robot must start from its reset pose with nothing within contact range of the
 sonar; the suite only turns the robot in place, so it is safe to run on hardware.
 Against a robot nobody serves (no token, no answer), and against a driver that names
@@ -31,6 +35,7 @@ from typing import Any
 
 import zenoh
 
+from camera_model.bands import looks_like_bands
 from hero_driver.interface import (
     BAD_REQUEST,
     BUSY,
@@ -50,7 +55,8 @@ from hero_driver.interface import (
 from hero_driver.zenoh_link import codec
 from hero_driver.sim.catalogue import load_catalogue
 from hero_driver.sim.worldfile import WORLDS_DIR, load_world
-from hero_driver.zenoh_link.camera_check import MappingError, PlacedObject, check_objects_drawn, check_robot_drawn
+from hero_driver.zenoh_link.camera_check import (MappingError, PlacedObject, Sight, Vision, check_objects_drawn,
+                                                 check_objects_seen, check_robot_drawn, check_robot_seen, undistorted)
 from hero_driver.zenoh_link.codec import CodecError
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME
@@ -75,6 +81,8 @@ PING_TIMEOUT_S = 2.0  # ... each waiting this long for its reply
 WARM_PINGS = 5  # ... and stops the driver once this many were answered
 WARM_S = 1.0  # ... or this long after the first, whichever comes first
 SHUTDOWN_RACE_S = 0.25  # a noop sent this close before the token's DELETE arrived may miss the driver
+NEEDS_CALIBRATION = ("not checked: the image is not drawn in the grey bands (a real camera's?): needs "
+                     "--camera-calibration FILE (csl camera calibrate, docs/camera.md)")
 
 
 @dataclass(frozen=True)
@@ -213,10 +221,12 @@ def _valid_states(bodies: Sequence[bytes]) -> list[RobotState]:
 class _Suite:
     """The checks, in the order they run; each returns a detail or raises CheckFailed."""
 
-    def __init__(self, probe: _Probe, procedures: Procedures, profile: ProfileStamp | None = None) -> None:
+    def __init__(self, probe: _Probe, procedures: Procedures, profile: ProfileStamp | None = None,
+                 vision: Vision | None = None) -> None:
         self.probe = probe
         self.procedures = procedures
         self.profile = profile  # what the driver should serve; None: not compared
+        self.vision = vision  # how a real camera's images are read; None: band images
         self.last_state: RobotState | None = None
         self.moved: tuple[float, MoveResult] | None = None
         self.image: CameraImage | None = None
@@ -330,9 +340,23 @@ class _Suite:
                               f"world's start is ({start.x_in:g}, {start.y_in:g}, {start.heading_deg:g} deg)")
         image = self.probe.result("camera", {})
         try:
-            return f"world {KNOWN_WORLD!r}: {check_objects_drawn(image, placed)}"
-        except MappingError as exc:
+            found = self._read_image(image, lambda sight: check_objects_seen(sight, placed),
+                                     lambda: check_objects_drawn(image, placed))
+        except CheckFailed as exc:
             raise CheckFailed(f"world {KNOWN_WORLD!r}: {exc}") from None
+        return NEEDS_CALIBRATION if found is None else f"world {KNOWN_WORLD!r}: {found}"
+
+    def _read_image(self, image: CameraImage, seen: Callable[[Sight], str], drawn: Callable[[], str]) -> str | None:
+        """One image check: through the calibrated vision when the suite has one, else
+        by the grey bands. An image that fails the bands and is not drawn in them (a
+        real camera's) is not checked (None): failing it would blame a good camera,
+        passing it would vouch for a reading nobody made."""
+        try:
+            return seen(self.vision(image)) if self.vision is not None else drawn()
+        except MappingError as exc:
+            if self.vision is None and not looks_like_bands(undistorted(image)):
+                return None
+            raise CheckFailed(str(exc)) from None
 
     def reset(self) -> str:
         state = self.probe.result("reset", {"world": None, "seed": None})
@@ -347,12 +371,12 @@ class _Suite:
         return f"{width}x{height} px at {image.inches_per_pixel:g} in/px"
 
     def camera_mapping(self) -> str:
-        if self.image is None or self.last_state is None:
+        image, state = self.image, self.last_state
+        if image is None or state is None:
             raise CheckFailed("needs the camera and state-published checks to pass")
-        try:
-            return check_robot_drawn(self.image, self.last_state.pose)
-        except MappingError as exc:
-            raise CheckFailed(str(exc)) from None
+        found = self._read_image(image, lambda sight: check_robot_seen(sight, state.pose),
+                                 lambda: check_robot_drawn(image, state.pose))
+        return NEEDS_CALIBRATION if found is None else found
 
     def busy(self) -> str:
         """A turn in place and, every 0.1 s while it runs, a release: a release that
@@ -627,11 +651,13 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
                procedures: Procedures | None = None, zenoh_config: UserConfig | None = None,
-               profile: ProfileStamp | None = None) -> list[CheckResult]:
+               profile: ProfileStamp | None = None, vision: Vision | None = None) -> list[CheckResult]:
     """Run every check against the driver serving ``robot`` at ``connect``; ``zenoh_config``
     is the user's zenoh file (credentials, TLS) for a driver that requires them.
     ``profile`` is the stamp of the robot profile the driver should serve: a driver
-    that names another in ``hello`` stops the suite with one line (None: not compared)."""
+    that names another in ``hello`` stops the suite with one line (None: not compared).
+    ``vision`` reads a real camera's images (:func:`camera_check.calibrated_reader`;
+    None: the images are band images, and the image checks skip any that is not)."""
     robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
@@ -647,7 +673,7 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         if mismatch:
             return [CheckResult("profile", False, mismatch)]
         results = []
-        for name, check in _Suite(probe, chosen, profile).checks():
+        for name, check in _Suite(probe, chosen, profile, vision).checks():
             try:
                 results.append(CheckResult(name, True, check()))
             except CheckFailed as exc:

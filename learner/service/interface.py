@@ -7,10 +7,12 @@ the in-process one is the reference the zenoh pair is tested against.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
+from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
 
 
@@ -32,6 +34,50 @@ class LibrarySnapshot:
     descriptions: Sequence[ObjectDescription]
     """A tuple, or an append-only :class:`~learner.description.Descriptions` (equal to
     the tuple of its entries) so that a learn need not copy the library."""
+
+
+@dataclass(frozen=True)
+class LibraryChanges:
+    """What changed since a version a client holds: the library at ``version`` is the
+    client's first ``start`` descriptions followed by ``added``.
+
+    ``start`` 0 is the whole library (the service could not tell what changed since the
+    client's version: it restarted, quarantined, or never saw that version); a client
+    that does not hold ``start`` descriptions at the version it asked about must fetch
+    the whole library.
+    """
+
+    version: int
+    start: int
+    added: Sequence[ObjectDescription]
+
+
+@runtime_checkable
+class KeepsChanges(Protocol):
+    """A service that can answer "what changed since version v" with only the change,
+    so a client holding v pays for the change, not for the library."""
+
+    def changes(self, since: int) -> LibraryChanges:
+        """The descriptions added after version ``since`` (see :class:`LibraryChanges`)."""
+        ...
+
+
+@runtime_checkable
+class KeepsGraspCosts(Protocol):
+    """A service that keeps what each grasp has cost on the robots it serves
+    (docs/method.md §5.7), so the executive can price grasps by it."""
+
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+        """Add ``(grasp, robot seconds, success)`` attempts to the per-grasp totals in
+        one transaction. ``key``, made once per object by the client, makes a retry
+        harmless: a batch whose key is already stored adds nothing. Raises ValueError
+        for an attempt that cannot be counted (unknown grasp, seconds not finite >= 0,
+        too many); then nothing is added."""
+        ...
+
+    def grasp_costs(self) -> list[GraspCostRecord]:
+        """Every grasp's running totals, by name."""
+        ...
 
 
 class LearnerService(Protocol):
@@ -79,3 +125,43 @@ def check_learn_key(key: object) -> str:
     if not isinstance(key, str) or not key or len(key) > MAX_KEY_CHARS or not key.isprintable():
         raise ValueError(f"key: an idempotency key is 1 to {MAX_KEY_CHARS} printable characters, got {key!r:.120}")
     return key
+
+
+MAX_GRASP_ATTEMPTS = 1000
+"""Most attempts one record may carry: one object's grasps (its step budget is 40 by
+default), with room to spare; more is a client gone wrong, refused whole."""
+
+
+def check_grasp_attempts(attempts: object) -> list[tuple[str, float, bool]]:
+    """``attempts`` as ``(grasp, seconds, success)`` triples if each names a grasp (1 to
+    :data:`MAX_KEY_CHARS` printable characters) and costs finite seconds >= 0 and there
+    are at most :data:`MAX_GRASP_ATTEMPTS`; else ValueError naming the first bad one.
+    Whether the robot knows the grasp is the service's check (it knows the robot)."""
+    if not isinstance(attempts, (list, tuple)):
+        raise ValueError(f"attempts: must be a list, got {type(attempts).__name__}")
+    if len(attempts) > MAX_GRASP_ATTEMPTS:
+        raise ValueError(f"attempts: at most {MAX_GRASP_ATTEMPTS} in one record, got {len(attempts)}")
+    checked = []
+    for i, attempt in enumerate(attempts):
+        if not isinstance(attempt, (list, tuple)) or len(attempt) != 3:
+            raise ValueError(f"attempts[{i}]: must be [grasp, seconds, success], got {attempt!r:.120}")
+        grasp, seconds, success = attempt
+        if not isinstance(grasp, str) or not grasp or len(grasp) > MAX_KEY_CHARS or not grasp.isprintable():
+            raise ValueError(f"attempts[{i}]: a grasp is 1 to {MAX_KEY_CHARS} printable characters, got {grasp!r:.120}")
+        value = _seconds(seconds)
+        if not 0 <= value < math.inf:
+            raise ValueError(f"attempts[{i}]: seconds must be a finite number >= 0, got {seconds!r:.120}")
+        if not isinstance(success, bool):
+            raise ValueError(f"attempts[{i}]: success must be true or false, got {success!r:.120}")
+        checked.append((grasp, value, success))
+    return checked
+
+
+def _seconds(value: object) -> float:
+    """``value`` as seconds; NaN for anything not a number (a bool is not one)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return math.nan
+    try:
+        return float(value)
+    except OverflowError:  # an integer beyond any float
+        return math.inf

@@ -30,14 +30,17 @@ from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
+from learner.costs import GraspCostRecord
 from learner.description import Descriptions, ObjectDescription
 from learner.knowledge import Knowledge
 from learner.library import LibraryStore, check_library
 from learner.service.admission import Quarantined, admitted, partition
-from learner.service.interface import LibrarySnapshot, check_learn_key
+from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
 
 VERSION_KEY = "learner_version"
 """The ``meta`` row holding the library's version (absent means 0)."""
+GRASP_RECORD_KEY = "grasp_record:"
+"""``meta`` keys ``grasp_record:<key>``: the idempotency keys of grasp-cost records made."""
 
 
 class LocalLearner:
@@ -75,6 +78,8 @@ class LocalLearner:
             if self.quarantined:  # what clients cached may hold a quarantined row: make them refetch
                 self._bump_version()
             self._snapshot = LibrarySnapshot(self._stored_version(), Descriptions(served))
+            # since opening, each version is one learned description more than the last
+            self._opened = (self._snapshot.version, len(served))
         except BaseException:
             self._store.close()
             raise
@@ -89,6 +94,19 @@ class LocalLearner:
             self._check_open()
             return self._snapshot.version
 
+    def changes(self, since: int) -> LibraryChanges:
+        """The descriptions learned after version ``since``: a slice of the snapshot,
+        so the cost is that of the change. Only versions from this opening on are known
+        change by change; for any other ``since`` the answer is the whole library."""
+        with self._lock:
+            self._check_open()
+            snapshot = self._snapshot
+        opened_version, opened_count = self._opened
+        if not opened_version <= since <= snapshot.version:
+            return LibraryChanges(snapshot.version, 0, snapshot.descriptions)
+        start = opened_count + since - opened_version
+        return LibraryChanges(snapshot.version, start, snapshot.descriptions[start:])
+
     def learn(self, description: ObjectDescription, key: str | None = None) -> str:
         checked = admitted(description, self.knowledge, "not learned")  # before anything is written
         if key is not None:
@@ -102,6 +120,36 @@ class LocalLearner:
                 self._snapshot = LibrarySnapshot(
                     version, self._snapshot.descriptions.plus([replace(checked, object_id=object_id)]))
         return object_id
+
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+        """Add ``(grasp, robot seconds, success)`` attempts to the store's per-grasp cost
+        totals (docs/library-format.md, "Grasp costs"); the library's version is not
+        bumped: descriptions did not change. Checked whole before anything is written
+        (:func:`~learner.service.interface.check_grasp_attempts`, and with ``knowledge``
+        every grasp must be the robot's). A ``key`` already recorded adds nothing: the
+        key is stored first, so a crash between the two writes loses that one batch
+        rather than ever counting it twice."""
+        checked = check_grasp_attempts(list(attempts))
+        if self.knowledge is not None:
+            for grasp, _seconds, _success in checked:
+                if not self.knowledge.has_grasp(grasp):
+                    raise ValueError(f"grasp costs not recorded: grasp {grasp!r} is not in the knowledge file "
+                                     f"{self.knowledge.source}")
+        if key is not None:
+            check_learn_key(key)
+        with self._lock:
+            self._check_open()
+            if key is not None:
+                if self._store.meta_int(GRASP_RECORD_KEY + key):
+                    return
+                self._store.set_meta(GRASP_RECORD_KEY + key, "1")
+            self._store.record_grasp_attempts(checked)
+
+    def grasp_costs(self) -> list[GraspCostRecord]:
+        """What each grasp has cost so far, for :func:`learner.costs.with_learned_grasp_costs`."""
+        with self._lock:
+            self._check_open()
+            return self._store.grasp_cost_records()
 
     def close(self) -> None:
         with self._lock:

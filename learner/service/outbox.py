@@ -24,12 +24,14 @@ import sqlite3
 import threading
 import time
 import uuid
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
 from learner.library import descriptions_from_json, descriptions_to_json, durable_and_quick
-from learner.service.interface import LearnerService, LearnerUnavailable, LibrarySnapshot
+from learner.service.interface import KeepsGraspCosts, LearnerService, LearnerUnavailable, LibrarySnapshot
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS outbox (
@@ -123,6 +125,9 @@ class OutboxLearner:
         """Descriptions this client delivered, its own and earlier runs' alike."""
         self.waiting_at_close: int | None = None
         """How many waited in the outbox when :meth:`close` gave up delivering."""
+        self._grasp_costs: list[GraspCostRecord] = []
+        self.grasp_records_lost = 0
+        """Grasp-cost records dropped because the service could not take them."""
 
     def learn(self, description: ObjectDescription, key: str | None = None) -> str:
         key = key if key is not None else str(uuid.uuid4())
@@ -158,6 +163,33 @@ class OutboxLearner:
                 if self._last is None:
                     raise
                 return self._last.version
+
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+        """Passed to the service when it keeps grasp costs (docs/method.md §5.7). Not
+        queued: a record the service cannot take (it is unreachable, or refuses it, as a
+        service from before grasp costs refuses the verb) is dropped and counted in
+        :attr:`grasp_records_lost`, a few attempts of one object whose loss only slows
+        the prices' learning and must not stop the robot."""
+        with self._lock:
+            self._check_open()
+            if not isinstance(self.service, KeepsGraspCosts):
+                return
+            try:
+                self.service.record_grasp_attempts(attempts, key)
+            except (LearnerUnavailable, ValueError):
+                self.grasp_records_lost += 1
+
+    def grasp_costs(self) -> list[GraspCostRecord]:
+        """The service's grasp costs, or when it cannot say (unreachable, or from
+        before grasp costs) the last received (none before any: the file's prices)."""
+        with self._lock:
+            self._check_open()
+            if isinstance(self.service, KeepsGraspCosts):
+                try:
+                    self._grasp_costs = self.service.grasp_costs()
+                except (LearnerUnavailable, ValueError):
+                    pass
+            return self._grasp_costs
 
     def deliver(self) -> dict[str, str | ValueError]:
         """Send what waits, oldest first, until the service is unreachable.

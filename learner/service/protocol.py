@@ -11,19 +11,23 @@ the service's check (:mod:`learner.service.admission`), which knows the robot.
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 from typing import cast
 
+from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
+from learner.json_text import NotJson, parse_json
 from learner.library import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
-from learner.service.interface import LibrarySnapshot, check_learn_key
+from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
 from zenoh_rpc.keys import KeySpace
 
 PREFIX = "csl/learner"
 PROTOCOL_VERSION = 1
 
-LIBRARY, LEARN, VERSION_VERB = "library", "learn", "version"
-VERBS = (LIBRARY, LEARN, VERSION_VERB)
+LIBRARY, LEARN, VERSION_VERB, CHANGES = "library", "learn", "version", "changes"
+RECORD_GRASPS, GRASP_COSTS = "record_grasps", "grasp_costs"  # docs/method.md §5.7
+VERBS = (LIBRARY, LEARN, VERSION_VERB, CHANGES, RECORD_GRASPS, GRASP_COSTS)
 
 BAD_REQUEST = "bad_request"  # the request is malformed or cannot be stored; resending will not help
 INTERNAL = "internal"  # the service failed (disk full, a bug); the library is unchanged
@@ -71,6 +75,34 @@ def decode_learn_request(data: bytes) -> tuple[ObjectDescription, str | None]:
     return _description(fields["description"], "description"), cast("str | None", key)
 
 
+def encode_changes_request(since: int) -> bytes:
+    """``{"v": 1, "since": N}``: what changed after version N."""
+    return _dumps({"since": since})
+
+
+def decode_changes_request(data: bytes) -> int:
+    return _version(_fields(data, ("since",))["since"], "since")
+
+
+def encode_record_grasps_request(attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> bytes:
+    """``{"v": 1, "attempts": [[grasp, seconds, success], ...], "key": <idempotency key>}``
+    (the key optional, as learn's)."""
+    return _dumps({"attempts": [[g, s, ok] for g, s, ok in attempts], **({} if key is None else {"key": key})})
+
+
+def decode_record_grasps_request(data: bytes) -> tuple[list[tuple[str, float, bool]], str | None]:
+    """The attempts a ``record_grasps`` request carries, each checked (a grasp name,
+    finite seconds >= 0, a boolean; at most ``MAX_GRASP_ATTEMPTS``), and its key."""
+    fields = _fields(data, ("attempts",), optional=("key",))
+    key = fields.get("key")
+    try:
+        if key is not None:
+            check_learn_key(key)
+        return check_grasp_attempts(fields["attempts"]), cast("str | None", key)
+    except ValueError as exc:
+        raise ProtocolError(str(exc)) from None
+
+
 # -- replies --------------------------------------------------------------------------
 def encode_library_reply(snapshot: LibrarySnapshot) -> bytes:
     """``{"v": 1, "version": N, "library": <library JSON document>}``."""
@@ -86,6 +118,22 @@ def decode_library_reply(data: bytes) -> LibrarySnapshot:
     return LibrarySnapshot(_version(fields["version"]), tuple(descriptions))
 
 
+def encode_changes_reply(changes: LibraryChanges) -> bytes:
+    """``{"v": 1, "version": N, "start": S, "library": <library JSON document of the
+    descriptions added after the first S>}``."""
+    return _dumps({"version": changes.version, "start": changes.start,
+                   "library": descriptions_to_json(changes.added)})
+
+
+def decode_changes_reply(data: bytes) -> LibraryChanges:
+    fields = _fields(data, ("version", "start", "library"))
+    try:
+        added = descriptions_from_json(fields["library"], "library")
+    except ValueError as exc:
+        raise ProtocolError(str(exc)) from None
+    return LibraryChanges(_version(fields["version"]), _version(fields["start"], "start"), tuple(added))
+
+
 def encode_learn_reply(object_id: str) -> bytes:
     """``{"v": 1, "id": <the id the description was stored under>}``."""
     return _dumps({"id": object_id})
@@ -96,6 +144,44 @@ def decode_learn_reply(data: bytes) -> str:
     if not isinstance(object_id, str) or not object_id:
         raise ProtocolError(f"id: must be a non-empty string, got {object_id!r}")
     return object_id
+
+
+def encode_recorded_reply(count: int) -> bytes:
+    """``{"v": 1, "recorded": N}``: how many attempts the request carried, now counted
+    (a retried request's too: they were counted once, by the first)."""
+    return _dumps({"recorded": count})
+
+
+def decode_recorded_reply(data: bytes) -> int:
+    return _version(_fields(data, ("recorded",))["recorded"], "recorded")
+
+
+def encode_grasp_costs_reply(records: Sequence[GraspCostRecord]) -> bytes:
+    """``{"v": 1, "grasp_costs": [{"grasp", "successes", "success_s", "failures",
+    "failure_s"}, ...]}``: each grasp's running totals (docs/library-format.md)."""
+    return _dumps({"grasp_costs": [{"grasp": r.grasp, "successes": r.successes, "success_s": r.success_s,
+                                    "failures": r.failures, "failure_s": r.failure_s} for r in records]})
+
+
+def decode_grasp_costs_reply(data: bytes) -> list[GraspCostRecord]:
+    records = _fields(data, ("grasp_costs",))["grasp_costs"]
+    if not isinstance(records, list):
+        raise ProtocolError(f"grasp_costs: must be a list, got {type(records).__name__}")
+    return [_grasp_cost(r, f"grasp_costs[{i}]") for i, r in enumerate(records)]
+
+
+def _grasp_cost(entry: object, where: str) -> GraspCostRecord:
+    names = ("grasp", "successes", "success_s", "failures", "failure_s")
+    if not isinstance(entry, dict) or set(entry) != set(names):
+        raise ProtocolError(f"{where}: must be an object with exactly {', '.join(names)}")
+    grasp = entry["grasp"]
+    if not isinstance(grasp, str) or not grasp:
+        raise ProtocolError(f"{where}: grasp must be a non-empty string, got {grasp!r:.80}")
+    totals = [entry[k] for k in ("success_s", "failure_s")]
+    if any(isinstance(t, bool) or not isinstance(t, (int, float)) or not 0 <= t < math.inf for t in totals):
+        raise ProtocolError(f"{where}: success_s and failure_s must be finite numbers >= 0")
+    return GraspCostRecord(grasp, _version(entry["successes"], f"{where}: successes"), float(entry["success_s"]),
+                           _version(entry["failures"], f"{where}: failures"), float(entry["failure_s"]))
 
 
 def encode_version_reply(version: int) -> bytes:
@@ -136,8 +222,8 @@ def _fields(data: bytes, expected: tuple[str, ...], optional: tuple[str, ...] = 
     if not data:
         raise ProtocolError(f'empty payload: messages are JSON objects with "v": {PROTOCOL_VERSION}')
     try:
-        message = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        message = parse_json(data.decode("utf-8"))
+    except (UnicodeDecodeError, NotJson) as exc:
         raise ProtocolError(f"not valid JSON: {exc}") from None
     if not isinstance(message, dict):
         raise ProtocolError(f"a message must be a JSON object, got {type(message).__name__}")
@@ -153,9 +239,9 @@ def _fields(data: bytes, expected: tuple[str, ...], optional: tuple[str, ...] = 
     return message
 
 
-def _version(value: object) -> int:
+def _version(value: object, field: str = "version") -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise ProtocolError(f"version: must be a non-negative integer, got {value!r}")
+        raise ProtocolError(f"{field}: must be a non-negative integer, got {value!r}")
     return value
 
 

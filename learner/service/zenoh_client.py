@@ -3,8 +3,9 @@
 
 Calls are synchronous: ``library()`` is asked before a decision and ``learn()`` after
 a grasp, both between ticks, and each is one round trip of a few milliseconds on a
-LAN. The snapshot is cached by version, so a robot that polls ``library()`` before
-every decision moves the whole library only when another robot learned something.
+LAN. The whole library is fetched once; after that ``library()`` asks only for the
+changes since the version the robot holds (the ``changes`` verb), so what moves is
+what other robots learned since, whatever the library's size.
 A service that is not there is reported at construction (its liveliness token is
 missing) and on every call that finds no answer, as a one-line ConnectionError: a
 robot must never hang waiting for its library.
@@ -19,10 +20,12 @@ from typing import TypeVar
 
 import zenoh
 
-from learner.description import ObjectDescription
+from learner.costs import GraspCostRecord
+from learner.description import Descriptions, ObjectDescription
 from learner.service import protocol
-from learner.service.interface import LearnerUnavailable, LibrarySnapshot
-from learner.service.protocol import LEARN, LIBRARY, VERSION_VERB, ProtocolError
+from learner.service.interface import LearnerUnavailable, LibraryChanges, LibrarySnapshot
+from learner.service.protocol import (CHANGES, GRASP_COSTS, LEARN, LIBRARY, RECORD_GRASPS, VERSION_VERB,
+                                      ProtocolError)
 from zenoh_rpc.client import RpcClient
 from zenoh_rpc.config import UserConfig, open_session
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT
@@ -68,16 +71,37 @@ class ZenohLearner:
                                      f"(no liveliness token {keys.alive} within {self.timeout_s:g} s)")
 
     def library(self) -> LibrarySnapshot:
-        version = self.version()
+        """The current library: the first call fetches it whole, later ones only what
+        changed since the snapshot held (the same snapshot when nothing did)."""
         with self._lock:
-            if self._cached is not None and self._cached.version == version:
-                return self._cached
-        snapshot = self._decode(protocol.decode_library_reply,
-                                self._call(LIBRARY, protocol.encode_empty_request()))
+            held = self._cached
+        snapshot = self._fetch_all() if held is None else self._updated(held)
         with self._lock:
             if self._cached is None or snapshot.version >= self._cached.version:
                 self._cached = snapshot
         return snapshot
+
+    def changes(self, since: int) -> LibraryChanges:
+        """What the service says changed after version ``since``."""
+        return self._decode(protocol.decode_changes_reply,
+                            self._call(CHANGES, protocol.encode_changes_request(since)))
+
+    def _fetch_all(self) -> LibrarySnapshot:
+        whole = self._decode(protocol.decode_library_reply, self._call(LIBRARY, protocol.encode_empty_request()))
+        return LibrarySnapshot(whole.version, Descriptions(whole.descriptions))
+
+    def _updated(self, held: LibrarySnapshot) -> LibrarySnapshot:
+        """``held`` brought up to date by one ``changes`` round trip: extended by what
+        was added, replaced when the service sent the whole library, fetched whole when
+        the change does not follow on from what is held."""
+        changed = self.changes(held.version)
+        if changed.version == held.version and changed.start == len(held.descriptions) and not changed.added:
+            return held
+        if changed.start == 0:
+            return LibrarySnapshot(changed.version, Descriptions(changed.added))
+        if changed.start != len(held.descriptions) or not isinstance(held.descriptions, Descriptions):
+            return self._fetch_all()
+        return LibrarySnapshot(changed.version, held.descriptions.plus(changed.added))
 
     def learn(self, description: ObjectDescription, key: str | None = None) -> str:
         """Learn ``description`` under idempotency ``key`` (a fresh uuid when None: the
@@ -85,6 +109,18 @@ class ZenohLearner:
         key = key if key is not None else str(uuid.uuid4())
         return self._decode(protocol.decode_learn_reply,
                             self._call(LEARN, protocol.encode_learn_request(description, key)))
+
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+        """Record ``(grasp, seconds, success)`` attempts under idempotency ``key`` (a fresh
+        uuid when None, as :meth:`learn`); ValueError when the service refuses them."""
+        key = key if key is not None else str(uuid.uuid4())
+        self._decode(protocol.decode_recorded_reply,
+                     self._call(RECORD_GRASPS, protocol.encode_record_grasps_request(attempts, key)))
+
+    def grasp_costs(self) -> list[GraspCostRecord]:
+        """What each grasp has cost so far, as the service keeps it."""
+        return self._decode(protocol.decode_grasp_costs_reply,
+                            self._call(GRASP_COSTS, protocol.encode_empty_request()))
 
     def version(self) -> int:
         return self._decode(protocol.decode_version_reply,

@@ -20,8 +20,9 @@ from collections.abc import Callable, Sequence
 import zenoh
 
 from learner.service import protocol
-from learner.service.interface import LearnerService
-from learner.service.protocol import BAD_REQUEST, INTERNAL, LEARN, LIBRARY, VERBS
+from learner.service.interface import KeepsChanges, KeepsGraspCosts, LearnerService, LibraryChanges
+from learner.service.protocol import (BAD_REQUEST, CHANGES, GRASP_COSTS, INTERNAL, LEARN, LIBRARY, RECORD_GRASPS,
+                                      VERBS)
 from zenoh_rpc.server import RpcServer, payload_of, reply
 from zenoh_rpc.config import UserConfig
 from zenoh_rpc.serving import serve_until
@@ -69,10 +70,35 @@ class LearnerNode:
         if verb == LEARN:
             description, key = protocol.decode_learn_request(payload)
             return protocol.encode_learn_reply(self.service.learn(description, key))
+        if verb == CHANGES:
+            return protocol.encode_changes_reply(self._changes(protocol.decode_changes_request(payload)))
+        if verb == RECORD_GRASPS:
+            attempts, key = protocol.decode_record_grasps_request(payload)
+            self._grasp_costs().record_grasp_attempts(attempts, key)
+            return protocol.encode_recorded_reply(len(attempts))
+        if verb == GRASP_COSTS:
+            protocol.decode_empty_request(payload)
+            return protocol.encode_grasp_costs_reply(self._grasp_costs().grasp_costs())
         protocol.decode_empty_request(payload)
         if verb == LIBRARY:
             return protocol.encode_library_reply(self.service.library())
         return protocol.encode_version_reply(self.service.version())
+
+
+    def _grasp_costs(self) -> KeepsGraspCosts:
+        """The service as a keeper of grasp costs; ValueError (a bad request) for one
+        that keeps none."""
+        if not isinstance(self.service, KeepsGraspCosts):
+            raise ValueError("this learner keeps no grasp costs")
+        return self.service
+
+    def _changes(self, since: int) -> LibraryChanges:
+        """The service's own answer, or the whole library from one that keeps no
+        changes (every client then refetches all of it, as before deltas)."""
+        if isinstance(self.service, KeepsChanges):
+            return self.service.changes(since)
+        snapshot = self.service.library()
+        return LibraryChanges(snapshot.version, 0, snapshot.descriptions)
 
 
 def serve_learner(service: LearnerService, name: str, listen_endpoints: Sequence[str],

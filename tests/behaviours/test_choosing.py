@@ -8,6 +8,8 @@ Width-Degree-1°(24,0), 1.5 bits for 72 s of moving and 100 s of sensing; a widt
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from py_trees.common import Status
 
@@ -15,7 +17,8 @@ from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.records import GraspAttempt
 from learner.runtime import Matched, Unreliable
 from learner.selection import ScoredTest
-from tests.behaviours.conftest import HEIGHT, ROBOT, WIDTH, P, measure, put, run, start_object
+from planner import MoveCost
+from tests.behaviours.conftest import HEIGHT, REGION, ROBOT, WIDTH, P, measure, put, run, start_object
 
 
 # -- BestTest --------------------------------------------------------------------------------
@@ -133,6 +136,26 @@ def test_choose_grasp_takes_the_leafs_grasp(services, log) -> None:  # noqa: ANN
     assert step.attempt == GraspAttempt("Front-Pinch", P(6, 0)) and step.test is None
     assert log.events == [{"event": "choose_grasp", "object": 0, "behaviour": "ChooseGrasp", "how": "leaf",
                            "grasp": "Front-Pinch", "at": [6, 0], "move_s": 36.0, "candidates": ["box"]}]
+
+
+def test_choose_grasp_takes_the_other_end_when_only_it_has_a_path(services, log, monkeypatch) -> None:  # noqa: ANN001
+    # (6,0) in an obstacle: its half-turn twin (6,180) is as good a grasp (vision knows the
+    # reference direction up to a half turn) and 30 in from (24,0): 60 s at 2 s/in
+    navigator = services.navigator
+    blocked = navigator.pose_for(REGION, 6.0, 0.0)
+    priced = navigator.move_cost
+
+    def move_cost(start, goal, *, exact=False):  # noqa: ANN001, ANN202
+        if (goal.x_in, goal.y_in) == (blocked.x_in, blocked.y_in):
+            return MoveCost(math.inf, math.inf, 0.0, exact, "goal in an obstacle")
+        return priced(start, goal, exact=exact)
+
+    monkeypatch.setattr(navigator, "move_cost", move_cost)
+    record, step = start_object(services)
+    measure(record, 18.0)
+    assert run(ChooseGrasp(ROBOT), services) == Status.SUCCESS
+    assert step.attempt == GraspAttempt("Front-Pinch", P(6, 180))
+    assert log.events[-1]["at"] == [6, 180] and log.events[-1]["move_s"] == 60.0
 
 
 def test_choose_grasp_fails_where_a_test_is_due(services, log) -> None:  # noqa: ANN001

@@ -48,8 +48,9 @@ def test_demo_on_the_realistic_camera_locates_and_handles_every_object(tmp_path:
     out = capsys.readouterr().out
     rows = report_rows(out)
     # the report names each lab object once, judged right (seed 0: all handled, as with bands)
-    assert sorted(r[1] for r in rows) == sorted(entry for entry, _, _ in lab_placements())
-    assert all(({"grasped", "left"} & set(r)) and "yes" in r for r in rows)  # "a -> b" names take 2 more
+    # (a trailing * marks one knocked over during the episode)
+    assert sorted(r[1].rstrip("*") for r in rows) == sorted(entry for entry, _, _ in lab_placements())
+    assert all(({"grasped", "left"} & set(r)) and "yes" in r for r in rows)
     assert f"{LAB_OBJECTS} objects: {LAB_OBJECTS}/{LAB_OBJECTS} handled correctly" in out
     assert_every_object_located(tmp_path)
 

@@ -28,7 +28,7 @@ def test_demo_json_is_the_table_as_one_document(tmp_path: Path, capsys) -> None:
         assert o["robot_s"] == o["moving_s"] + o["sensing_s"] + o["grasping_s"]
         # the same seed, the same episode: the table's row says what the document says
         row = next(line.split() for line in table if line.startswith(f"{o['index']}  "))
-        assert row[1:6] == [o["object"], o["grasp"], o["outcome"], "yes" if o["correct"] else "NO",
+        assert row[1:6] == [o["object"] + ("*" if o["ended_as"] else ""), o["grasp"], o["outcome"], "yes" if o["correct"] else "NO",
                             f"{o['robot_s'] / 60:.1f}"]
         assert row[7] == str(o["tests"])
     assert objects[6]["outcome"] == "left" and objects[6]["grasp"] == "No-Grab"

@@ -231,7 +231,8 @@ def test_quick_run_page_has_every_study_with_four_column_rows(quick_run: Path) -
         "Training on the Table 3 objects", "Execution on training and unseen test objects",
         "Baselines in the same run", "Cost trends: move and sensing cost multipliers",
         "Incremental learning: the learning curve", "Noise: success and cost vs noise rate",
-        "The camera's appearance as free features", "Distance to the optimum (noise-free)"]
+        "The camera's appearance as free features", "Distance to the optimum (noise-free)",
+        "Learned grasp costs: a grasp dearer than the knowledge file says"]
     for title, text in sections.items():
         if "Not yet available:" in text:
             continue

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from camera_model.board import load_board
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from hero_driver.sim.render_board import board_path
@@ -16,7 +17,6 @@ from hero_driver.sim.worldfile import load_world
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
-from planner.calibration import load_board
 
 
 def test_an_episode_on_realistic_images(tmp_path: Path) -> None:

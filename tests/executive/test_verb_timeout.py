@@ -13,6 +13,7 @@ from hypothesis import given, strategies as st
 from executive.args import add_verb_timeout_option, verb_timeout
 from executive.cli import build_parser
 from executive.commands.episode import _unanswered, _verb_timeouts, run_run
+from executive.episode_log import read_log
 from executive.exit_status import SOME_FAILED
 from hero_driver.zenoh_link.client import VerbTimeouts
 from hero_driver.zenoh_link.verbs import BY_NAME
@@ -74,11 +75,21 @@ def test_only_timeouts_count_as_unanswered() -> None:
     assert _unanswered(events) == {2: "sense: no reply within 1 s", 4: "grasp: overran"}
 
 
+def hanging_sim(endpoint: str, sense_bound_s: float) -> DriverProcess:
+    """The simulator whose first sense never answers, holding the robot busy on it for
+    ``sense_bound_s`` (the node's bound) before it frees the robot."""
+    return DriverProcess(["-m", "tests.hero_driver.test_zenoh_support", "sim-hang", "r1", endpoint,
+                          str(sense_bound_s)])
+
+
 @pytest.mark.zenoh
-def test_a_sense_the_driver_never_answers_fails_its_object_and_the_run(tmp_path: Path,
-                                                                       capsys: pytest.CaptureFixture[str]) -> None:
+def test_a_sense_the_driver_never_answers_fails_its_object_only(tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    """The client gives up on the sense after 1 s; the driver keeps the robot busy on it
+    until its 3 s bound. Object 0 is given up in one line; the next object waits for
+    the robot instead of being refused ``busy``, and every later object is worked on."""
     endpoint = free_endpoint()
-    with DriverProcess.fake("sim-hang", endpoint) as driver:  # its first sense never answers
+    with hanging_sim(endpoint, 3.0) as driver:
         driver.ready()
         args = run_args("--driver", "zenoh", "--connect", endpoint, "--out", str(tmp_path / "out"), "--no-plots",
                         "--library", str(tmp_path / "library.sqlite"), timeouts=[("sense", 1.0)])
@@ -87,4 +98,15 @@ def test_a_sense_the_driver_never_answers_fails_its_object_and_the_run(tmp_path:
     assert status == SOME_FAILED
     [reason] = [line for line in said.err.splitlines() if "did not answer" in line]
     assert reason == "csl: object 0 not handled: the robot did not answer in time (sense: no reply within 1 s)"
+    events = read_log(tmp_path / "out" / "episode.jsonl")
+    errors = [e for e in events if e["event"] == "driver_error"]
+    assert [(e["object"], e["code"]) for e in errors] == [(0, "timeout")]  # nothing refused busy
+    [gave_up] = [e for e in events if e["event"] == "gave_up"]
+    assert gave_up["object"] == 0
+    assert gave_up["reason"] == "the robot did not answer in time (sense: no reply within 1 s)"
+    after = [e for e in events if e.get("object") == 0 and e["tick"] > gave_up["tick"]]
+    assert after == []  # object 0's step ended there: nothing more was decided or sent for it
+    objects = [e["object"] for e in events if e["event"] == "object"]
+    assert objects == list(range(7))
+    assert [e for e in events if e["event"] == "sense" and e["object"] == 1]  # object 1 was sensed: the robot came back
     assert "exit status 1: " in said.out

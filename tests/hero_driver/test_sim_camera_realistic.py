@@ -10,10 +10,11 @@ import cv2
 import numpy as np
 import pytest
 
+from camera_model.board import load_board
 from hero_driver.interface import Pose
 from hero_driver.sim import render_realistic as rr
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.render_board import board_for, load_board
+from hero_driver.sim.render_board import aruco_dictionary, board_for
 from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
@@ -46,7 +47,7 @@ def test_every_marker_of_the_lab_board_is_printed_where_the_board_file_says() ->
     image = render_world(sim, "realistic")
     board = board_for("lab")
     assert board is not None and len(board.markers) == 9
-    detector = cv2.aruco.ArucoDetector(board.aruco_dictionary(), cv2.aruco.DetectorParameters())
+    detector = cv2.aruco.ArucoDetector(aruco_dictionary(board), cv2.aruco.DetectorParameters())
     corners, ids, _ = detector.detectMarkers(image.pixels)
     found = {int(i): c.reshape(4, 2).mean(axis=0) for c, i in zip(corners, ids.ravel())}
     assert sorted(found) == list(range(9))

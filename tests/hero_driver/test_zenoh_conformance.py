@@ -164,24 +164,60 @@ def _documented_bands() -> dict[str, tuple[int, int, int]]:
     return table
 
 
-def test_the_suite_the_vision_and_the_page_read_the_same_grey_bands() -> None:
-    """Until one leaf module holds the bands (camera_check may not import the planner),
-    the conformance suite's copy, the vision's, the simulator's levels and the protocol
-    page's are held equal."""
-    from hero_driver.sim import camera as sim_camera
-    from hero_driver.zenoh_link import camera_check
-    from planner import vision
+def test_the_published_grey_bands_are_the_protocol_pages() -> None:
+    """One leaf module holds the bands the simulator draws, the suite checks and the
+    vision reads (camera_model.bands); it says what the protocol page says."""
+    from camera_model import bands
 
     table = _documented_bands()
-    for key, suite, seen in [("base", camera_check.ROBOT_BAND, vision.ROBOT_BAND),
-                             ("marker", camera_check.MARKER_BAND, vision.MARKER_BAND),
-                             ("object", camera_check.OBJECT_BAND, vision.OBJECT_BAND)]:
-        assert suite == seen == table[key][1:], key
-    assert vision.WALL_BAND == table["walls"][1:]
-    rendered = (sim_camera.FLOOR, sim_camera.WALL, sim_camera.BASE, sim_camera.MARKER, sim_camera.OBJECT)
+    assert {"floor": bands.FLOOR_BAND, "walls": bands.WALL_BAND, "base": bands.ROBOT_BAND,
+            "marker": bands.MARKER_BAND, "object": bands.OBJECT_BAND} == {k: v[1:] for k, v in table.items()}
+    rendered = (bands.FLOOR, bands.WALL, bands.BASE, bands.MARKER, bands.OBJECT)
     assert rendered == tuple(table[key][0] for key in ("floor", "walls", "base", "marker", "object"))
     # the bands tile 0-255 in order, each rendered level inside its own band
     ordered = sorted(table.values(), key=lambda row: row[1])
     assert [row[1] for row in ordered] == [0] + [row[2] + 1 for row in ordered[:-1]]
     assert ordered[-1][2] == 255
     assert all(lo <= level <= hi for level, lo, hi in ordered)
+    # the protocol's pixel noise never moves a level out of its band
+    noise = bands.PIXEL_NOISE_MAX
+    assert all(lo <= level - noise and min(level + noise, 255) <= hi for level, lo, hi in ordered)
+
+
+def test_a_realistic_camera_is_checked_through_its_calibration(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A real-looking camera (no grey bands) passes with its calibration, read by the
+    executive's vision; without one its image checks say why they were not run."""
+    endpoint = free_endpoint()
+    calibration = tmp_path / "rz.json"
+    argv = ["-m", "executive.cli", "driver", "sim", "--camera", "realistic", "--robot", "rz", "--listen", endpoint]
+    with DriverProcess(argv) as process:
+        process.ready()
+        status, verdicts, details = run_check_detailed(endpoint, "rz", capsys)
+        assert (status, failed(verdicts)) == (0, set())
+        needs = ("not checked: the image is not drawn in the grey bands (a real camera's?): needs "
+                 "--camera-calibration FILE (csl camera calibrate, docs/camera.md)")
+        assert details["camera-mapping"] == details["reset-objects"] == needs
+        assert main(["camera", "calibrate", "--robot", "rz", "--connect", endpoint, "--out", str(calibration)]) == 0
+        capsys.readouterr()
+        status, verdicts, details = run_check_detailed(endpoint, "rz", capsys, 10.0,
+                                                       "--camera-calibration", str(calibration))
+    assert set(verdicts) == ALL_CHECKS
+    assert (status, failed(verdicts)) == (0, set())
+    # the reset pose (30, 30, 0) and the lab's seven objects, each within the half inch
+    # the vision is measured to on this preset (BENCHMARKS.md)
+    mapping = re.fullmatch(r"robot seen through the calibration at \((\S+), (\S+)\) heading (-?\d+) deg, (\S+) in "
+                           r"from the published pose", details["camera-mapping"])
+    assert mapping is not None, details["camera-mapping"]
+    assert float(mapping[4]) <= 0.5 and abs(int(mapping[3])) <= 3
+    objects = re.fullmatch(r"world 'lab': 7 objects seen through the calibration where reset placed them, the "
+                           r"farthest (\S+) in off", details["reset-objects"])
+    assert objects is not None, details["reset-objects"]
+    assert float(objects[1]) <= 0.5
+
+
+def test_a_bad_calibration_file_is_one_line_exit_2(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "cam.json").write_text('{"format": 1}')
+    status = main(["driver", "check", "--connect", free_endpoint(), "--camera-calibration", str(tmp_path / "cam.json")])
+    err = capsys.readouterr().err.strip()
+    assert status == 2
+    assert err == f"csl: error: --camera-calibration: {tmp_path / 'cam.json'}: floor: expected an object"

@@ -9,16 +9,22 @@ import threading
 import time
 from collections.abc import Sequence
 from concurrent.futures import Future
+from pathlib import Path
 
 import numpy as np
 import pytest
 import zenoh
 
+from camera_model.board import load_board
 from hero_driver.interface import CameraImage, MoveResult, Pose
+from hero_driver.sim.noise import NoiseConfig
+from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link import verbs
+from hero_driver.zenoh_link.camera_check import Vision, calibrated_reader
 from hero_driver.zenoh_link.conformance import CheckResult, Procedures, run_checks, shutdown_order
 from hero_driver.zenoh_link.node import DriverNode
+from planner.segmentation import calibrated_camera, save_camera
 from zenoh_rpc.server import RpcServer
 
 pytestmark = pytest.mark.zenoh
@@ -69,15 +75,26 @@ class SlowTurns(SimulatedHero):
         return later
 
 
+class MirroredCamera(SimulatedHero):
+    """A real-looking camera turned round after it was calibrated: its image shows the
+    room left to right the other way (columns reversed)."""
+
+    def camera(self) -> Future[CameraImage]:
+        image = super().camera().result()
+        return _done(dataclasses.replace(image, pixels=image.pixels[:, ::-1].copy()))
+
+
 def _done(value: CameraImage) -> Future[CameraImage]:
     future: Future[CameraImage] = Future()
     future.set_result(value)
     return future
 
 
-def check(driver: SimulatedHero, server: zenoh.Session, endpoint: str) -> dict[str, CheckResult]:
+def check(driver: SimulatedHero, server: zenoh.Session, endpoint: str,
+          vision: Vision | None = None) -> dict[str, CheckResult]:
     with DriverNode(driver, server):
-        results = run_checks(driver.robot, [endpoint], timeout_s=5.0, procedures=Procedures.from_profile())
+        results = run_checks(driver.robot, [endpoint], timeout_s=5.0, procedures=Procedures.from_profile(),
+                             vision=vision)
     return {result.name: result for result in results}
 
 
@@ -105,6 +122,33 @@ def test_objects_drawn_off_their_place_fail_reset_objects(server: zenoh.Session,
     # the lab's first object, a 2 x 2 in box at (70, 60), drawn 10 px = 8 in along +x
     assert results["reset-objects"].detail == ("world 'lab': closed-box-2x2x2/upright: drawn at (78.0, 60.0), 8.0 in "
                                                "from (70, 60) where reset placed it; at most 3 in")
+
+
+def test_a_band_camera_through_a_fisheye_lens_passes(server: zenoh.Session, endpoint: str) -> None:
+    """The control for the camera mutants: band images sent with their fish-eye lens
+    (the harsh noise preset: lens, pixel noise 10, odometry noise) are undistorted by
+    the suite as the protocol says and pass both image checks."""
+    results = check(SimulatedHero("fish", noise=NoiseConfig.preset("harsh")), server, endpoint)
+    assert failed(results) == set()
+    assert results["camera-mapping"].detail.startswith("robot drawn at (")
+    assert results["reset-objects"].detail.startswith("world 'lab': 7 objects drawn where reset placed them")
+
+
+def test_a_camera_turned_after_calibration_fails_through_the_calibration(server: zenoh.Session, endpoint: str,
+                                                                         tmp_path: Path) -> None:
+    """Read through the calibration of the camera as it was, the turned camera's robot
+    and objects are far from where they are: both image checks fail, naming what the
+    executive's vision saw."""
+    calibration = tmp_path / "cam.json"
+    good = SimulatedHero("cal", camera="realistic")
+    pixels = good.camera().result().pixels
+    camera = calibrated_camera(pixels, load_board(board_path("lab")))
+    save_camera(camera.calibration, camera.calibration.rectify(pixels), calibration)
+    good.close()
+    results = check(MirroredCamera("turned", camera="realistic"), server, endpoint, calibrated_reader(calibration))
+    assert failed(results) == {"camera-mapping", "reset-objects"}
+    assert results["camera-mapping"].detail.startswith("the calibrated vision")
+    assert "world 'lab': closed-box-2x2x2/upright: " in results["reset-objects"].detail
 
 
 def test_a_driver_that_drops_its_token_first_passes_shutdown_order(server: zenoh.Session, endpoint: str) -> None:

@@ -137,3 +137,17 @@ def test_a_matrix_grows_to_a_learner_snapshot_sharing_its_list(tmp_path) -> None
         assert grown is not None and grown.descriptions is learner.library().descriptions
         assert_same(grown, DescriptionMatrix(tuple(learner.library().descriptions), KNOWLEDGE))
         assert matrix.extended_to(four_objects()[1:]) is None  # not a growth of this library
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(descriptions(), max_size=12), st.booleans())
+def test_the_bulk_fill_equals_each_row_built_alone(library: list[ObjectDescription], grasps: bool) -> None:
+    # the simple path: each description's row on its own (value_at per column), as appending does
+    matrix = DescriptionMatrix(library, KNOWLEDGE, grasps)
+    alone = np.array([matrix._row(d) for d in library]).reshape(len(library), len(matrix.tests))  # noqa: SLF001
+    assert np.array_equal(matrix.values, alone, equal_nan=True)
+    for i, d in enumerate(library):
+        for j, t in enumerate(matrix.tests):
+            if not t.is_grasp:
+                v = d.value_at(t.feature, t.position)
+                assert (np.isnan(matrix.values[i, j]) if v is None else matrix.values[i, j] == v)

@@ -5,11 +5,17 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from learner.criteria import criterion
+from learner.gain import partition_columns
+from learner.matrix import DescriptionMatrix
 from learner.partition import match, nearest, partition
 from learner.selection import Node, rank
+from tests.learner import test_matrix_append as append_tests
 from tests.learner.fixtures import ANY, P, context, desc, four_objects, hero
 from tests.learner.reference import information_gain
 
@@ -133,3 +139,28 @@ def test_criteria_formulas() -> None:
     assert criterion("cs-id3").score(0.5, 0.0) == math.inf
     with pytest.raises(ValueError, match="unknown criterion 'c4.5'"):
         criterion("c4.5")
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(append_tests.descriptions(), min_size=1, max_size=14), st.data())
+def test_the_vectorised_partition_equals_the_scalar_one_column_by_column(library: list, data: st.DataObject) -> None:
+    # the fast path (known values only, all columns at once, the root memoised) against
+    # learner.partition and the reference gain, one column and one row at a time
+    matrix = DescriptionMatrix(library, hero())
+    rows = sorted(data.draw(st.sets(st.sampled_from(range(len(library))), min_size=1)))
+    columns = np.array(sorted(data.draw(st.sets(st.sampled_from(range(len(matrix.tests))), min_size=1))))
+    found = partition_columns(rows, matrix, columns)
+    for i, j in enumerate(columns.tolist()):
+        values = [(matrix.values[r, j], matrix.classes[matrix.class_of[r]]) for r in rows]
+        known = [(v, c) for v, c in values if not math.isnan(v)]
+        ranges = partition([v for v, _ in known], matrix.errors[j])
+        assert found.ranges[i] == ranges
+        err, lo, hi = matrix.errors[j], matrix.span_lo[j], matrix.span_hi[j]
+        covered = bool(ranges) and (ranges[0][0] - err <= lo + 1e-9 and ranges[-1][1] + err >= hi - 1e-9
+                                    and all(b[0] - a[1] <= 2 * err + 1e-9 for a, b in zip(ranges, ranges[1:])))
+        unknown = (len(ranges) < 2 if matrix.binary[j] else not covered) and not matrix.is_grasp[j]
+        assert bool(found.unknown[i]) == unknown
+        in_range = [(c, next(b for b, (a, z) in enumerate(ranges) if a <= v <= z)) for v, c in known]
+        gain = information_gain(in_range, [c for v, c in values if math.isnan(v)], len(ranges), unknown)
+        assert found.gains[i] == pytest.approx(gain if len(ranges) >= 2 else 0.0, abs=1e-9)
+    assert partition_columns(rows, matrix, columns).ranges == found.ranges  # asked again (memoised at the root)

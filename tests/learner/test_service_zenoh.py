@@ -135,6 +135,8 @@ BAD_REQUESTS = [
     ("version", b"[1]", "must be a JSON object"),
     ("version", b'{"v": 2}', "unsupported protocol version 2"),
     ("library", b'{"v": 1, "since": 3}', "unknown field 'since'"),
+    ("changes", b'{"v": 1}', "missing field 'since'"),
+    ("changes", b'{"v": 1, "since": "3"}', "since: must be a non-negative integer"),
     ("learn", b'{"v": 1}', "missing field 'description'"),
     ("learn", b'{"v": 1, "description": {"id": "x", "grasp": "G"}}', "missing field 'grasp_position'"),
     ("learn", json.dumps({"v": 1, "description": {"id": "x", "grasp": "G", "grasp_position": [6, "*"],

@@ -20,7 +20,8 @@ from hero_driver.sim.render_board import board_path
 from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
-from planner.calibration import Calibration, calibrate, load_board, load_calibration, save_calibration
+from camera_model.board import load_board
+from planner.calibration import Calibration, calibrate, load_calibration, save_calibration
 
 BOARD = load_board(board_path("lab"))
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from camera_model.board import load_board
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero
-from planner.calibration import load_board
 from planner.image import OverheadImage
 from planner.segmentation import calibrated_camera, empty_floor, segment
 from planner.vision import look

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from behaviours.bridge import overhead as camera_overhead
+from camera_model.board import load_board
 from hero_driver.interface import Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
@@ -26,7 +27,6 @@ from hero_driver.sim.render_board import board_path
 from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
 from hero_driver.sim.worldfile import Placement, load_world
-from planner.calibration import load_board
 from planner.image import OverheadImage
 from planner.segmentation import Camera, calibrated_camera
 from planner.vision import look
@@ -49,16 +49,17 @@ class Seen:
     pixel_count: int = 0
 
 
-def lab_at(pose: int, seed: int = 0) -> SimWorld:
+def lab_at(pose: int, seed: int = 0, noise: NoiseConfig = NOISE) -> SimWorld:
     """The lab with every object shifted and turned for pose number ``pose`` (pose 0
-    is the lab as shipped, the robot at its start)."""
+    is the lab as shipped, the robot at its start); ``noise`` the simulator's (its
+    fish-eye switch gives band images through a lens)."""
     spec = load_world("lab", profile_and_catalogue()[1])
     rng = np.random.default_rng(1000 + pose)
     placements = tuple(
         p if pose == 0 else Placement(p.entry_id, p.x_in + float(rng.uniform(-6, 6)),
                                       p.y_in + float(rng.uniform(-6, 6)), p.yaw_deg + 37.0 * pose)
         for p in spec.objects)
-    sim = SimWorld(dataclasses.replace(spec, objects=placements), seed, noise=NOISE)
+    sim = SimWorld(dataclasses.replace(spec, objects=placements), seed, noise=noise)
     if pose == len(ROBOT_PARKED):  # right at the magazine box, as after a failed grasp
         sim.pose = approach_pose(sim, 4, 2.0, 90.0)
     else:
@@ -98,11 +99,11 @@ def seen(sim: SimWorld, preset: str, pose: int, camera: Camera | None) -> list[S
     return out
 
 
-def measure(preset: str, poses: int, camera: Camera | None = None) -> list[Seen]:
+def measure(preset: str, poses: int, camera: Camera | None = None, noise: NoiseConfig = NOISE) -> list[Seen]:
     """Every lab object at poses 0..poses-1 through ``preset``."""
     if preset == "realistic" and camera is None:
         camera = lab_camera()
-    return [s for pose in range(poses) for s in seen(lab_at(pose), preset, pose, camera)]
+    return [s for pose in range(poses) for s in seen(lab_at(pose, noise=noise), preset, pose, camera)]
 
 
 def pixel_spread(results: list[Seen]) -> dict[str, float]:

@@ -1,0 +1,72 @@
+"""The measurements behind the experiment's findings (docs/method.md, "Findings"),
+worked by hand on small libraries."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from executive.experiment import study_execution
+from executive.experiment.conditions import STRATEGIES_OFF, STRATEGIES_ON
+from executive.experiment.config import ExperimentConfig
+from executive.experiment.episodes import EpisodeRow
+from executive.experiment.study_execution import first_grasp_right, recoveries_per_object
+from executive.experiment.study_trends import root_gain_by_distance
+from learner.criteria import DEFAULT_CRITERION
+from tests.learner.fixtures import ANY, P, desc, hero
+
+
+def test_the_best_root_gain_of_a_test_from_each_distance() -> None:
+    # Near, the 5° sweep tells the three grasps apart: log2 3 = 1.585 bits. From 39 in the
+    # 1° sweep reads 4, 13, 14: 13 and 14 lie within its ±3° and merge, so it tells the cup
+    # from the other two only: 1.585 - 2/3 x 1 = 0.918 bits. The grasps (1 bit at most
+    # here, Front-Wrap against the rest: 0.918) are not sensing tests and are left out, and
+    # so is a height made anywhere, (*,*): it has no distance.
+    library = [
+        desc("cup", "Front-Wrap", ("Width-Degree-5°", P(6, 0), 25), ("Width-Degree-1°", P(39, 0), 4),
+             ("Height-Degree-5°", P(ANY, ANY), 30)),
+        desc("box", "Front-Pinch", ("Width-Degree-5°", P(6, 0), 45), ("Width-Degree-1°", P(39, 0), 13),
+             ("Height-Degree-5°", P(ANY, ANY), 60)),
+        desc("tumbler", "Top-Pinch", ("Width-Degree-5°", P(6, 0), 65), ("Width-Degree-1°", P(39, 0), 14),
+             ("Height-Degree-5°", P(ANY, ANY), 90)),
+    ]
+    gains = root_gain_by_distance(library, hero())
+    assert list(gains) == [6.0, 39.0]
+    assert gains[6.0] == pytest.approx(1.5850, abs=1e-4)
+    assert gains[39.0] == pytest.approx(1.5850 - 2 / 3, abs=1e-4)
+
+
+def test_no_library_no_gains() -> None:
+    assert root_gain_by_distance([], hero()) == {}
+
+
+def _row(success: bool, wrong_grasps: int, recoveries: str = "-") -> EpisodeRow:
+    return EpisodeRow("baselines", "v", "cs-id3-failure", "paper", 1.0, "off", 1.0, 1.0, "trained", "training", 0, 0,
+                      14, "cup", "grasped" if success else "failed", "Front-Wrap", success, 300.0, 45.0, 120.0, 135.0,
+                      5.0, 1, 6.0, 0, wrong_grasps, recoveries)
+
+
+def test_first_grasp_right_needs_success_and_no_failed_leaf_grasp() -> None:
+    assert first_grasp_right(_row(True, 0))
+    assert not first_grasp_right(_row(True, 1))  # right in the end, after a failed-grasp recovery
+    assert not first_grasp_right(_row(False, 0))
+
+
+def test_recoveries_are_counted_per_object_by_their_name() -> None:
+    rows = [_row(True, 0, "backtrack ×2, nearest neighbour ×1, reselect ×3"), _row(True, 0, "reselect ×1"),
+            _row(True, 0)]
+    assert recoveries_per_object(rows, "reselect") == pytest.approx(4 / 3)
+    assert recoveries_per_object(rows, "backtrack") == pytest.approx(2 / 3)
+    assert recoveries_per_object(rows, "nearest neighbour") == pytest.approx(1 / 3)
+    assert recoveries_per_object(rows, "neighbour") == 0.0  # a whole name, not a part of one
+
+
+def test_strategies_off_runs_on_both_object_sets_beside_the_execution_runs() -> None:
+    config = ExperimentConfig(quick=True, seeds=2, jobs=1, out=Path("."), command="csl experiment paper --quick")
+    specs = study_execution.plan(config)
+    off = [s for s in specs if s.control == STRATEGIES_OFF]
+    assert sorted((s.objects, s.seed) for s in off) == [("test", 0), ("test", 1), ("training", 0), ("training", 1)]
+    on = {(s.objects, s.seed) for s in specs if s.control == STRATEGIES_ON and s.library == "trained"
+          and s.criterion == DEFAULT_CRITERION}
+    assert {(s.objects, s.seed) for s in off} <= on  # every off run has its on run, paired by floor
