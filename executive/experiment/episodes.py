@@ -15,7 +15,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from executive.executive import Executive
+from executive.executive import EpisodeResult, Executive
 from executive.experiment.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
 from executive.experiment.table import mean
 from executive.experiment.worlds import write_floor
@@ -146,6 +146,20 @@ def run_job(spec: EpisodeSpec) -> list[EpisodeRow]:
     return out
 
 
+
+def play_and_judge(hero: SimulatedHero, executive: Executive) -> tuple[EpisodeResult, list[Truth]]:
+    """Run the executive on the simulated floor to its end, close both, and give every
+    object's truth: named by what the object was, judged by what it is now (a tumbler
+    knocked over and grasped as a lying one was handled right)."""
+    start = hero.truth()
+    try:
+        result = executive.run()
+    finally:
+        executive.shutdown()
+    now = hero.truth()
+    hero.close()
+    return result, [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
+
 def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: LocalLearner,
              folder: Path) -> list[EpisodeRow]:
     """One floor: run the executive to the end and report every object on it, those the
@@ -156,16 +170,7 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
     size = len(learner.library().descriptions)
     executive = Executive(hero, learner, profile=profile, params=spec.control.params(),
                           criterion=criterion(spec.criterion))
-    start = hero.truth()
-    try:
-        result = executive.run()
-    finally:
-        executive.shutdown()
-    now = hero.truth()
-    hero.close()
-    # named by what the object was, judged by what it is now (a tumbler knocked over and
-    # grasped as a lying one was handled right)
-    truths = [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
+    result, truths = play_and_judge(hero, executive)
     stats = _object_stats(executive.log.events)
 
     def row(name: str, outcome: str, grasp: str, success: bool, robot: tuple[float, float, float],

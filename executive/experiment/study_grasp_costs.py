@@ -25,10 +25,10 @@ from executive import defaults
 from executive.executive import Executive
 from executive.experiment.conditions import EXECUTION_NOISE, noise_config
 from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import installed_profile
+from executive.experiment.episodes import installed_profile, play_and_judge
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 from executive.experiment.worlds import write_floor
-from executive.report import Truth, rows
+from executive.report import rows
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import load_library
 from learner.service.local import LocalLearner
@@ -79,14 +79,7 @@ class GraspCostJob:
         # the executive records each object's attempts and prices grasps by them, as csl run does
         executive = Executive(hero, learner, profile=installed_profile(),
                               params=Params(learned_grasp_costs=self.learned))
-        start = hero.truth()
-        try:
-            result = executive.run()
-        finally:
-            executive.shutdown()
-        now = hero.truth()
-        hero.close()
-        truths = [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
+        result, truths = play_and_judge(hero, executive)
         failed = [e.get("object") for e in executive.log.events
                   if e.get("event") == "grasp_feature_failed"]
         return [GraspCostRow(self.learned, self.seed, episode, r.object, bool(r.correct), r.robot_s,
