@@ -112,6 +112,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="the driver camera's calibration ('csl camera calibrate'; the empty floor image beside "
                             "it): the camera-mapping and reset-objects checks read a real camera's images through "
                             "it, as 'csl run' does (default: band images; others are not checked; docs/camera.md)")
+    check.add_argument("--shutdown-order", action="store_true",
+                       help="after the suite, also check the liveliness order at shutdown: the command pings the "
+                            "driver and asks you (on standard error) to stop it within --timeout seconds; passes "
+                            "when its token went before its queryables (docs/driver-protocol.md, 'Shutdown order')")
     check.add_argument("--json", action="store_true",
                        help="print the results as one JSON document: checks (name, passed, detail), passed, failed")
     check.set_defaults(handler=_run_check)
@@ -174,6 +178,15 @@ def _run_check(args: argparse.Namespace) -> int:
             raise ValueError(f"--camera-calibration: {exc}") from None
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
                          zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision)
+    if args.shutdown_order and any(r.passed for r in results):  # no driver at all: the suite said so
+        from hero_driver.zenoh_link.conformance import shutdown_order
+
+        def ask() -> None:  # once the check sees the token and noops are answered: a person stops it
+            print(f"shutdown-order: stop the driver of robot {args.robot} now (within {args.timeout:g} s)",
+                  file=sys.stderr, flush=True)
+
+        results = [*results, shutdown_order(args.robot, [connect], ask, timeout_s=args.timeout,
+                                            zenoh_config=zenoh_config)]
     if args.json:
         failed = sum(not r.passed for r in results)
         print(json.dumps({"robot": args.robot, "checks": [dataclasses.asdict(r) for r in results],
