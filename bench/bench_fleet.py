@@ -2,7 +2,7 @@
 
     python bench/bench_fleet.py [--robots 3] [--minutes 2] [--episodes N] [--out DIR]
 
-Starts, as real processes on 127.0.0.1 only, one zenoh router (this script in router
+Starts, as real processes on 127.0.0.1 only, one zenoh router (``zenoh_rpc.router`` in router
 mode), one learner service (``csl learner serve``), K simulated drivers (``csl driver
 sim --robot rK``) and, for each robot, executives run back to back (``csl run --driver
 zenoh --learner zenoh``) until the time is up: each episode first resets its robot's
@@ -40,7 +40,6 @@ import math
 import os
 import platform
 import re
-import signal
 import socket
 import subprocess
 import sys
@@ -88,23 +87,13 @@ SERVED = re.compile(r"csl/learner/[^/]+/rpc/(\w+): (\S+) in ([\d.]+) ms")
 
 # --- the router -------------------------------------------------------------------
 
-def serve_router(endpoint: str) -> None:
-    """Run a zenoh router on ``endpoint`` until SIGTERM or SIGINT (a ``zenohd`` of our
-    own, so the bench needs nothing beyond the Python package)."""
-    import zenoh
-
-    from zenoh_rpc.config import close_session, make_config
-
-    zenoh.init_log_from_env_or("warn")  # sessions dropped or refused go to router.err
-    config = make_config(listen=[endpoint])  # our lease and scouting settings
-    config.insert_json5("mode", '"router"')
-    session = zenoh.open(config)
-    stop = threading.Event()
-    for sig in (signal.SIGTERM, signal.SIGINT):
-        signal.signal(sig, lambda *_: stop.set())
-    print(f"router on {endpoint}", flush=True)
-    stop.wait()
-    close_session(session)
+def router_config(path: Path, endpoint: str) -> Path:
+    """The router's zenoh config file: router mode, listening on ``endpoint`` only; it
+    runs as ``python -m zenoh_rpc.router FILE`` (a ``zenohd`` of our own, so the bench
+    needs nothing beyond the Python package)."""
+    path.write_text(json.dumps({"mode": "router", "listen": {"endpoints": [endpoint]}}, indent=2) + "\n",
+                    encoding="utf-8")
+    return path
 
 
 def client_config(path: Path, router: str) -> Path:
@@ -390,9 +379,9 @@ def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path) -> d
     stop = threading.Event()
     samples = Samples()
     try:
-        this = str(Path(__file__).resolve())
-        nodes.append(Node("router", [sys.executable, this, "--serve-router", router], out, env))
-        nodes[-1].wait_ready("router on")
+        routing = router_config(out / "router.json5", router)
+        nodes.append(Node("router", [sys.executable, "-m", "zenoh_rpc.router", str(routing)], out, env))
+        nodes[-1].wait_ready("routing on")
         learner = Node("learner", [*CSL, "learner", "serve", "--name", LEARNER, "--db", str(db),
                                    "--zenoh-config", str(config), "-v"], out, env)
         nodes.append(learner)
@@ -552,11 +541,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--minutes", type=positive(float), default=2.0, help="start no episode after this")
     parser.add_argument("--episodes", type=positive(int), default=None, help="at most this many episodes per robot")
     parser.add_argument("--out", type=Path, default=None, help="output folder (default: a new temporary folder)")
-    parser.add_argument("--serve-router", metavar="ENDPOINT", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    if args.serve_router:
-        serve_router(args.serve_router)
-        return 0
     out = args.out or Path(tempfile.mkdtemp(prefix="csl-fleet-"))
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         parser.error(f"--out {out}: not an empty folder; give a new one")
