@@ -165,7 +165,8 @@ class _Recovery(CslBehaviour):
         return Status.SUCCESS
 
     def recover(self, finding: Finding) -> None:
-        raise NotImplementedError
+        """What each kind does (every subclass names its KIND and overrides this; the
+        base's empty KIND matches no finding, so it is never called here)."""
 
 
 class Relocate(_Recovery):
