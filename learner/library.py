@@ -296,6 +296,7 @@ class LibraryStore:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         self._codes: dict[tuple[str, float | None, float | None, float], int] | None = None  # read when needed
+        self.undecodable: list[tuple[str, str]] = []  # rows the last descriptions() left out: (id, why)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             # one connection used from whichever thread holds the owner's lock (the zenoh
@@ -392,7 +393,9 @@ class LibraryStore:
 
     @_refusing_damage
     def descriptions(self) -> list[ObjectDescription]:
-        """Every description, in the order they were added.
+        """Every description, in the order they were added; a row whose values no
+        description may hold is left out and listed in :attr:`undecodable` (id, reason),
+        so one bad row does not take the rest of the library with it.
 
         Each description's observations come from its codes (:data:`_CODED`), each
         distinct observation built once and shared; a row without codes (added by an
@@ -406,14 +409,18 @@ class LibraryStore:
             by_code[code] = Observation(sys.intern(feature), position, v)
         decode = by_code.__getitem__
         out = []
+        self.undecodable = []
         for seq, i, g, d, o, r, a, e, coded in self._db.execute(
                 "SELECT seq, id, grasp, grasp_distance_in, grasp_orientation_deg, appearance_round,"
                 f" appearance_area_in2, appearance_elongation, {_CODED} FROM descriptions ORDER BY seq"):
             observations = (in_order(self._observations_of(seq)) if coded is None
                             else tuple(map(decode, _little_endian(array.array("i", coded)))))
-            position = positions.get((d, o)) or positions.setdefault((d, o), Position(d, o))
-            out.append(ObjectDescription(i, sys.intern(g), position, observations,
-                                         None if r is None else Appearance(bool(r), a, e)))
+            try:  # values no description may hold (written by hand, or by a csl without the check)
+                position = positions.get((d, o)) or positions.setdefault((d, o), Position(d, o))
+                out.append(ObjectDescription(i, sys.intern(g), position, observations,
+                                             None if r is None else Appearance(bool(r), a, e)))
+            except ValueError as exc:
+                self.undecodable.append((str(i), str(exc).splitlines()[0] if str(exc) else type(exc).__name__))
         return out
 
     def meta_int(self, key: str) -> int:

@@ -23,6 +23,7 @@ from behaviours.services import Params
 from camera_model.board import MarkerBoard, load_board
 from executive import defaults
 from executive.args import criterion_from_args, library_path, output_folder
+from executive.commands.learner_cmd import report_quarantined
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status
@@ -236,7 +237,9 @@ def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None, setup: S
         return OutboxLearner(service, outbox, name)
     path = library_path(args.library, "--library")
     args.library_created = not path.exists()  # said in the report: a run that fails still says one line
-    return LocalLearner(path, seed_library=_seed_library(args, setup) if args.library_created else None)
+    learner = LocalLearner(path, seed_library=_seed_library(args, setup) if args.library_created else None)
+    report_quarantined(learner, "local")  # rows kept in the file but not used, each named
+    return learner
 
 
 def _seed_library(args: argparse.Namespace, setup: Setup) -> list[ObjectDescription]:

@@ -74,7 +74,8 @@ class LocalLearner:
                 self._bump_version()
                 self._store.add(list(seed_library))
                 stored = self._store.descriptions()
-            served, self.quarantined = partition(stored, knowledge, str(self.path))
+            served, refused = partition(stored, knowledge, str(self.path))
+            self.quarantined = (*(Quarantined(i, why) for i, why in self._store.undecodable), *refused)
             if self.quarantined:  # what clients cached may hold a quarantined row: make them refetch
                 self._bump_version()
             self._snapshot = LibrarySnapshot(self._stored_version(), Descriptions(served))

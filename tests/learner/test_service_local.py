@@ -198,3 +198,25 @@ def test_without_knowledge_a_poisoned_store_quarantines_what_breaks_the_format(t
         assert [q.object_id for q in learner.quarantined] == ["inf"]
         assert [d.object_id for d in learner.library().descriptions] == ["cup", "box", "huge", "colour", "tumbler",
                                                                         "closed"]
+
+
+def test_a_stored_row_no_description_may_hold_is_quarantined_and_the_rest_served(tmp_path: Path) -> None:
+    """A row edited by hand to a negative footprint area (the appearance check refuses
+    it when the row is built) is left out and named; the other two are served."""
+    from executive.defaults import EXAMPLE_LIBRARY
+    from learner.library import read_library_json
+
+    store = tmp_path / "library.sqlite"
+    three = read_library_json(EXAMPLE_LIBRARY)[:3]
+    with LibraryStore(store) as opened:
+        opened.add(three)
+    with closing(sqlite3.connect(store)) as db, db:
+        db.execute("UPDATE descriptions SET appearance_area_in2 = -1 WHERE id = ?", (three[1].object_id,))
+    service = LocalLearner(store)
+    try:
+        assert [d.object_id for d in service.library().descriptions] == [three[0].object_id, three[2].object_id]
+        (bad,) = service.quarantined
+        assert bad.object_id == three[1].object_id
+        assert bad.reason == "appearance area must be a positive number of square inches, got -1.0"
+    finally:
+        service.close()
