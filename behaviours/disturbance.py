@@ -37,13 +37,12 @@ from dataclasses import dataclass
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import overhead, relative_position
 from behaviours.events import Event
+from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
 from hero_driver.interface import CameraImage
-from learner.runtime import RecognitionSession
 from planner import Region
 
 OUTLINE_PIXELS = 1.5
@@ -199,7 +198,8 @@ class StartAfresh(_Recovery):
         obj = self.obj
         assert finding.region is not None
         follow(obj, finding.region)
-        obj.session = fresh_session(self, obj, finding.region)
+        start = relative_position(self.services.navigator, finding.region, self.robot_pose())
+        obj.session = open_session(self.services, finding.region, obj.estimator, start, obj.index)
         self.note(Event.START_AFRESH, at=[round(c, 1) for c in finding.region.centroid],
                   pixels=finding.region.pixel_count, start=obj.session.position.to_json())
 
@@ -223,18 +223,6 @@ def follow(obj: ObjectRecord, region: Region) -> None:
     obj.region, obj.pixels_before = region, region.pixel_count
     obj.estimator.retarget(region)
     obj.session.orientation_free = region.round
-
-
-def fresh_session(behaviour: CslBehaviour, obj: ObjectRecord, region: Region) -> RecognitionSession:
-    """A run-time tree for ``region`` from where the robot stands, as the object loop
-    opens one (behaviours.loop.StartObject), with what the camera measures of it."""
-    services = behaviour.services
-    params = services.params
-    start = relative_position(services.navigator, region, behaviour.robot_pose())
-    return RecognitionSession(services.library.current(), services.criterion, obj.estimator, start,
-                              max_alternatives=params.max_alternatives, orientation_free=region.round,
-                              seed=params.seed + obj.index, appearance=appearance_of(region),
-                              use_appearance=params.use_appearance)
 
 
 def look_before(robot: str, what: str, act: py_trees.behaviour.Behaviour) -> py_trees.behaviour.Behaviour:

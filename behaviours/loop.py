@@ -20,6 +20,7 @@ from behaviours.bridge import PlannerMoveCost, relative_position
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import Services, namespace
+from learner.position import Position
 from learner.runtime import RecognitionSession
 from planner import Region
 
@@ -41,6 +42,19 @@ class ForEachObject(py_trees.decorators.Decorator):
         return Status.SUCCESS
 
 
+def open_session(services: Services, region: Region, estimator: PlannerMoveCost, start: Position,
+                 index: int) -> RecognitionSession:
+    """Object ``index``'s run-time tree for ``region`` from ``start``, with what the camera
+    measured of it (round, area, elongation) and the episode's control parameters: the
+    object loop opens one per object, and a disturbance that swapped the object opens
+    a fresh one (behaviours.disturbance.StartAfresh)."""
+    params = services.params
+    return RecognitionSession(services.library.current(), services.criterion, estimator, start,
+                              max_alternatives=params.max_alternatives, orientation_free=region.round,
+                              seed=params.seed + index, appearance=appearance_of(region),
+                              use_appearance=params.use_appearance)
+
+
 class StartObject(CslBehaviour):
     """Start on the next object: remember its appearance (pixel count, for the side-effect
     check) and open its run-time tree from where the robot stands, handing the learner
@@ -59,13 +73,8 @@ class StartObject(CslBehaviour):
         began = services.clock()
         start = relative_position(services.navigator, region, self.robot_pose())
         estimator = PlannerMoveCost(services.navigator, region)
-        appearance = appearance_of(region)
-        use_appearance = services.params.use_appearance
-        session = RecognitionSession(services.library.current(), services.criterion, estimator, start,
-                                     max_alternatives=services.params.max_alternatives,
-                                     orientation_free=region.round,
-                                     seed=services.params.seed + len(self.bb.results),
-                                     appearance=appearance, use_appearance=use_appearance)
+        session = open_session(services, region, estimator, start, len(self.bb.results))
+        appearance, use_appearance = session.appearance, services.params.use_appearance
         record = ObjectRecord(len(self.bb.results), region, region.pixel_count, session, estimator,
                               first_region=region)
         record.ledger.computing_s += services.clock() - began

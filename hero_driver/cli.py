@@ -34,6 +34,15 @@ def disturb_preset(text: str) -> object:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--disturb: ")) from None
 
 
+def add_disturb_option(p: argparse.ArgumentParser, when: str) -> None:
+    """``--disturb`` on the simulator's commands (``driver sim``; ``demo`` and ``run
+    --driver sim``, whose simulator runs in-process); ``when`` says when it applies."""
+    p.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
+                   help="someone disturbs objects while the robot senses them: each object, when first "
+                        "sensed, is nudged, removed or replaced with probability P (e.g. nudge:0.2; "
+                        f"docs/simulator.md, Disturbances; {when}default: only the world file's events)")
+
+
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``driver`` group and its ``sim`` and ``check`` commands."""
     group = subparsers.add_parser(
@@ -74,10 +83,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple)")
-    sim.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
-                     help="someone disturbs objects while the robot senses them: each object, when first "
-                          "sensed, is nudged, removed or replaced with probability P (e.g. nudge:0.2; "
-                          "docs/simulator.md, Disturbances; default: only the world file's events)")
+    add_disturb_option(sim, "")
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "

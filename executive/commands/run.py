@@ -11,7 +11,7 @@ from executive import defaults
 from executive.args import (add_criterion_options, add_learned_grasp_costs_option, add_recording_options,
                             add_retrain_option, add_verb_timeout_option, battery_level, endpoint, non_negative_int,
                             non_negative_seconds, positive_int)
-from hero_driver.cli import disturb_preset
+from hero_driver.cli import add_disturb_option
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
@@ -57,7 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
     _noise_option(demo, "")
     _camera_option(demo, "")
-    _disturb_option(demo, "")
+    add_disturb_option(demo, "")
     add_retrain_option(demo)
     _executive_options(demo)
     demo.set_defaults(handler=_handler("run_demo"))
@@ -75,7 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     run.add_argument("--seed", type=non_negative_int, default=None, help="simulator seed (with --driver sim; default 0)")
     _noise_option(run, "with --driver sim; ")
     _camera_option(run, "with --driver sim; ")
-    _disturb_option(run, "with --driver sim; ")
+    add_disturb_option(run, "with --driver sim; ")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",
@@ -120,13 +120,6 @@ def _camera_option(p: argparse.ArgumentParser, when: str) -> None:
                    help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
                         "camera's image; calibrated from the world's marker board on the first image unless "
                         f"--camera-calibration is given; docs/camera.md) ({when}default simple)")
-
-
-def _disturb_option(p: argparse.ArgumentParser, when: str) -> None:
-    p.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
-                   help="someone disturbs objects while the robot senses them: each object, right after its "
-                        "first sensing, is nudged, taken away or swapped with probability P (KIND: nudge, remove, "
-                        f"replace; docs/simulator.md, 'Disturbances') ({when}default none)")
 
 
 def _handler(name: str):  # noqa: ANN202
