@@ -9,14 +9,15 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from py_trees.common import Access, Status
 
 from behaviours.base import DriverAction
 from behaviours.bridge import overhead, to_driver_pose
 from behaviours.events import Event
-from hero_driver.interface import CameraImage, DriverError, GraspResult, MoveResult, RobotState, SenseResult
+from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Obstacle, RobotState,
+                                   SenseResult)
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.position import Position
 from planner import PlanResult
@@ -45,6 +46,18 @@ class LocateObjects(DriverAction):
         return Status.SUCCESS
 
 
+BLOCKED = "blocked"  # blackboard: the Blockage a move under the blocked-move branch last met (None: none)
+
+
+@dataclass(frozen=True)
+class Blockage:
+    """A move stopped short of ``obstacle``; ``rounds`` of the blocked-move branch
+    (look, re-plan or wait, retry) have been spent on this move so far."""
+
+    obstacle: Obstacle
+    rounds: int
+
+
 class MoveTo(DriverAction):
     """Plan a collision-free path to the chosen test's (or grasp's) position and drive it.
 
@@ -53,15 +66,26 @@ class MoveTo(DriverAction):
     position with no path (or a move that collided) is unusable: the session reselects.
     A grasp position with no path fails here and the "other end" recovery takes over; a
     grasp move that collided or was refused counts as a failed grasp.
+
+    A move a moving obstacle stopped short (the driver's ``blocked_moves`` feature)
+    fails with the obstacle on the blackboard (``BLOCKED``) for the blocked-move branch
+    (``behaviours.blocked``) when this move is one of that branch's (``role``: the
+    ``first`` try, a re-plan ``around`` the obstacle, a ``retry`` after waiting);
+    anywhere else, or with the branch off, it counts as a collision.
     """
 
     POSE_ACCESS = Access.WRITE  # the one writer of where the robot stands
+    ROLES = ("first", "around", "retry")
 
-    def __init__(self, robot: str, target: str, name: str | None = None) -> None:
+    def __init__(self, robot: str, target: str, name: str | None = None, role: str = "first") -> None:
         super().__init__(name or f"MoveTo {target}", robot)
         if target not in ("test", "grasp"):
             raise ValueError(f"MoveTo target must be 'test' or 'grasp', got {target!r}")
-        self.target = target
+        if role not in self.ROLES:
+            raise ValueError(f"MoveTo role must be one of {', '.join(self.ROLES)}, got {role!r}")
+        self.target, self.role = target, role
+        self.in_branch = False  # set by behaviours.blocked.around_movers
+        self.bb.register_key(BLOCKED, access=Access.WRITE)
         self._goal: Position | None = None
         self._path: tuple[DriverPose, ...] = ()  # the waypoints sent, logged with the move
 
@@ -93,6 +117,9 @@ class MoveTo(DriverAction):
 
     def no_path(self, goal: Position, plan: PlanResult) -> Status:
         self.note(Event.NO_PATH, to=goal.to_json(), reason=plan.reason)
+        if self.in_branch and self.role == "around":
+            return Status.FAILURE  # the obstacle drawn in closes the way: wait for it instead
+        self._clear_blockage()
         if self.target == "test":
             return self._unusable()
         return Status.FAILURE
@@ -101,17 +128,34 @@ class MoveTo(DriverAction):
         obj = self.obj
         self.bb.pose = result.pose
         obj.ledger.moving_s += result.duration_s
+        blocked = None if result.blocked is None else [round(result.blocked.x_in, 1), round(result.blocked.y_in, 1),
+                                                       round(result.blocked.radius_in, 1)]
         self.note(Event.MOVE, to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
                   collided=result.collided, pose=pose_json(result.pose),
-                  path=[pose_json(p) for p in self._path])  # as planned: the map draws it as driven
-        if result.collided:
+                  path=[pose_json(p) for p in self._path],  # as planned: the map draws it as driven
+                  **({} if blocked is None else {"blocked": blocked}))
+        if result.blocked is not None and self.in_branch and self.services.params.blocked_tries > 0:
+            return self._blockage(result.blocked)
+        self._clear_blockage()
+        if result.collided or result.blocked is not None:
             return self._unusable()
         assert self._goal is not None
         obj.session.position = self._goal
         return Status.SUCCESS
 
+
     def failed(self, exc: DriverError) -> Status:
+        self._clear_blockage()
         return self._unusable()
+
+    def _blockage(self, obstacle: Obstacle) -> Status:
+        """Stopped short of a moving obstacle: the branch takes over (rounds carried on)."""
+        before = self.bb.get(BLOCKED) if self.role != "first" and self.bb.exists(BLOCKED) else None
+        self.bb.set(BLOCKED, Blockage(obstacle, 0 if before is None else before.rounds))
+        return Status.FAILURE
+
+    def _clear_blockage(self) -> None:
+        self.bb.set(BLOCKED, None)
 
     def _unusable(self) -> Status:
         step = self.step

@@ -13,6 +13,10 @@ The guard is off (``BatteryLow?`` always fails) when the driver lacks the option
 when ``Params.battery_low`` is 0, and until the first overhead image gives a map to
 plan the trip on. It never interrupts a verb in flight: the robot finishes the move,
 sensing or grasp it is doing, and the guard fires at the next tick.
+
+With ``Params.price_detours`` the learner's move prices count the trip to the dock a
+test would cause (executive.battery_cost); :class:`Charge` then drops the object's
+cached prices, made on the low level.
 """
 
 from __future__ import annotations
@@ -123,6 +127,7 @@ class Charge(DriverAction):
         obj = self.bb.get("object")
         if obj is not None and not obj.done:  # resume from here: the session keeps what it measured
             obj.session.position = relative_position(self.services.navigator, obj.region, self.robot_pose())
+            obj.estimator.retarget(obj.region)  # forget prices made on the low charge (dock detours)
         self.feedback_message = f"charged to {result.battery:.2f}"
         return Status.SUCCESS
 

@@ -47,6 +47,7 @@ class Event(str, Enum):
     GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True
+    BEAM_BLOCKED = "beam_blocked", "a test's sonar beam would meet another object (neighbours' centroids): unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
     CHARGE = "charge", "the battery ran low: the robot drove to its dock and charged (levels, seconds), then resumed"
     DISTURBANCE = "disturbance", "the camera check before a sensing or grasp: the object moved, changed or gone"

@@ -16,16 +16,18 @@ import math
 from concurrent.futures import Future
 from dataclasses import replace
 
-from py_trees.common import Status
+from py_trees.common import Access, Status
 
-from behaviours.actions import MoveTo
+from behaviours.actions import MoveTo, pose_json
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import other_end, overhead, relative_position
+from behaviours.bridge import other_end, overhead, relative_position, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
+from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.matrix import Test
+from learner.position import Position
 from learner.runtime import Exhausted
 from learner.selection import ScoredTest
 from learner.decision_tree import AmbiguousLeaf
@@ -218,7 +220,12 @@ class StartOver(CslBehaviour):
         assert step.attempt is not None and step.side_effect is not None
         here = relative_position(self.services.navigator, obj.region, self.robot_pose())
         changed = step.side_effect == "changed"
-        obj.session.grasp_failed(step.attempt.grasp, side_effects=True, changed=changed, position=here)
+        try:
+            obj.session.grasp_failed(step.attempt.grasp, side_effects=True, changed=changed, position=here)
+        except ValueError:  # a grasp pushing it twice was the last one left
+            obj.finish("failed")
+            self.note(Event.GAVE_UP, reason="every grasp in the library failed")
+            return Status.SUCCESS
         obj.ledger.recoveries["start over (changed)" if changed else "start over (pushed)"] += 1
         self.note(Event.START_OVER, changed=changed, at=here.to_json())
         return Status.SUCCESS
@@ -259,7 +266,15 @@ class Discriminate(DriverAction):
     Each procedure is one driver verb; the behaviour stays RUNNING between them. A test
     is tried once per object, not once per wrong prediction, and a procedure that gave
     nothing on this object is not asked again from another side: a deaf sonar must not
-    cost one more sweep after every failed grasp."""
+    cost one more sweep after every failed grasp.
+
+    Where nothing at all was sensed on the object (the camera's appearance left one
+    grasp, and it failed), the cheapest discriminating test is worth a move: without one
+    value the object would be learned with none, nothing would tell it from the wrongly
+    predicted descriptions next time, and the same grasp would fail again
+    (docs/method.md §5.8). The move is one more driver verb before the sense."""
+
+    POSE_ACCESS = Access.WRITE  # the move to a discriminating test changes where the robot stands
 
     def __init__(self, robot: str, name: str = "Discriminate") -> None:
         super().__init__(name, robot)
@@ -268,6 +283,8 @@ class Discriminate(DriverAction):
         self._tried: set[Test] = set()
         self._silent: set[str] = set()  # procedures that gave no value on this object
         self._tried_on: ObjectRecord | None = None
+        self._may_move = False
+        self._path: tuple[DriverPose, ...] = ()  # the waypoints of a move for the value, logged with it
 
     def start(self) -> Future[SenseResult] | Status:
         obj, attempt = self.obj, self.step.attempt
@@ -279,6 +296,8 @@ class Discriminate(DriverAction):
             self.note(Event.DISCRIMINATE, already=True, wrong=attempt.grasp)
             return Status.SUCCESS  # what was measured already tells the two apart
         self._wrong = attempt.grasp
+        # one move for a value, on an object nothing was sensed on and not yet discriminated
+        self._may_move = not obj.session.measurements and not self._tried
         return self._next()
 
     def _next(self) -> Future[SenseResult] | Status:
@@ -291,12 +310,29 @@ class Discriminate(DriverAction):
             if self._test is None or self._test.test.procedure not in self._silent:
                 break
             self._tried.add(self._test.test)
-        if self._test is None or self._test.move_cost > 0:
-            return Status.SUCCESS  # nothing left to add from here; moving for it is not worth it
+        if self._test is None:
+            return Status.SUCCESS  # nothing left to add
         self._tried.add(self._test.test)  # each test once: a dropout is not retried forever
+        if self._test.move_cost > 0:
+            if not self._may_move:
+                return Status.SUCCESS  # what was sensed goes into the description: no move for more
+            self._may_move = False
+            return self._move_to(self._test.target)
         return self.services.driver.sense(self._test.test.procedure)
 
-    def finish(self, result: SenseResult) -> Status:
+    def _move_to(self, target: Position) -> Future[MoveResult] | Status:
+        """Drive to ``target`` for the one discriminating value (no path: give it up)."""
+        obj, nav = self.obj, self.services.navigator
+        plan = self.timed(lambda: nav.plan(self.robot_pose(), obj.estimator.pose(target)))
+        if not plan.found:
+            self.note(Event.NO_PATH, to=target.to_json(), reason=plan.reason)
+            return Status.SUCCESS
+        self._path = tuple(to_driver_pose(p) for p in plan.path or ())
+        return self.services.driver.move(list(self._path), face=obj.region.centroid)
+
+    def finish(self, result: SenseResult | MoveResult) -> Status:
+        if isinstance(result, MoveResult):
+            return self._moved(result)
         obj = self.obj
         assert self._test is not None and self._wrong is not None
         obj.ledger.sensing_s += result.duration_s
@@ -313,6 +349,19 @@ class Discriminate(DriverAction):
         if isinstance(nxt, Status):
             return nxt
         self._future = nxt  # the next procedure, watched by update()
+        return Status.RUNNING
+
+    def _moved(self, result: MoveResult) -> Status:
+        obj = self.obj
+        assert self._test is not None
+        self.bb.pose = result.pose
+        obj.ledger.moving_s += result.duration_s
+        self.note(Event.MOVE, to=self._test.target.to_json(), seconds=round(result.duration_s, 1),
+                  collided=result.collided, pose=pose_json(result.pose), path=[pose_json(p) for p in self._path])
+        if result.collided:
+            return Status.SUCCESS  # not where the value was wanted: learn without it
+        obj.session.position = self._test.target
+        self._future = self.services.driver.sense(self._test.test.procedure)
         return Status.RUNNING
 
     def failed(self, exc: DriverError) -> Status:

@@ -7,9 +7,15 @@ Per size, medians of CPU time (``time.process_time``: the machine is shared) of:
 - building the matrix: ``DescriptionMatrix`` (one pass over the distinct observations,
   spread with array operations) against each row built alone (``_row``: the per
   description path the build used before, and appending still uses);
-- a node's partition (``partition_columns``, memo cleared: the work of a first choice)
+- a node's partition (``partition_columns``, memos cleared: the work of a first choice)
   against the previous dense one (kept below verbatim), at the root and at a node
-  holding every other row.
+  holding every other row;
+- the same partitions against the per-entry one they replaced (over every known entry
+  of the node's rows, ``tests/learner/reference_paths.py``), where today's works
+  on each column's distinct values with their counts per class;
+- a leaf's grasp options (``decision_tree.grasp_options``) at that node, read as per-row
+  arrays, against the row-by-row reading they replaced (the labels made once per
+  matrix, outside the timing, as a session finds them).
 
 Both paths must give equal results, or the bench stops.
 
@@ -34,11 +40,18 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
+from learner.costs import ModelMoveCost  # noqa: E402
+from learner.criteria import criterion  # noqa: E402
+from learner.decision_tree import grasp_options  # noqa: E402
 from learner.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
 from learner.library import LibraryStore, read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.position import Position  # noqa: E402
+from learner.selection import Context, Node  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
+from tests.learner.reference_paths import entries, entry_partition, simple_grasp_options  # noqa: E402
 
+START = Position(60.0, 0.0)  # as bench_scaling.py
 SIZES = (10_000, 100_000)
 
 
@@ -137,6 +150,7 @@ def main() -> None:
 
             def fresh(rows: Sequence[int]) -> Split:
                 matrix.root_splits.clear()
+                matrix.node_splits.clear()
                 return partition_columns(rows, matrix, columns)
 
             measures: list[tuple[str, Callable[[], object], Callable[[], object]]] = [
@@ -147,6 +161,20 @@ def main() -> None:
                     sys.exit(f"{n}: the partitions at {name} differ")
                 measures.append((f"partition at {name}", lambda r=rows: dense_partition(r, matrix, columns),  # noqa: B023
                                  lambda r=rows: fresh(r)))
+            known = entries(matrix)  # as the matrix kept them before
+            for name, rows in rows_of.items():
+                if not same(entry_partition(rows, matrix, columns, known), fresh(rows)):
+                    sys.exit(f"{n}: the partitions over entries and over distinct values at {name} differ")
+                measures.append((f"partition at {name}, before: per entry",
+                                 lambda r=rows: entry_partition(r, matrix, columns, known),  # noqa: B023
+                                 lambda r=rows: fresh(r)))
+            ctx = Context(matrix, criterion("cs-id3"), ModelMoveCost(knowledge.move))
+            every_other = Node(tuple(range(0, n, 2)), (False,) * len(range(0, n, 2)))
+            if grasp_options(every_other, START, ctx) != simple_grasp_options(every_other, START, ctx):
+                sys.exit(f"{n}: the grasp options read as arrays differ from the row-by-row reading")
+            measures.append(("grasp options at a node of every other row, before: row by row",
+                             lambda: simple_grasp_options(every_other, START, ctx),  # noqa: B023
+                             lambda: grasp_options(every_other, START, ctx)))  # noqa: B023
             for name, old, new in measures:
                 t_old, t_new = cpu(old, args.repeats), cpu(new, args.repeats)
                 print(f"| {n:,} | {name} | {t_old:.3f} | {t_new:.3f} | {t_old / t_new:.1f}x |", flush=True)

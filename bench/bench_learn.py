@@ -13,6 +13,10 @@ object does):
   choice, once per learned object), reported apart;
 - ``rebuild``: the path before incremental learning: the whole store re-read
   (``LibraryStore.descriptions``) and the matrix built from scratch;
+- ``root choice after``: CPU of the next root choice (``partition_columns`` of every row
+  and column) on the appended matrix, ``new`` with its known values updated by the
+  new row (``KnownValues.appended``), ``old`` with them rebuilt wholesale after the
+  sort orders' merge, as before; the two partitions must be equal;
 - ``one bare commit``: a one-row transaction on the same store, the floor any durable
   learn pays on this disk (its fsync), whatever the library's size.
 
@@ -40,6 +44,7 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
+from learner.gain import partition_columns  # noqa: E402
 from learner.library import LibraryStore, read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
@@ -78,7 +83,8 @@ def measure(n: int, learns: int, rebuilds: int) -> dict[str, float]:
         path = Path(tmp) / "library.sqlite"
         learner = LocalLearner(path, seed_library=library, knowledge=knowledge)
         matrix = DescriptionMatrix(learner.library().descriptions, knowledge)
-        now, now_cpu, merge, rebuild = [], [], [], []
+        matrix.known  # the session before the learn made its choices
+        now, now_cpu, merge, rebuild, choice_new, choice_old = [], [], [], [], [], []
         for i, d in enumerate(to_learn):
             def learn_and_append(d=d, matrix=matrix):  # noqa: ANN001, ANN202
                 learner.learn(d, str(uuid.uuid4()))
@@ -86,6 +92,16 @@ def measure(n: int, learns: int, rebuilds: int) -> dict[str, float]:
             seconds, cpu, matrix = cpu_timed(learn_and_append)
             now.append(seconds)
             now_cpu.append(cpu)
+            old = object.__new__(DescriptionMatrix)  # the same grown matrix, its known values dropped as before
+            old.__dict__.update(matrix.__dict__)
+            old._known, old.root_splits = None, {}
+            everyone, columns = tuple(range(len(matrix.descriptions))), np.arange(len(matrix.tests))
+            _, cpu_old, split_old = cpu_timed(lambda: partition_columns(everyone, old, columns))  # noqa: B023
+            _, cpu_new, split_new = cpu_timed(lambda: partition_columns(everyone, matrix, columns))  # noqa: B023
+            if split_old.ranges != split_new.ranges or not np.array_equal(split_old.gains, split_new.gains):
+                sys.exit(f"at {n}: the updated known values choose otherwise than the rebuilt ones")
+            choice_new.append(cpu_new)
+            choice_old.append(cpu_old)
             merge.append(timed(lambda: matrix.order)[0])  # noqa: B023
             if i < rebuilds:
                 def reread_and_build() -> DescriptionMatrix:
@@ -99,7 +115,8 @@ def measure(n: int, learns: int, rebuilds: int) -> dict[str, float]:
         with LibraryStore(path) as store:  # the floor: one committed transaction on this disk, at this size
             commit = [timed(lambda i=i: store.set_meta("bench", str(i)))[0] for i in range(learns)]  # noqa: B023
     return {"commit": statistics.median(commit), "now": statistics.median(now), "now_cpu": statistics.median(now_cpu), "merge": statistics.median(merge),
-            "rebuild": statistics.median(rebuild), "max_now": max(now)}
+            "rebuild": statistics.median(rebuild), "max_now": max(now),
+            "choice_new": statistics.median(choice_new), "choice_old": statistics.median(choice_old)}
 
 
 def main() -> None:
@@ -111,13 +128,14 @@ def main() -> None:
           f"{' '.join(sys.argv[1:])}; machine: {platform.processor() or platform.machine()}, "
           f"{platform.python_implementation()} {platform.python_version()}, numpy {np.__version__}")
     print("| descriptions | learn + append (median) | its CPU | one bare commit | worst | first choice's merge "
-          "| re-read + rebuild | ratio |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "| re-read + rebuild | ratio | root choice after, CPU: new | old | ratio |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in (s for s in SIZES if s <= args.max):
         rebuilds = 5 if n <= 10_000 else 1  # a rebuild at 100k takes about a minute
         r = measure(n, args.learns, rebuilds)
         print(f"| {n:,} | {r['now'] * 1e3:.2f} ms | {r['now_cpu'] * 1e3:.2f} ms | {r['commit'] * 1e3:.2f} ms | {r['max_now'] * 1e3:.2f} ms | {r['merge'] * 1e3:.1f} ms | "
-              f"{r['rebuild']:.2f} s | {r['rebuild'] / r['now']:,.0f}x |", flush=True)
+              f"{r['rebuild']:.2f} s | {r['rebuild'] / r['now']:,.0f}x | {r['choice_new'] * 1e3:.1f} ms | "
+              f"{r['choice_old'] * 1e3:.1f} ms | {r['choice_old'] / r['choice_new']:.1f}x |", flush=True)
 
 
 if __name__ == "__main__":

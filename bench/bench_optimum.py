@@ -15,6 +15,7 @@ simulator as ``csl experiment paper`` trains it) for cs-id3 against the failure-
 rules, seeds 0..SEEDS-1, and prints mean cost per object and success per criterion.
 
     python bench/bench_optimum.py [--synthetic 12] [--seed 0] [--noisy 0] [--jobs 1] [--only-noisy]
+                                  [--study-starts]
 """
 
 from __future__ import annotations
@@ -39,16 +40,18 @@ from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
 
-NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout")
+NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search")
 STARTS = [Position(d, o) for d, o in ((6, 0), (16, 90), (24, 180), (40, 270), (40, 0), (16, 180))]
+STUDY_STARTS = [Position(d, o) for d, o in ((24, 0), (60, 90), (100, 180))]  # ExperimentConfig.start_poses
 
 
-def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed: int) -> None:
+def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed: int,
+          starts: list[Position]) -> None:
     print(f"\n{title}: {len(matrix.descriptions)} descriptions, {len(matrix.tests)} tests")
     print("| start | optimum s | search s | " + " | ".join(CRITERIA) + " |")
     print("|---" * (3 + len(CRITERIA)) + "|")
     root_ms = dict.fromkeys(CRITERIA, 0.0)
-    for start in STARTS:
+    for start in starts:
         for name in CRITERIA:
             began = time.perf_counter()
             RecognitionSession(matrix, criterion(name), estimator, start, seed=seed).decide()
@@ -115,6 +118,8 @@ def main() -> None:
                     help="also run noisy execution episodes over this many seeds (default 0: none)")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes for the noisy episodes (default 1)")
     ap.add_argument("--only-noisy", action="store_true", help="skip the optimum tables")
+    ap.add_argument("--study-starts", action="store_true",
+                    help="start from the study's poses (csl experiment paper: (24,0), (60,90), (100,180))")
     args = ap.parse_args()
     if args.noisy < 0 or args.jobs < 1:
         ap.error("--noisy must be >= 0 and --jobs >= 1")
@@ -125,9 +130,11 @@ def main() -> None:
     knowledge = load_knowledge(KNOWLEDGE)
     shipped = read_library_json(EXAMPLE_LIBRARY)
     estimator = ModelMoveCost(knowledge.move)
-    table("shipped library", DescriptionMatrix(shipped, knowledge), estimator, args.seed)
+    starts = STUDY_STARTS if args.study_starts else STARTS
+    table("shipped library", DescriptionMatrix(shipped, knowledge), estimator, args.seed, starts)
     synthetic = synthetic_library(knowledge, args.synthetic, args.seed, base=shipped)
-    table(f"synthetic library (seed {args.seed})", DescriptionMatrix(synthetic, knowledge), estimator, args.seed)
+    table(f"synthetic library (seed {args.seed})", DescriptionMatrix(synthetic, knowledge), estimator, args.seed,
+          starts)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from importlib import import_module
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from behaviours.services import Params
     from csl_testing.display import tree_display
     from csl_testing.inputs import BARE_ROOM, STEADY_NOISE, ObjectEntry
     from csl_testing.scenario import (DriverFactory, Scenario, ScenarioFactory, ScenarioResult, one_object,
@@ -24,6 +25,7 @@ if TYPE_CHECKING:
     from csl_testing.transcript import encounters
 
 _HOMES = {
+    "Params": "behaviours.services",  # a Scenario's ``params``: the executive's settings
     "tree_display": "csl_testing.display",
     "BARE_ROOM": "csl_testing.inputs", "STEADY_NOISE": "csl_testing.inputs", "ObjectEntry": "csl_testing.inputs",
     "DriverFactory": "csl_testing.scenario", "Scenario": "csl_testing.scenario",

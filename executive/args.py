@@ -12,26 +12,8 @@ from pathlib import Path
 
 from executive import defaults
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, CriterionSpec, Parameter
+from zenoh_rpc.argtypes import non_negative_int
 from zenoh_rpc.endpoints import check_endpoint
-
-
-def non_negative_int(text: str) -> int:
-    """argparse type: an integer >= 0 (a seed, a count)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must not be negative, got {value}")
-    return value
-
-
-def positive_int(text: str) -> int:
-    """argparse type: an integer >= 1."""
-    value = non_negative_int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
 
 
 def endpoint(text: str) -> str:

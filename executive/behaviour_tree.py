@@ -9,7 +9,11 @@ failed grasp under "recover". Before each sensing and each grasp, ``Disturbed?``
 with the camera and, when the object moved, changed or is gone, relocates it, starts
 afresh or reports it gone (``behaviours.disturbance``). Above it all, the low-battery
 guard ("battery check", ``behaviours.battery``) sends the robot to its dock and lets the
-work resume where it was.
+work resume where it was. Each move to a test or grasp position can be blocked by a
+moving obstacle: "until past" looks again, re-plans around it or waits, and gives the
+object up after a bound (``behaviours.blocked``). Between a test's choice and the move to
+it, ``BeamClear?`` makes a test whose sonar beam another object would meet unusable
+there (``behaviours.clutter``).
 """
 
 from __future__ import annotations
@@ -19,7 +23,9 @@ from py_trees.composites import Selector, Sequence
 
 from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
 from behaviours.battery import guarded
+from behaviours.blocked import around_movers
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
+from behaviours.clutter import BeamClear
 from behaviours.disturbance import look_before
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
@@ -34,11 +40,11 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         Sequence("reselect", memory=True, children=[ValueUnreliable(robot), Reselect(robot)]),
         Backtrack(robot)])
     follow = Sequence("follow the tree", memory=True, children=[
-        choose, MoveTo(robot, "test"),
+        choose, BeamClear(robot), _move(robot, "test"),
         look_before(robot, "test", Sequence("measure", memory=True, children=[ApplyTest(robot), FollowBranch(robot)]))])
     grasp = Sequence("grasp", memory=True, children=[
         Selector("choose a grasp", memory=True, children=[ChooseGrasp(robot), AmbiguousGrasp(robot)]),
-        Selector("reach the grasp", memory=True, children=[MoveTo(robot, "grasp"), OtherEnd(robot)]),
+        Selector("reach the grasp", memory=True, children=[_move(robot, "grasp"), OtherEnd(robot)]),
         look_before(robot, "grasp", Grasp(robot))])
     recover = Sequence("recover", memory=True, children=[
         GraspFailed(robot),
@@ -56,3 +62,10 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         LocateObjects(robot),
         ForEachObject(per_object, robot, name="each object"),
     ]), robot)
+
+
+def _move(robot: str, target: str) -> py_trees.behaviour.Behaviour:
+    """A move to the step's ``target`` position with the blocked-move branch."""
+    return around_movers(robot, MoveTo(robot, target),
+                         MoveTo(robot, target, f"MoveTo {target} around it", role="around"),
+                         MoveTo(robot, target, f"MoveTo {target} again", role="retry"))

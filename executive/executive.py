@@ -18,6 +18,7 @@ from behaviours.base import DriverAction
 from behaviours.overdue import OverdueRobot
 from behaviours.records import ObjectRecord, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
+from executive.battery_cost import navigator_for
 from executive.episode_log import EpisodeLog
 from executive.grasp_attempts import LearnedGraspCosts
 from executive.profile import knowledge_of
@@ -25,7 +26,6 @@ from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
 from learner.service.interface import KeepsGraspCosts, LearnerService
-from planner import Navigator
 from planner.calibration import MarkerBoard
 from planner.segmentation import Camera
 from robot_profile import ProfileStamp, RobotProfile, load_profile
@@ -61,7 +61,8 @@ class Executive:
         knowledge = knowledge_of(profile)
         self.services = Services(  # a verb refused busy after a timeout is sent again (behaviours.overdue)
             driver=OverdueRobot(driver, params.overdue_wait_s),
-            navigator=Navigator(profile.robot, camera=camera, board=board), learner=learner,
+            navigator=navigator_for(profile.robot, driver, knowledge, params, camera=camera, board=board),
+            learner=learner,
             knowledge=knowledge,
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
             library=LibraryMatrix(learner, knowledge), served=_served(driver))

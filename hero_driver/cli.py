@@ -16,8 +16,9 @@ from pathlib import Path
 from hero_driver.inspect_cli import connect_endpoint, connect_options, register_inspect
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
+from zenoh_rpc.argtypes import non_negative_int, positive_seconds
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
-from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
 CAMERA_PRESETS = ("simple", "realistic")  # hero_driver.sim.camera.PRESETS, without importing OpenCV
@@ -41,6 +42,25 @@ def add_disturb_option(p: argparse.ArgumentParser, when: str) -> None:
                    help="someone disturbs objects while the robot senses them: each object, when first "
                         "sensed, is nudged, removed or replaced with probability P (e.g. nudge:0.2; "
                         f"docs/simulator.md, Disturbances; {when}default: only the world file's events)")
+
+
+def movers_preset(text: str) -> object:
+    """argparse type of ``--movers`` (hero_driver.sim.movers.parse_movers), imported
+    only when the flag is given."""
+    from hero_driver.sim.movers import parse_movers
+
+    try:
+        return parse_movers(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--movers: ")) from None
+
+
+def add_movers_option(p: argparse.ArgumentParser) -> None:
+    """``--movers`` on the simulator's commands: people and carts crossing the floor."""
+    p.add_argument("--movers", type=movers_preset, default=None, metavar="N[:SPEED]",
+                   help="N people and carts cross the room on lines drawn from the seed, at SPEED in/s "
+                        "(default 12); moves stop short of them (the blocked_moves feature; docs/simulator.md, "
+                        "Moving obstacles; default: only the world file's movers)")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -74,7 +94,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="the folder whose <name>.json worlds 'reset' may load by name; 'reset' takes "
                           "names only, never paths, and the --world file is also served under its file's "
                           "stem (default: the shipped worlds, hero_driver/worlds)")
-    sim.add_argument("--seed", type=int, default=0, metavar="N",
+    sim.add_argument("--seed", type=non_negative_int, default=0, metavar="N",
                      help="seed of the simulator's random stream (default 0)")
     sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
                      help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
@@ -84,6 +104,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple)")
     add_disturb_option(sim, "")
+    add_movers_option(sim)
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "
@@ -107,7 +128,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
     connect_options(check)
-    check.add_argument("--timeout", type=float, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
+    check.add_argument("--timeout", type=positive_seconds, default=DEFAULT_CHECK_TIMEOUT_S, metavar="S",
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
     check.add_argument("--profile", default=None, metavar="FILE",
@@ -139,6 +160,7 @@ def _run_sim(args: argparse.Namespace) -> int:
     # Imported here: the simulator pulls in pymunk and the world files, which
     # `csl --help` and `csl driver check` have no use for.
     from hero_driver.sim.events import DisturbPreset
+    from hero_driver.sim.movers import MoverPreset
     from hero_driver.sim_driver import SimulatedHero
     from hero_driver.zenoh_link.node import serve
     from zenoh_rpc.serving import stop_on_signals
@@ -148,11 +170,11 @@ def _run_sim(args: argparse.Namespace) -> int:
     profile = load_profile(DEFAULT_PROFILE if args.profile is None else args.profile)
     noise = None if args.noise is None else NoiseConfig.preset(args.noise)
     driver = SimulatedHero(robot=args.robot, world=args.world, seed=args.seed, profile=profile, noise=noise,
-                           worlds_dir=args.worlds_dir, camera=args.camera, disturb=args.disturb or DisturbPreset())
+                           worlds_dir=args.worlds_dir, camera=args.camera, disturb=args.disturb or DisturbPreset(),
+                           movers=args.movers or MoverPreset())
 
     def on_ready() -> None:
-        print(f"serving {keys.rpc('*')} on {where(listen, LISTEN_KEY, zenoh_config)} (Ctrl-C to stop)",
-              flush=True)
+        print(f"serving {keys.rpc('*')} {reached_at(listen, zenoh_config)} (Ctrl-C to stop)", flush=True)
 
     try:
         with stop_on_signals() as stop:
@@ -167,8 +189,6 @@ def _run_sim(args: argparse.Namespace) -> int:
 def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
     connect, _, zenoh_config = connect_endpoint(args)
-    if not args.timeout > 0:
-        raise ValueError(f"--timeout must be a positive number of seconds, got {args.timeout:g}")
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
 
     from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp

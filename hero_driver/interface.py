@@ -72,17 +72,31 @@ class RobotState:
 
 
 @dataclass(frozen=True)
+class Obstacle:
+    """A moving obstacle (a person, a cart) that stopped a move: where it stood when the
+    base stopped, and how far its outline reaches from there (the ``blocked_moves``
+    feature, docs/driver-protocol.md "Moving obstacles")."""
+
+    x_in: float
+    y_in: float
+    radius_in: float
+
+
+@dataclass(frozen=True)
 class MoveResult:
     """End of a move: where the base stopped and what the move cost.
 
     ``collided`` is true when the base stopped early on contact; ``pose`` is then where
     it stopped. ``centred`` is true when sonar centring found an object to face.
+    ``blocked`` (the ``blocked_moves`` feature) is the moving obstacle the base stopped
+    short of, ``pose`` then where it stopped; None when nothing was in the way.
     """
 
     pose: Pose
     duration_s: float
     collided: bool
     centred: bool
+    blocked: Obstacle | None = None
 
 
 @dataclass(frozen=True)
@@ -194,4 +208,20 @@ class Charger(Protocol):
     def charge(self) -> Future[RobotState]:
         """With the base at the dock, charge until full and answer the new state;
         ``out_of_range`` anywhere else."""
+        ...
+
+
+@runtime_checkable
+class BlockedMoves(Protocol):
+    """A driver with the optional ``blocked_moves`` feature: a move stops short of a
+    moving obstacle that comes within its safety distance ahead and answers it in
+    ``MoveResult.blocked``; the robot can wait in place for one to pass. A driver
+    without it still works; the executive's blocked-move branch is then off."""
+
+    def safety_in(self) -> float | None:
+        """How near ahead a moving obstacle stops a move (None: the feature is off here)."""
+        ...
+
+    def wait(self, seconds: float) -> Future[RobotState]:
+        """Stand still for ``seconds`` of robot time and answer the state after it."""
         ...

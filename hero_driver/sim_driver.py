@@ -18,6 +18,7 @@ from hero_driver.interface import (
     BAD_REQUEST, UNAVAILABLE, CameraImage, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim.events import DisturbPreset, Happened
+from hero_driver.sim.movers import MoverPreset, MoverTruth
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld
 from hero_driver.sim.worldfile import WorldRefused, shelf_for
@@ -43,14 +44,19 @@ class SimulatedHero:
 
     ``disturb`` is the ``--disturb`` preset: objects nudged, taken away or swapped
     during their sensing (docs/simulator.md, Disturbances).
+
+    ``movers`` is the ``--movers`` preset: people and carts crossing the floor; with
+    ``stop_for_movers`` (the ``blocked_moves`` feature) a move stops short of one ahead,
+    without it the base drives into them (docs/simulator.md, Moving obstacles).
     """
 
     def __init__(self, robot: str = "r1", world: str | Path | None = None, seed: int = 0,
                  profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
                  worlds_dir: Path | None = None, camera: str = "simple",
-                 disturb: DisturbPreset = DisturbPreset()) -> None:
+                 disturb: DisturbPreset = DisturbPreset(), movers: MoverPreset = MoverPreset(),
+                 stop_for_movers: bool = True) -> None:
         self.robot = robot
-        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise, camera, disturb)
+        self._sim: SimWorld | None = SimWorld(world, seed, profile, noise, camera, disturb, movers, stop_for_movers)
         self.worlds = shelf_for(world, worlds_dir)
 
     def _live(self) -> SimWorld:
@@ -96,10 +102,23 @@ class SimulatedHero:
         """The battery feature: charge at the dock."""
         return self._done(lambda sim: sim.charge())
 
+    def safety_in(self) -> float | None:
+        """The blocked_moves feature (:class:`~hero_driver.interface.BlockedMoves`):
+        how near ahead a mover stops a move; None when this simulator ignores movers."""
+        return self._live().safety_in()
+
+    def wait(self, seconds: float) -> Future[RobotState]:
+        """The blocked_moves feature: stand still while movers walk on."""
+        return self._done(lambda sim: sim.wait(seconds))
+
     def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
         """Restore the world named ``world`` (None: the current one) with ``seed``
-        (None: the current); a name the shelf refuses is ``bad_request``."""
+        (None: the current); a name the shelf refuses is ``bad_request``, and so is a
+        negative seed, refused before anything is loaded (numpy's own refusal named no
+        field, and came after the world had kept the bad seed for every later reset)."""
         def work(sim: SimWorld) -> RobotState:
+            if seed is not None and seed < 0:
+                raise DriverError(BAD_REQUEST, f"seed: expected a non-negative integer, got {seed}")
             spec = sim.spec if world is None else self.worlds.load(world, sim.catalogue)
             try:
                 sim.load(spec, sim.seed if seed is None else seed)
@@ -123,6 +142,15 @@ class SimulatedHero:
     def disturbances(self) -> list[Happened]:
         """The disturbances that took place so far, for reports and tests."""
         return self._live().disturbances
+
+    def movers(self) -> list[MoverTruth]:
+        """Where the movers are now, for reports and tests."""
+        return self._live().movers()
+
+    @property
+    def contacts(self) -> int:
+        """How often the base touched anything since the last reset (ground truth)."""
+        return self._live().contacts
 
     @property
     def last_side_effect(self) -> str:

@@ -12,8 +12,10 @@ to the gain and the cost expected over the test and the best test after it.
 ``cs-id3-rollout`` and ``idx-rollout`` rank their rule's best few tests by the expected
 cost of taking the test and then finishing the object with the rule itself
 (learner/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its chance
-of failing (it is paid only then), and ``cs-id3-failure-rollout`` rolls that rule out with
-an estimate that follows the session's walk (learner/rollout_walk.py).
+of failing (it is paid only then), ``cs-id3-failure-rollout`` rolls that rule out with
+an estimate that follows the session's walk (learner/rollout_walk.py), and
+``cs-id3-failure-search`` also rolls out every grasp test and every ``*`` fill the
+library uses, then searches the best few a few nodes deep (docs/optimum.md).
 
 :data:`CRITERIA` is the one registry of them: command-line help, the benches and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
@@ -54,6 +56,10 @@ class Traits:
     ``rollout_follows_walk``: the rollout's estimate follows the session's walk (rows
     weighted by how likely they reached a node, a wrong grasp rebuilding from the root:
     learner/rollout_walk.py) rather than the learner's view of a node.
+    ``rollout_searches``: the rollout's finishing rule searches the next few nodes (the
+    least expected cost over the best few tests at each, as the session walks them)
+    before the one-step rule takes over, within a budget of searched nodes per decision
+    (learner/rollout_walk.py).
     """
 
     cost_blind_choices: bool = False
@@ -62,6 +68,7 @@ class Traits:
     rollout: bool = False
     grasp_paid_on_failure: bool = False
     rollout_follows_walk: bool = False
+    rollout_searches: bool = False
 
 
 @dataclass(frozen=True)
@@ -182,13 +189,16 @@ _BASES = (
 
 
 def _failure_priced(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
-    """``base`` with a grasp test priced at its chance of failing, alone and rolled out
-    with an estimate that follows the session's walk (docs/method.md §3.7)."""
+    """``base`` with a grasp test priced at its chance of failing, alone, rolled out with
+    an estimate that follows the session's walk (docs/method.md §3.7), and with that
+    walk searched a few nodes deep before the rollout (docs/optimum.md)."""
     priced = dataclasses.replace(base, name=f"{base.name}-failure", formula=f"{base.formula}, grasp C x P(fail)",
                                  help="a grasp test costs only when it fails", grasp_paid_on_failure=True)
     rolled = dataclasses.replace(priced, name=f"{priced.name}-rollout", formula=f"{priced.formula}, walk rollout",
                                  help="least expected cost, as walked", rollout=True, rollout_follows_walk=True)
-    return priced, rolled
+    searched = dataclasses.replace(rolled, name=f"{priced.name}-search", formula=f"{priced.formula}, walk search",
+                                   help="least expected cost, walk searched", rollout_searches=True)
+    return priced, rolled, searched
 
 
 DEFAULT_CRITERION = "cs-id3-failure"  # the data's choice: docs/optimum.md, "Under noise"
@@ -202,7 +212,7 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
 """Every criterion by name, in the order help and benches list them (the bases, the
 refined forms of the cost-sensitive ones, then the rollouts of CSL's rule and Norton's;
 eg2's would not fit the one help line; last CSL's rule with grasp tests priced by their
-failure, alone and rolled out). Iterating it gives the names, so it also serves
+failure, alone, rolled out and searched). Iterating it gives the names, so it also serves
 as argparse ``choices``."""
 
 

@@ -11,10 +11,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from learner.matrix import Test
 from learner.partition import Range, match
 from learner.position import Position
-from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_rows, leaf_classes, rank, split,
+from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_index, leaf_classes, rank, split,
                                target_for, yielded)
 
 
@@ -53,22 +55,27 @@ TreeNode = TestNode | GraspLeaf | AmbiguousLeaf
 
 
 def grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf]:
-    """One leaf per grasp of the deciding rows, at its cheapest position, cheapest first."""
-    by_grasp: dict[str, list[int]] = {}
-    for r in deciding_rows(node):
-        by_grasp.setdefault(ctx.matrix.descriptions[r].grasp, []).append(r)
+    """One leaf per grasp of the deciding rows, at its cheapest position, cheapest first.
+
+    A leaf of a large library holds tens of thousands of rows, so their grasps, grasp
+    positions and ids are read as arrays (``DescriptionMatrix.labels``), not row by row.
+    """
+    matrix = ctx.matrix
+    labels = matrix.labels
+    deciding = deciding_index(node)
+    classes = matrix.class_of[deciding]
     options = []
-    for grasp, rows in by_grasp.items():
+    for c in np.unique(classes).tolist():
+        grasp = matrix.classes[c]
+        rows = deciding[classes == c]
         proc = ctx.knowledge.grasp(grasp)
+        ids = tuple(np.sort(labels.object_id[rows]).tolist())
         best: GraspLeaf | None = None
-        for position in sorted({ctx.matrix.descriptions[r].grasp_position for r in rows}):
+        for position in sorted(labels.positions[i] for i in np.unique(labels.grasp_position[rows]).tolist()):
             target = target_for(Test(grasp, position, grasp, is_grasp=True), current, ctx)
             move = ctx.estimator.move_cost(current, target)
-            leaf = GraspLeaf(grasp, target, move, proc.time_s,
-                             tuple(sorted(ctx.matrix.descriptions[r].object_id for r in rows)),
-                             library_position=position)
-            if best is None or leaf.move_cost < best.move_cost:
-                best = leaf
+            if best is None or move < best.move_cost:
+                best = GraspLeaf(grasp, target, move, proc.time_s, ids, library_position=position)
         assert best is not None
         options.append(best)
 
@@ -89,7 +96,8 @@ def leaf_at(node: Node, current: Position, ctx: Context) -> GraspLeaf | None:
 
 
 def object_ids(node: Node, ctx: Context) -> tuple[str, ...]:
-    return tuple(sorted({ctx.matrix.descriptions[r].object_id for r in deciding_rows(node)}))
+    """The distinct object ids of the deciding rows, sorted."""
+    return tuple(np.unique(ctx.matrix.labels.object_id[deciding_index(node)]).tolist())
 
 
 def grow(

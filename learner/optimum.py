@@ -61,6 +61,7 @@ from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options
 from learner.gain import partition_columns
 from learner.matrix import DescriptionMatrix
 from learner.position import Position
+from learner.rollout_walk import shared_decisions
 from learner.runtime import Matched, RecognitionSession, Unreliable
 from learner.selection import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range, split,
                                target_for)
@@ -386,9 +387,10 @@ def policy_walk(matrix: DescriptionMatrix, criterion: Criterion, estimator: Move
     if not matrix.descriptions:
         raise ValueError("the library holds no object descriptions")
     outcomes = []
-    for row, description in enumerate(matrix.descriptions):
-        session = RecognitionSession(matrix, criterion, estimator, start, seed=seed)
-        outcomes.append(Outcome(description.object_id, *_walk(session, row)))
+    with shared_decisions():  # every session starts from the same root: decide each node once
+        for row, description in enumerate(matrix.descriptions):
+            session = RecognitionSession(matrix, criterion, estimator, start, seed=seed)
+            outcomes.append(Outcome(description.object_id, *_walk(session, row)))
     return PolicyWalk(criterion.name, tuple(outcomes))
 
 

@@ -58,16 +58,28 @@ def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Con
     return rescored(ranked, lambda test: rollout.after(node, test, measured, exclude))
 
 
-def rescored(ranked: list[ScoredTest], total_of: Callable[[ScoredTest], float]) -> list[ScoredTest]:
-    """The best :data:`ROLLOUT_WIDTH` of ``ranked`` rescored by their expected total cost
+def rescored(ranked: list[ScoredTest], total_of: Callable[[ScoredTest], float], *, width: int = ROLLOUT_WIDTH,
+             grasps_too: bool = False) -> list[ScoredTest]:
+    """The best ``width`` of ``ranked`` (and, with ``grasps_too``, every grasp test:
+    grasping now weighed against testing further) rescored by their expected total cost
     ``total_of(test)`` (score ``-total``, ``scored_on`` = (gain, total)), least first;
     the rest follow in their one-step order."""
+    chosen = shortlisted(ranked, width, grasps_too=grasps_too)
     shortlist = []
-    for test in ranked[:ROLLOUT_WIDTH]:
+    for test in chosen:
         total = total_of(test)
         shortlist.append(dataclasses.replace(test, score=-total, scored_on=(test.gain, total)))
     shortlist.sort(key=lambda s: -s.score)  # stable: ties keep the one-step order
-    return shortlist + ranked[ROLLOUT_WIDTH:]
+    taken = {id(t) for t in chosen}
+    return shortlist + [t for t in ranked if id(t) not in taken]
+
+
+def shortlisted(ranked: list[ScoredTest], width: int, *, grasps_too: bool = False) -> list[ScoredTest]:
+    """The ``width`` best of ``ranked`` by one step, with ``grasps_too`` followed by every
+    grasp test below them: a one-step ratio can rank a grasp tried as a feature low even
+    where trying it now is the cheapest way to finish (its gain is small, its failure
+    cost far away)."""
+    return ranked[:width] + ([t for t in ranked[width:] if t.test.is_grasp] if grasps_too else [])
 
 
 def one_step(ctx: Context) -> Context:

@@ -340,7 +340,8 @@ class RecognitionSession:
         self._frames = [_Frame(self._root_node(), self.position)]
 
     def _root_node(self) -> Node:
-        dropped = [i for i, d in enumerate(self.matrix.descriptions) if d.grasp in self.dropped_grasps]
+        dropped_classes = [c for c, grasp in enumerate(self.matrix.classes) if grasp in self.dropped_grasps]
+        dropped = np.flatnonzero(np.isin(self.matrix.class_of, dropped_classes)).tolist()
         node = Node.root(len(self.matrix.descriptions), dropped)
         if not node.rows:
             raise ValueError("every grasp in the library has failed on this object")

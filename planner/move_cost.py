@@ -50,6 +50,7 @@ class MoveCost:
     turning_deg: float
     exact: bool
     reason: str
+    detour_s: float = 0.0  # of ``seconds``: a dock detour the executive priced in (executive.battery_cost)
 
     @property
     def possible(self) -> bool:

@@ -8,6 +8,9 @@ after a move reuses all of it, and only a changed world (an object pushed, knock
 over or picked up) builds a new map. Recent worlds are kept, so going back to one
 reuses its map.
 
+A moving obstacle the driver reported is drawn into the map with :meth:`Navigator.avoid`
+until the next image or until cleared (docs/planner.md, "Moving obstacles").
+
 Band images need nothing else; a real camera's images need a calibrated ``camera``
 (docs/camera.md), given, or made from the first image when only the marker ``board``
 is known (the in-process realistic simulator: no calibration step before the run).
@@ -27,7 +30,7 @@ from planner.positions import free_pose_for_position, position_of
 from planner.vision import Region, Scene, look
 from planner.roadmap import Roadmap
 from planner.segmentation import Camera, calibrated_camera
-from planner.vision_map import VisionMap, build_vision_map, map_key
+from planner.vision_map import Disc, VisionMap, build_vision_map, map_key
 from robot_profile import Robot
 
 NOTHING_OBSERVED = "no overhead image observed yet: call observe(image) first"
@@ -65,16 +68,34 @@ class Navigator:
         self._worlds: LruCache[_World] = LruCache(worlds_kept)
         self._scene: Scene | None = None
         self._current: _World | None = None
+        self._avoided: tuple[Disc, ...] = ()
 
     def observe(self, image: OverheadImage) -> Scene:
         """Look at a new overhead image; later calls plan on it."""
         if self.camera is None and self._board is not None:
             self.camera = calibrated_camera(image.pixels, self._board)
         scene = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))
-        key = map_key(scene, self.robot.geometry)
-        self._current = self._worlds.get_or_make(key, lambda: self._build(scene))
-        self._scene = scene
+        self._scene, self._avoided = scene, ()
+        self._rebuild()
         return scene
+
+    def avoid(self, discs: tuple[Disc, ...]) -> None:
+        """Plan around ``discs`` (x, y, radius in inches: moving obstacles a driver
+        reported) on the latest image's map as well, until the next image or until
+        called with none. Each set of discs is a world of its own in the cache."""
+        self.scene  # noqa: B018 (raises without an image)
+        self._avoided = tuple(discs)
+        self._rebuild()
+
+    @property
+    def avoided(self) -> tuple[Disc, ...]:
+        """The discs drawn into the current map (none: the image alone)."""
+        return self._avoided
+
+    def _rebuild(self) -> None:
+        scene, discs = self.scene, self._avoided
+        key = map_key(scene, self.robot.geometry, discs)
+        self._current = self._worlds.get_or_make(key, lambda: self._build(scene, discs))
 
     @property
     def scene(self) -> Scene:
@@ -126,8 +147,8 @@ class Navigator:
         """Seconds to move from ``start`` to a learner position of ``region``."""
         return self.move_cost(start, self.pose_for(region, distance_in, orientation_deg), exact=exact)
 
-    def _build(self, scene: Scene) -> _World:
-        vision_map = build_vision_map(scene, self.robot.geometry)
+    def _build(self, scene: Scene, discs: tuple[Disc, ...] = ()) -> _World:
+        vision_map = build_vision_map(scene, self.robot.geometry, discs)
         paths = PathPlanner(vision_map, time_limit_s=self._time_limit_s,
                             optimise_time_s=self._optimise_time_s, spacing_in=self._spacing_in,
                             roadmap=self._reusable_roadmap(vision_map))

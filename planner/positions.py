@@ -9,8 +9,9 @@ conversion because it owns the region polygons it depends on.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
+import cv2
 import numpy as np
 
 from planner.geometry import Pose, ray_exit_distance, unit, wrap_360
@@ -87,3 +88,73 @@ def free_pose_for_position(region: Region, distance_in: float, orientation_deg: 
             if is_free(float(base[0]), float(base[1])):
                 return Pose(float(base[0]), float(base[1]), pose.heading_deg)
     return pose
+
+
+# A neighbour this close to the beam's corridor still echoes into it (the footprint is
+# known to a pixel or so, docs/planner.md "Clutter"): the beam is not clear.
+BEAM_MARGIN_IN = 1.0
+
+
+def beam_corridor(region: Region, distance_in: float, orientation_deg: float) -> np.ndarray:
+    """Where a sensing procedure's sound travels from ``(distance_in, orientation_deg)``
+    to ``region``: the convex hull of the object's footprint, the sonar point and the
+    sonar point shifted either way across the heading by the footprint's half width.
+
+    It covers what every procedure's first echo could come from: a sweep's rays fan
+    from the sonar point to the footprint (the hull of the point and the footprint),
+    a scan translates the sonar across the face (the corridor as wide as the object).
+    Anything inside it can echo before the target does (docs/planner.md "Clutter").
+    """
+    u = unit(region.reference_axis_deg + orientation_deg)
+    across = np.array([-u[1], u[0]])
+    centre = np.asarray(region.centroid)
+    polygon = region.polygon_array()
+    half_width = float(np.max(np.abs((polygon - centre) @ across)))
+    sonar = centre + (face_distance_in(region, orientation_deg) + max(distance_in, 0.0)) * u
+    points = np.vstack([polygon, sonar, sonar + half_width * across, sonar - half_width * across])
+    return _convex_hull(points)
+
+
+def beam_blockers(region: Region, distance_in: float, orientation_deg: float,
+                  others: Sequence[Region], margin_in: float = BEAM_MARGIN_IN) -> list[Region]:
+    """The regions of ``others`` (any object but ``region``) within ``margin_in`` of the
+    beam's corridor from this position: each would echo into the procedure, so a
+    reading taken there may describe the neighbour, not the object."""
+    corridor = beam_corridor(region, distance_in, orientation_deg)
+    return [o for o in others if o.centroid != region.centroid
+            and _convex_gap(corridor, _convex_hull(o.polygon_array())) <= margin_in]
+
+
+def _convex_hull(points: np.ndarray) -> np.ndarray:
+    """Counter-clockwise hull of ``points`` (Nx2 floats), as an Mx2 array."""
+    hull = cv2.convexHull(np.asarray(points, dtype=np.float32)).reshape(-1, 2)
+    return hull.astype(float)
+
+
+def _convex_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """The distance between two convex polygons (0 when they overlap)."""
+    if _overlap(a, b):
+        return 0.0
+    return min(min(_point_to_edges(p, b) for p in a), min(_point_to_edges(p, a) for p in b))
+
+
+def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
+    """Separating-axis test: convex ``a`` and ``b`` overlap unless an edge normal parts them."""
+    for poly in (a, b):
+        edges = np.roll(poly, -1, axis=0) - poly
+        for edge in edges:
+            normal = np.array([-edge[1], edge[0]])
+            pa, pb = a @ normal, b @ normal
+            if pa.max() < pb.min() or pb.max() < pa.min():
+                return False
+    return True
+
+
+def _point_to_edges(point: np.ndarray, polygon: np.ndarray) -> float:
+    """The distance from ``point`` to the nearest edge of ``polygon``."""
+    start, end = polygon, np.roll(polygon, -1, axis=0)
+    edge = end - start
+    length2 = np.maximum((edge ** 2).sum(axis=1), 1e-12)
+    t = np.clip(((point - start) * edge).sum(axis=1) / length2, 0.0, 1.0)
+    nearest = start + t[:, None] * edge
+    return float(np.min(np.hypot(*(point - nearest).T)))

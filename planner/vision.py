@@ -42,6 +42,18 @@ ROUND_AXIS_RATIO = 0.78
 ROUND_FILL_RATIO = 0.75
 ROUND_CHECK_MIN_PIXELS = 100
 
+# Touching objects (docs/planner.md "Clutter"): a blob is cut at a pinch only when two
+# outline defects are this deep (pixels; a rasterised convex footprint's are under 1),
+# each piece keeps at least this many pixels, and the cut between the defects is no
+# longer than this share of the smaller piece's width (a pinch, not a notch).
+SPLIT_DEPTH_PX = 1.25
+MIN_SPLIT_PIXELS = 3
+SPLIT_NECK_RATIO = 1.0
+# An outline filling less of its convex hull than this is a cluster of objects: a lone
+# catalogue object fills 0.88 or more on band images (measured over 60 random poses),
+# two merged at under an inch apart mostly 0.70-0.83 (tests/planner/test_vision_clutter.py).
+CLUSTER_SOLIDITY = 0.85
+
 _CROSS = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
 
 
@@ -58,6 +70,9 @@ class Region:
     times pixel area) and ``elongation`` (major over minor axis of the pixels' second
     moments) are the footprint's rotation-invariant measures, the object's appearance
     (docs/library-format.md); None on a region not measured from pixels.
+    ``cluster``: the outline is too far from convex for one footprint (every catalogue
+    footprint is convex) and could not be cut at a pinch (:func:`split_touching`): two
+    or more objects touching that vision cannot tell apart (docs/planner.md "Clutter").
     """
 
     polygon: tuple[tuple[float, float], ...]
@@ -69,6 +84,7 @@ class Region:
     width_in: float
     area_in2: float | None = None
     elongation: float | None = None
+    cluster: bool = False
 
     @property
     def reference_axis_deg(self) -> float:
@@ -170,21 +186,84 @@ def _regions(image: OverheadImage, objects: np.ndarray,
     regions = []
     for contour in contours:
         col, row, width, height = cv2.boundingRect(contour)
-        roi = np.zeros((height, width), np.uint8)
-        cv2.drawContours(roi, [contour], -1, 1, thickness=cv2.FILLED, offset=(-col, -row))
-        roi &= on[row:row + height, col:col + width].astype(np.uint8)
-        count = int(roi.sum())
-        if count < MIN_OBJECT_PIXELS:
-            continue
-        kept[row:row + height, col:col + width] |= roi.astype(bool)
-        region = _describe(image, roi, row, col)
-        if brightness is not None:
-            covered = _covered_pixels(brightness, on, roi, row, col)
-            region = dataclasses.replace(region, pixel_count=covered,
-                                         area_in2=covered * image.inches_per_pixel ** 2)
-        regions.append(region)
+        blob = np.zeros((height, width), np.uint8)
+        cv2.drawContours(blob, [contour], -1, 1, thickness=cv2.FILLED, offset=(-col, -row))
+        blob &= on[row:row + height, col:col + width].astype(np.uint8)
+        for roi in split_touching(blob):
+            region = _kept_region(image, roi, row, col, on, brightness, kept)
+            if region is not None:
+                regions.append(region)
     regions.sort(key=lambda r: (r.centroid[0], r.centroid[1]))
     return tuple(regions), kept
+
+
+def _kept_region(image: OverheadImage, roi: np.ndarray, row: int, col: int, on: np.ndarray,
+                 brightness: np.ndarray | None, kept: np.ndarray) -> Region | None:
+    """One object's region from its 0/1 pixel mask within the blob's box at (row, col),
+    marked in ``kept``; None when it is too small to be an object."""
+    height, width = roi.shape
+    count = int(roi.sum())
+    if count < MIN_OBJECT_PIXELS:
+        return None
+    kept[row:row + height, col:col + width] |= roi.astype(bool)
+    region = _describe(image, roi, row, col)
+    if brightness is not None:
+        covered = _covered_pixels(brightness, on, roi, row, col)
+        region = dataclasses.replace(region, pixel_count=covered, area_in2=covered * image.inches_per_pixel ** 2)
+    return region
+
+
+def split_touching(blob: np.ndarray) -> list[np.ndarray]:
+    """A blob of object pixels (0/1 mask) as one mask per object: objects touching or
+    closer than a pixel (docs/planner.md "Clutter") show as one blob pinched where they
+    meet, and it is cut there.
+
+    Every catalogue footprint is convex, so a blob whose outline has two convexity
+    defects at least :data:`SPLIT_DEPTH_PX` deep is two footprints meeting: the cut
+    joins the two deepest defects' far points, and it is kept only when it leaves two
+    pieces of at least :data:`MIN_SPLIT_PIXELS` each and is no longer than
+    :data:`SPLIT_NECK_RATIO` of the smaller piece's width (a pinch, not a notch). The
+    cut's own pixels go to the nearer piece; each piece is split again (a trio).
+    """
+    contours, _ = cv2.findContours(blob, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    if len(contours) != 1 or len(contours[0]) < 5:
+        return [blob]
+    contour = contours[0]
+    hull = cv2.convexHull(contour, returnPoints=False)
+    try:
+        defects = cv2.convexityDefects(contour, hull)
+    except cv2.error:  # a self-touching outline OpenCV cannot take: leave it whole
+        return [blob]
+    if defects is None:
+        return [blob]
+    deep = sorted((d for d in defects.reshape(-1, 4) if d[3] / 256.0 >= SPLIT_DEPTH_PX), key=lambda d: -d[3])[:2]
+    if len(deep) < 2:
+        return [blob]
+    a, b = (tuple(int(v) for v in contour[d[2], 0]) for d in deep)
+    cut = blob.copy()
+    cv2.line(cut, a, b, 0, thickness=1)
+    count, labels = cv2.connectedComponents(cut, connectivity=4)
+    sizes = [int((labels == k).sum()) for k in range(1, count)]
+    if count != 3 or min(sizes) < MIN_SPLIT_PIXELS:
+        return [blob]
+    neck = math.hypot(a[0] - b[0], a[1] - b[1]) - 1.0  # between the far points, themselves outline pixels
+    if neck > SPLIT_NECK_RATIO * min(_width_px(labels == k) for k in (1, 2)):
+        return [blob]
+    # the cut's pixels to the nearer piece
+    _, nearest = cv2.distanceTransformWithLabels((labels == 0).astype(np.uint8), cv2.DIST_L2, 3,
+                                                 labelType=cv2.DIST_LABEL_PIXEL)
+    zero_rows, zero_cols = np.nonzero(labels != 0)
+    owner = np.zeros(int(nearest.max()) + 1, np.int32)
+    owner[nearest[zero_rows, zero_cols]] = labels[zero_rows, zero_cols]
+    full = np.where((labels == 0) & (blob > 0), owner[nearest], labels)
+    return [piece for k in (1, 2) for piece in split_touching((full == k).astype(np.uint8) & blob)]
+
+
+def _width_px(mask: np.ndarray) -> float:
+    """A piece's smaller extent, in pixels (its minimum-area rectangle's short side)."""
+    points = np.column_stack(np.nonzero(mask)[::-1]).astype(np.float32)
+    (_, _), (w, h), _ = cv2.minAreaRect(points)
+    return min(w, h) + 1.0  # centre to centre, plus the pixels' own halves
 
 
 def _covered_pixels(brightness: np.ndarray, objects: np.ndarray, roi: np.ndarray, row0: int, col0: int) -> int:
@@ -268,7 +347,15 @@ def _describe(image: OverheadImage, roi: np.ndarray, row0: int, col0: int) -> Re
         width_in=max(width, ipp),
         area_in2=count * ipp * ipp,
         elongation=1.0 / axis_ratio,  # the +1/12 pixel-square term keeps minor > 0
+        cluster=_solidity(world_polygon) < CLUSTER_SOLIDITY,
     )
+
+
+def _solidity(polygon: np.ndarray) -> float:
+    """The outline's area over its convex hull's (1 for a convex outline)."""
+    points = polygon.astype(np.float32)
+    hull = abs(float(cv2.contourArea(cv2.convexHull(points))))
+    return abs(float(cv2.contourArea(points))) / hull if hull > 0 else 1.0
 
 
 def _outline(roi: np.ndarray) -> np.ndarray:

@@ -8,6 +8,10 @@ guarantee hold for every point of a free cell, not just its centre: a pixel show
 obstacle when the obstacle covers half of it, so the true edge may lie up to one pixel
 beyond the outermost obstacle pixel centre, and a point of a cell may lie √½ pixel from
 the cell's centre. A base centred anywhere in a free cell therefore touches nothing.
+
+Besides what the image shows, a map may hold discs the robot was told about: a moving
+obstacle a driver reported when it stopped a move (docs/planner.md, "Moving
+obstacles") is drawn in as occupied, so the next plan goes around where it stood.
 """
 
 from __future__ import annotations
@@ -129,7 +133,10 @@ def disc_kernel(radius_px: float) -> np.ndarray:
     return (dx * dx + dy * dy <= radius_px * radius_px + 1e-9).astype(np.uint8)
 
 
-def map_key(scene: Scene, robot: RobotGeometry) -> str:
+Disc = tuple[float, float, float]  # an obstacle drawn in: centre x, y and radius, inches
+
+
+def map_key(scene: Scene, robot: RobotGeometry, discs: tuple[Disc, ...] = ()) -> str:
     """A digest of what the map is made of: obstacles, pixel grid and base radius.
 
     The robot is not an obstacle, so images taken as it drives about share one key, and
@@ -141,17 +148,35 @@ def map_key(scene: Scene, robot: RobotGeometry) -> str:
     digest.update(repr((scene.furniture.shape, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
                         robot.base_radius_in)).encode())
     digest.update(occupied.tobytes())
+    if discs:
+        digest.update(repr(discs).encode())
     return digest.hexdigest()
 
 
-def build_vision_map(scene: Scene, robot: RobotGeometry) -> VisionMap:
-    """Inflate the scene's obstacles by the base's radius (cv2.dilate with a disc)."""
+def draw_discs(scene: Scene, discs: tuple[Disc, ...]) -> np.ndarray:
+    """The scene's obstacle pixels with ``discs`` drawn in: every pixel whose centre
+    lies within a disc's radius of its centre."""
+    occupied = scene.furniture | scene.objects
+    if not discs:
+        return occupied
+    image = scene.image
+    rows, cols = np.indices(occupied.shape)
+    centres = image.to_world(rows.ravel(), cols.ravel())
+    drawn = occupied.copy().ravel()
+    for x, y, r in discs:
+        drawn |= np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= r
+    return drawn.reshape(occupied.shape)
+
+
+def build_vision_map(scene: Scene, robot: RobotGeometry, discs: tuple[Disc, ...] = ()) -> VisionMap:
+    """Inflate the scene's obstacles, ``discs`` drawn in, by the base's radius
+    (cv2.dilate with a disc)."""
     image = scene.image
     ipp = image.inches_per_pixel
     inflation_in = robot.base_radius_in + (1.0 + math.sqrt(0.5)) * ipp
-    occupied = scene.furniture | scene.objects
+    occupied = draw_discs(scene, discs)
     inflated = cv2.dilate(occupied.astype(np.uint8), disc_kernel(inflation_in / ipp))
     free = inflated == 0
     strict = cv2.dilate(inflated, np.ones((3, 3), np.uint8)) == 0
     return VisionMap(image=image, occupied=occupied, free=free, free_strict=strict,
-                     inflation_in=inflation_in, key=map_key(scene, robot))
+                     inflation_in=inflation_in, key=map_key(scene, robot, discs))

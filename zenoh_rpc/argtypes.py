@@ -1,14 +1,26 @@
-"""argparse types shared by ``csl driver`` and the executive's commands; like
-:mod:`zenoh_rpc.options` it imports nothing of either, so the driver side stays usable
-on a robot's own computer."""
+"""argparse types shared by ``csl driver`` and the executive's commands (which take
+them from here, never keep a copy); like :mod:`zenoh_rpc.options` it imports nothing
+of either, so the driver side stays usable on a robot's own computer."""
 
 from __future__ import annotations
 
 import argparse
 
 
+def non_negative_int(text: str) -> int:
+    """argparse type: an integer >= 0 (a seed, a count)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must not be negative, got {value}")
+    return value
+
+
 def positive_int(text: str) -> int:
-    """argparse type: an integer >= 1 (a count)."""
+    """argparse type: an integer >= 1 (a count); the one check behind every command's
+    counts, so one mistake reads the same whichever command it was made on."""
     try:
         value = int(text)
     except ValueError:

@@ -8,9 +8,12 @@ so the driver side stays usable on a robot's own computer.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from zenoh_rpc.endpoints import CONNECT_KEY, LISTEN_KEY
 
 if TYPE_CHECKING:  # zenoh itself is imported only by a command that opens a session
     from zenoh_rpc.config import UserConfig
@@ -58,3 +61,17 @@ def where(endpoint: str, key: str, user: UserConfig | None) -> str:
     if user is not None and user.sets(key):
         return f"the {key} of {user.path}"
     return endpoint
+
+
+def reached_at(listen: str, user: UserConfig | None) -> str:
+    """Where a node serving on ``listen`` is reached, for the line a serving command
+    (``csl driver sim``, ``csl learner serve``) prints once serving: ``on`` the endpoint
+    it listens on (ours, or the user's file's). A session the user's file puts in client
+    mode listens nowhere, whatever ``listen`` says (everything goes through a router,
+    docs/security.md): it is reached through the router it connected to, which is what
+    the line must say."""
+    if user is None or json.loads(user.load().get_json("mode")) != "client":
+        return f"on {where(listen, LISTEN_KEY, user)}"
+    routers = json.loads(user.load().get_json(CONNECT_KEY)) or ["a router found by scouting"]
+    return (f"as a zenoh client connected to {' or '.join(routers)} (client mode, set by {user.path}: "
+            f"it listens on nothing)")

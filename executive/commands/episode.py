@@ -75,6 +75,7 @@ def _setup(args: argparse.Namespace) -> Setup:
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=args.seed or 0,
                         use_appearance=args.appearance, battery_low=args.battery_low,
+                        price_detours=args.price_detours,
                         wait_driver_s=getattr(args, "wait_driver", 0.0),  # csl run only
                         learned_grasp_costs=args.learned_grasp_costs),
                  criterion_from_args(args), *_camera(args))
@@ -182,10 +183,8 @@ def run_demo(args: argparse.Namespace) -> int:
 def run_run(args: argparse.Namespace) -> int:
     console = Console(stderr=True, soft_wrap=True)
     setup = _setup(args)
-    if args.driver == "sim":
+    if args.driver == "sim":  # the simulator-only options with --driver zenoh: refused first (sim_only.py)
         _only_with(args, "--driver", "zenoh", ("--connect",))
-    else:
-        _only_with(args, "--driver", "sim", ("--world", "--seed", "--noise", "--camera"))
     timeouts = _verb_timeouts(args)  # a bad verb name fails before anything connects
     if args.wait_driver > 0 and args.driver != "zenoh":
         raise ValueError("--wait-driver goes with --driver zenoh (the in-process simulator cannot be lost)")

@@ -7,12 +7,66 @@ import argparse
 import os
 import shlex
 import sys
+from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
 
 from rich.console import Console
 
-from executive.args import output_folder, positive_int
+from executive.args import output_folder
 from executive.experiment.config import FULL_SEEDS, QUICK_SEEDS, ExperimentConfig
+from zenoh_rpc.argtypes import positive_int
+
+
+@dataclass(frozen=True)
+class Situation:
+    """A ``csl experiment`` study of one changing-world situation (issue: beyond CSL's
+    limits): its module ``executive.experiment.study_<name>`` has ``report(quick, seeds,
+    jobs)``; these are its command line's words."""
+
+    name: str
+    help: str
+    description: str
+    quick: str
+    seeds: str
+
+
+SITUATIONS = (
+    Situation("disturbance", "objects moved, swapped or taken away while sensed: the camera check on and off",
+              "Sweep the simulator's --disturb rate over floors of unseen test objects with the executive's "
+              "camera check before sensing and grasping on and off; print success, robot minutes per "
+              "object, objects reported gone and descriptions saved from disturbed attempts as a "
+              "Markdown section (BENCHMARKS.md, 'Disturbances').",
+              "two rates and 2 seeds (about 20 s on 2 cores)", "floors per rate and setting (default 6, or 2 with --quick)"),
+    Situation("battery", "low battery: the guard and the dock-detour pricing on and off, over start levels",
+              "Sweep the battery's start level over floors of unseen test objects with a charging dock, "
+              "with the low-battery guard off, on, and on with the dock detour priced into the learner's "
+              "moves; print success, robot minutes per object, dock trips, objects resumed after a "
+              "charge and flat-battery failures as a Markdown section (BENCHMARKS.md, 'Battery').",
+              "two levels and 1 seed (about 30 s on 2 cores)", "floors per level and setting (default 4, or 1 with --quick)"),
+    Situation("obstacles", "people and carts crossing the floor: the safety stop and blocked-move branch on and off",
+              "Sweep the number and speed of the simulator's movers (--movers N:SPEED) over floors of unseen "
+              "test objects with the driver's safety stop and the executive's blocked-move branch on and "
+              "off; print success, robot minutes per object, contacts, blocked moves and objects given up "
+              "as a Markdown section (BENCHMARKS.md, 'Moving obstacles').",
+              "0 and 3 movers, 2 seeds (about 15 s on 2 cores)",
+              "floors per sweep point and setting (default 6, or 2 with --quick)"),
+    Situation("clutter", "objects close together: the sonar beam check on and off, over the neighbour's gap",
+              "Pair every unseen test object with a neighbour GAP inches away (edge to edge; 'apart': no "
+              "clutter) and run the executive with its beam check (BeamClear?) on and off; print success, "
+              "robot minutes per object and the sonar readings a neighbour contaminated as a Markdown "
+              "section (BENCHMARKS.md, 'Clutter').",
+              "apart and 2 in, 1 seed (about 15 s on 2 cores)", "floors per gap and setting (default 4, or 1 with --quick)"),
+)
+
+
+def _add_situation(studies: argparse._SubParsersAction, study: Situation) -> None:
+    parser = studies.add_parser(study.name, help=study.help, description=study.description)
+    parser.add_argument("--quick", action="store_true", help=study.quick)
+    parser.add_argument("--seeds", type=positive_int, default=None, metavar="N", help=study.seeds)
+    parser.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
+                        help="parallel worker processes (default: the CPU count)")
+    parser.set_defaults(handler=run_situation)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,18 +89,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     paper.add_argument("--out", type=Path, default=Path("docs"),
                        help="folder for results.md (plots and CSV go to its results/ folder; default docs/)")
     paper.set_defaults(handler=run_experiment_paper)
-    disturbance = studies.add_parser(
-        "disturbance", help="objects moved, swapped or taken away while sensed: the camera check on and off",
-        description=("Sweep the simulator's --disturb rate over floors of unseen test objects with the executive's "
-                     "camera check before sensing and grasping on and off; print success, robot minutes per "
-                     "object, objects reported gone and descriptions saved from disturbed attempts as a "
-                     "Markdown section (BENCHMARKS.md, 'Disturbances')."))
-    disturbance.add_argument("--quick", action="store_true", help="two rates and 2 seeds (about 20 s on 2 cores)")
-    disturbance.add_argument("--seeds", type=positive_int, default=None, metavar="N",
-                             help="floors per rate and setting (default 6, or 2 with --quick)")
-    disturbance.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
-                             help="parallel worker processes (default: the CPU count)")
-    disturbance.set_defaults(handler=run_experiment_disturbance)
+    for study in SITUATIONS:
+        _add_situation(studies, study)
 
 
 def run_experiment_paper(args: argparse.Namespace) -> int:
@@ -66,8 +110,8 @@ def run_experiment_paper(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_experiment_disturbance(args: argparse.Namespace) -> int:
-    from executive.experiment.study_disturbance import report
-
-    print(report(args.quick, args.seeds, args.jobs))
+def run_situation(args: argparse.Namespace) -> int:
+    """One situation study: its module's ``report(quick, seeds, jobs)`` printed as Markdown."""
+    study = import_module(f"executive.experiment.study_{args.experiment}")  # the simulator: only when it runs
+    print(study.report(args.quick, args.seeds, args.jobs))
     return 0

@@ -14,7 +14,7 @@ from learner.library import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint
-from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -79,7 +79,7 @@ def run_serve(args: argparse.Namespace) -> int:
 
     def on_ready() -> None:
         snapshot = service.library()
-        print(f"serving learner {args.name!r} on {where(listen, LISTEN_KEY, zenoh_config)}: "
+        print(f"serving learner {args.name!r} {reached_at(listen, zenoh_config)}: "
               f"{len(snapshot.descriptions)} "
               f"descriptions, version {snapshot.version}, from {db}{created} (Ctrl-C to stop)", flush=True)
 

@@ -9,10 +9,12 @@ from pathlib import Path
 
 from executive import defaults
 from executive.args import (add_criterion_options, add_learned_grasp_costs_option, add_recording_options,
-                            add_retrain_option, add_verb_timeout_option, battery_level, endpoint, non_negative_int,
-                            non_negative_seconds, positive_int)
+                            add_retrain_option, add_verb_timeout_option, battery_level, endpoint,
+                            non_negative_seconds)
+from executive.commands import sim_only
 from hero_driver.cli import add_disturb_option
 from hero_driver.sim.noise import NOISE_PRESETS
+from zenoh_rpc.argtypes import non_negative_int, positive_int
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
 
@@ -25,14 +27,18 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                    help="alternatives tried at a node before backtracking (the paper's N, default 3)")
     p.add_argument("--nearest-after", type=positive_int, default=None, metavar="K",
                    help="switch to nearest neighbour after K unreliable values (default: only as the last resort)")
-    p.add_argument("--appearance", action="store_true",
+    p.add_argument("--appearance", action=argparse.BooleanOptionalAction, default=True,
                    help="let what the camera measured (footprint area and elongation) rule out unlike "
-                        "descriptions before any test, for free (docs/library-format.md)")
+                        "descriptions before any test, for free (default on; docs/library-format.md)")
     p.add_argument("--max-steps", type=positive_int, default=40, metavar="N",
                    help="recognition steps per object before it is reported failed (default 40)")
     p.add_argument("--battery-low", type=battery_level, default=0.2, metavar="LEVEL",
                    help="below this battery level the robot drives to its dock and charges, then resumes "
                         "(default 0.2; 0 turns the guard off; needs the driver's battery feature)")
+    p.add_argument("--price-detours", action=argparse.BooleanOptionalAction, default=False,
+                   help="price the dock detour into the learner's moves when a test would leave the battery "
+                        "below --battery-low (default off: it changed no choice for the better, BENCHMARKS.md "
+                        "'Battery'; docs/executive.md)")
     p.add_argument("--out", type=Path, default=Path("csl-out"),
                    help="folder for the episode log, the plots and (demo) the library (default ./csl-out)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
@@ -95,6 +101,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                           "line, exit status 3 (with --driver zenoh; default 0: stop at once; docs/reliability.md)")
     _executive_options(run)
     run.set_defaults(handler=_handler("run_run"))
+    sim_only.guarded(run)  # --world, --disturb... with --driver zenoh: one line, exit 2
 
     bt = sub.add_parser("bt", help="show the behaviour tree",
                         description="Print the executive's behaviour tree, render it to a PNG, or export it "

@@ -54,11 +54,11 @@ class Control:
 
     alternatives: int = 3
     nearest_after: int | None = None
-    appearance: bool = False
+    appearance: bool = True
 
     @property
     def label(self) -> str:
-        camera = ", appearance" if self.appearance else ""
+        camera = "" if self.appearance else ", no appearance"
         if self.nearest_after == 0:
             return "off" + camera
         nearest = "last" if self.nearest_after is None else f"after {self.nearest_after}"

@@ -19,36 +19,26 @@ Run: ``csl experiment disturbance [--quick] [--seeds N] [--jobs J]``.
 from __future__ import annotations
 
 import tempfile
-import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from behaviours.services import Params
 from executive.executive import Executive
+from executive.experiment import situation
+from executive.experiment.situation import installed
 from executive.experiment.conditions import EXECUTION_NOISE, noise_config
 from executive.experiment.disturbed import saved_from_disturbed, sim_index
-from executive.experiment.runner import run_all
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 from executive.experiment.worlds import write_floor
 from executive.report import Truth, rows
 from hero_driver.sim.events import DisturbPreset
 from hero_driver.sim_driver import SimulatedHero
-from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
-from robot_profile import RobotProfile
 
 TITLE = "Disturbances: success and cost vs the disturbance rate, camera check on and off"
 QUICK_RATES = (0.0, 0.3, 0.6)
 FULL_RATES = (0.0, 0.1, 0.2, 0.4, 0.6, 0.8)
-
-_INSTALLED: list[tuple[tuple[ObjectDescription, ...], RobotProfile]] = []
-
-
-def install(descriptions: Sequence[ObjectDescription], profile: RobotProfile) -> None:
-    """Give this process the trained library and the robot profile (the pool's initializer)."""
-    _INSTALLED[:] = [(tuple(descriptions), profile)]
-
 
 def preset(rate: float) -> DisturbPreset:
     """The mix at rate ``rate``: half nudges, a quarter swaps, a quarter removals."""
@@ -86,9 +76,7 @@ class ObjectRow:
 
 def run_job(job: DisturbanceJob) -> list[ObjectRow]:
     """Run one floor here (in a worker process) and report it object by object."""
-    if not _INSTALLED:
-        raise ValueError("no trained library was installed in this worker")
-    library, profile = _INSTALLED[0]
+    library, profile = installed()
     with tempfile.TemporaryDirectory(prefix="csl-disturbance-") as tmp:
         folder = Path(tmp)
         world = write_floor(folder, "test", job.seed)
@@ -164,31 +152,10 @@ def summarise(results: Mapping[DisturbanceJob, Sequence[ObjectRow]], rates: Sequ
                        details=((("rate", "check on", "check off"), table),))
 
 
-def markdown(study: StudyResult, command: str, wall_s: float) -> str:
-    """The study as a Markdown section for BENCHMARKS.md."""
-    lines = [f"### {study.title}", "", f"`{command}` ({wall_s:.0f} s wall)", "",
-             "| measured | paper | ours |", "|---|---|---|"]
-    lines += [f"| {r.measured} | {r.paper} | {r.ours} |" for r in study.rows]
-    for headers, body in study.details:
-        lines += ["", "| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
-        lines += ["| " + " | ".join(row) + " |" for row in body]
-    lines += ["", *study.notes]
-    return "\n".join(lines)
-
 
 def report(quick: bool, seeds: int | None, jobs: int) -> str:
     """Train, run every rate with the check on and off, and give the BENCHMARKS.md
     section (``csl experiment disturbance``)."""
-    from executive.experiment.study_training import run_training
-    from robot_profile import load_profile
-
-    began = time.perf_counter()
-    profile = load_profile()
-    trained = run_training(profile)
     rates = QUICK_RATES if quick else FULL_RATES
-    floors = list(range(seeds or (2 if quick else 6)))
-    results = run_all(plan(rates, floors), run_job, workers=jobs, group=lambda job: job.study,
-                      initializer=install, initargs=(trained.descriptions, profile))
-    command = "csl experiment disturbance" + "".join(
-        [" --quick" if quick else "", f" --seeds {seeds}" if seeds else "", f" --jobs {jobs}"])
-    return markdown(summarise(results, rates), command, time.perf_counter() - began)
+    return situation.report("disturbance", quick, seeds, jobs, (2, 6), lambda floors: plan(rates, floors), run_job,
+                            lambda results: summarise(results, rates))

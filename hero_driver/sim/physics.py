@@ -11,12 +11,13 @@ lying on its side rolls: it is pushed across its axis and braked far less.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import pymunk
 
 from hero_driver.sim.catalogue import CatalogueEntry
+from hero_driver.sim.movers import Movers, MoverSpec
 from hero_driver.sim.worldfile import WorldSpec, rect_polygon
 
 WALL_IN = 6.0  # wall thickness, outside the room's interior
@@ -57,7 +58,8 @@ class Physics:
     """Owns the pymunk space and keeps every body and shape referenced (pymunk does not
     keep Python objects alive on its own)."""
 
-    def __init__(self, spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry]) -> None:
+    def __init__(self, spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry],
+                 movers: Sequence[MoverSpec] = ()) -> None:
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
         self.static_shapes: list[pymunk.Shape] = []
@@ -72,6 +74,7 @@ class Physics:
         self._owner: dict[pymunk.Shape, SimObject] = {}
         for i, p in enumerate(spec.objects):
             self.objects.append(self._make_object(i, catalogue[p.entry_id], p.x_in, p.y_in, p.yaw_deg))
+        self.movers = Movers(movers, self.space)  # people and carts (hero_driver.sim.movers): no query sees them
 
     def _add_static(self, polygon: list[tuple[float, float]]) -> None:
         shape = pymunk.Poly(self.space.static_body, polygon)
@@ -123,9 +126,9 @@ class Physics:
         return None
 
     def overlaps_disc(self, centre: tuple[float, float], radius: float) -> bool:
-        """Whether a disc at ``centre`` touches any wall, furniture or object."""
+        """Whether a disc at ``centre`` touches any wall, furniture, object or mover."""
         hit = self.space.point_query_nearest(centre, radius, pymunk.ShapeFilter())
-        return hit is not None
+        return hit is not None or self.movers.nearest_gap(centre, radius) < 0.0
 
     def lift(self, obj: SimObject) -> None:
         """Take an object off the floor (held or binned): gone from rays and images."""

@@ -19,13 +19,14 @@ import numpy as np
 
 from hero_driver.interface import (
     BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, CameraImage, DriverError, GraspResult,
-    MoveResult, Pose, RobotState, SenseResult,
+    MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
 from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
 from hero_driver.sim.events import Disturber, DisturbPreset, Happened
+from hero_driver.sim.movers import STEP_S, MoverPreset, MoverTruth, preset_movers
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.odometry import Drift, slip
 from hero_driver.sim.physics import Physics, SimObject
@@ -40,6 +41,8 @@ COLLISION_BACKOFF_IN = 0.1  # the bumper stops the base this short of contact
 KNOCK_YAW_SIGMA_DEG = 5.0
 PUSH_SPREAD = (0.6, 1.4)  # a push travels this fraction of the entry's push_in
 ROLL_FACTOR = 3.0  # a rolling object travels this much farther than a sliding one
+SAFETY_IN = 6.0  # blocked_moves: a mover this near ahead of the base stops it (docs/simulator.md)
+PAUSE_S = 6.0  # ... for at most this long: the move goes on if the way clears, else it ends blocked
 
 
 @dataclass(frozen=True)
@@ -90,33 +93,70 @@ class SimWorld:
 
     def __init__(self, world: str | Path | WorldSpec | None = None, seed: int = 0,
                  profile: RobotProfile | None = None, noise: NoiseConfig | None = None,
-                 camera: str = "simple", disturb: DisturbPreset = DisturbPreset()) -> None:
+                 camera: str = "simple", disturb: DisturbPreset = DisturbPreset(),
+                 movers: MoverPreset = MoverPreset(), stop_for_movers: bool = True) -> None:
         if camera not in PRESETS:
             raise ValueError(f"camera preset {camera!r}: expected one of {', '.join(PRESETS)}")
         self.profile, self.catalogue = profile_and_catalogue(profile)
         self.camera_preset = camera
         self._explicit_noise = noise
         self.disturb = disturb  # the --disturb preset, kept across resets like the noise
+        self.mover_preset = movers  # the --movers preset, kept across resets too
+        self.stop_for_movers = stop_for_movers  # the blocked_moves feature (off: the base drives into movers)
         self.load(world if isinstance(world, WorldSpec) else load_world(world, self.catalogue), seed)
 
     def load(self, spec: WorldSpec, seed: int) -> None:
-        """Put the world back to the spec's initial state with a fresh random stream."""
-        physics = Physics(spec, self.catalogue)
+        """Put the world back to the spec's initial state with a fresh random stream.
+
+        Everything is built before any of it is kept: a spec or seed that fails part-way
+        (a start overlapping something, a battery level out of range, a seed numpy
+        refuses) leaves the world as it was, so the next reset of it still works."""
+        rng = np.random.default_rng(seed)
+        physics = Physics(spec, self.catalogue, spec.movers + preset_movers(
+            self.mover_preset, spec.room_width_in, spec.room_depth_in, seed))
         x, y, heading = spec.robot
+        physics.movers.make_room((x, y, self.profile.robot.geometry.base_radius_in))
         if physics.overlaps_disc((x, y), self.profile.robot.geometry.base_radius_in):
             raise ValueError(f"{spec.source}: robot: base at ({x:g}, {y:g}) overlaps a wall, furniture or object")
-        self.spec, self.seed, self.physics = spec, seed, physics
+        metered = spec.dock is not None or spec.battery is not None  # else tethered (docs/simulator.md)
+        battery = Battery(1.0 if spec.battery is None else spec.battery, metered)
+        disturber = Disturber(spec.events, self.disturb, seed, self.catalogue)
+        self.spec, self.seed, self.physics, self.rng = spec, seed, physics, rng
         self.noise = next((n for n in (self._explicit_noise, spec.noise) if n is not None), NoiseConfig())
-        self.rng = np.random.default_rng(seed)
         self.pose = Pose(x, y, normalise_deg(heading))
         self.drift = Drift()
         self.camera_yaw = camera.YawErrors()
         self.clock_s = 0.0
-        metered = spec.dock is not None or spec.battery is not None  # else tethered (docs/simulator.md)
-        self.battery = Battery(1.0 if spec.battery is None else spec.battery, metered)
+        self.battery, self.disturber = battery, disturber
         self.held: SimObject | None = None
         self.last_effect = grasping.NOTHING
-        self.disturber = Disturber(spec.events, self.disturb, seed, self.catalogue)
+        self.contacts = 0  # times the base touched anything: the bumper, or a mover (ground truth)
+
+    def movers(self) -> list[MoverTruth]:
+        """Where every mover is now (ground truth, docs/simulator.md)."""
+        return [m.truth() for m in self.physics.movers.all]
+
+    def safety_in(self) -> float | None:
+        """The blocked_moves feature: how near ahead a mover stops a move; None (off)
+        when the world has no movers, as the battery feature needs a dock, or when
+        this simulator ignores them (``stop_for_movers`` false)."""
+        return SAFETY_IN if self.stop_for_movers and self.physics.movers.all else None
+
+    def _pass(self, seconds: float, at: tuple[float, float], heading_deg: float | None = None) -> None:
+        """Robot time passes with the base standing at ``at`` (facing ``heading_deg``;
+        None: as it stands): the movers walk on."""
+        if self.physics.movers.all:
+            self.physics.movers.advance(seconds, (at[0], at[1], self.profile.robot.geometry.base_radius_in),
+                                        self.pose.heading_deg if heading_deg is None else heading_deg)
+
+    def wait(self, seconds: float) -> RobotState:
+        """Stand still for ``seconds`` (the blocked_moves feature's wait verb)."""
+        if not (math.isfinite(seconds) and 0.0 <= seconds <= 3600.0):
+            raise DriverError(BAD_REQUEST, f"wait: seconds must be from 0 to 3600, got {seconds!r}")
+        self._pass(seconds, (self.pose.x_in, self.pose.y_in))
+        self.clock_s += seconds
+        self._verb_ended()
+        return self.state()
 
     @property
     def disturbances(self) -> list[Happened]:
@@ -197,7 +237,8 @@ class SimWorld:
         motion, radius = self.profile.robot.motion, self.profile.robot.geometry.base_radius_in
         duration = motion.vision_s
         x, y, heading = self.pose.x_in, self.pose.y_in, self.pose.heading_deg
-        collided = False
+        self._pass(motion.vision_s, (x, y))
+        collided, blocked = False, None
         for wp in waypoints:
             towards = (wp.x_in + self.drift.dx_in, wp.y_in + self.drift.dy_in)
             dx, dy = towards[0] - x, towards[1] - y
@@ -205,35 +246,76 @@ class SimWorld:
             if length < 1e-6:
                 continue
             course = math.degrees(math.atan2(dy, dx))
-            duration += abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
+            turn_s = abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
+            duration += turn_s
+            self._pass(turn_s, (x, y), course)
             heading = course
             alpha = self.physics.sweep_circle((x, y), towards, radius)
             travel = length if alpha is None else max(0.0, alpha * length - COLLISION_BACKOFF_IN)
             collided = alpha is not None
-            duration += travel / motion.speed_in_per_s
-            stop = towards if alpha is None else (x + travel * dx / length, y + travel * dy / length)
+            travel, met, blocked, paused_s = self._drive_among_movers((x, y), (dx / length, dy / length), travel)
+            collided = (collided and not met and blocked is None) or met
+            duration += travel / motion.speed_in_per_s + paused_s
+            stop = (x + travel * dx / length, y + travel * dy / length) if collided or blocked else towards
+            self.contacts += int(collided)
             x, y = self._slip(self._odometry(stop, course, travel), travel)
-            if collided:
+            if collided or blocked is not None:
                 break
         centred = False
-        if not collided:
+        if not collided and blocked is None:
             if face is not None:
                 face = (face[0] + self.drift.dx_in, face[1] + self.drift.dy_in)
                 target = self._centring_target(x, y, face)
                 goal = (target.x_in, target.y_in) if target is not None else face
                 final = math.degrees(math.atan2(goal[1] - y, goal[0] - x))
                 duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s + motion.centring_s
+                self._pass(abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s + motion.centring_s, (x, y), final)
                 centred = target is not None
                 heading = final if centred else final + self._heading_error()
             else:
                 final = waypoints[-1].heading_deg
                 duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s
+                self._pass(abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s, (x, y), final)
                 heading = final + self._heading_error()
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
         self.battery.drain(duration, MOVING_PER_S)
         self._verb_ended()
-        return MoveResult(self.reported_pose(), duration, collided, centred)
+        return MoveResult(self.reported_pose(), duration, collided, centred, blocked)
+
+    def _drive_among_movers(self, start: tuple[float, float], u: tuple[float, float],
+                            travel: float) -> tuple[float, bool, Obstacle | None, float]:
+        """Drive ``travel`` inches from ``start`` along the unit vector ``u`` in steps of
+        ``STEP_S`` with the movers walking on; answer how far the base got, whether it
+        met a mover (the bumper stopped it: the feature is off), the mover that stopped
+        it short for longer than ``PAUSE_S`` (the feature is on; reckoned position) and
+        the seconds it stood paused for movers."""
+        movers = self.physics.movers
+        if not movers.all or travel <= 0.0:
+            return travel, False, None, 0.0
+        radius, speed = self.profile.robot.geometry.base_radius_in, self.profile.robot.motion.speed_in_per_s
+        heading = math.degrees(math.atan2(u[1], u[0]))
+        steps = math.ceil(travel / (speed * STEP_S))
+        done, paused = 0.0, 0.0
+        for i in range(1, steps + 1):
+            here = (start[0] + done * u[0], start[1] + done * u[1], radius)
+            if self.stop_for_movers:
+                mover, waited = movers.ahead(here, u, SAFETY_IN), 0.0
+                while mover is not None and waited < PAUSE_S:
+                    movers.advance(STEP_S, here, heading)
+                    waited += STEP_S
+                    mover = movers.ahead(here, u, SAFETY_IN)
+                paused += waited
+                if mover is not None:
+                    at = mover.truth()
+                    obstacle = Obstacle(at.x_in - self.drift.dx_in, at.y_in - self.drift.dy_in, at.reach_in)
+                    return done, False, obstacle, paused
+            step_to = travel * i / steps
+            if movers.nearest_gap((start[0] + step_to * u[0], start[1] + step_to * u[1]), radius) < 0.0:
+                return max(0.0, done - COLLISION_BACKOFF_IN), True, None, paused
+            done = step_to
+            movers.advance((travel / steps) / speed, (start[0] + done * u[0], start[1] + done * u[1], radius), heading)
+        return done, False, None, paused
 
     def _odometry(self, stop: tuple[float, float], course_deg: float, travel: float) -> tuple[float, float]:
         """Where the base really ends when told to ``stop`` after driving ``travel``
@@ -311,6 +393,7 @@ class SimWorld:
             elif feature.name == "Depth" and self._curved_end_on(aim):
                 value *= float(self.rng.uniform(0.25, 0.5))
             values[feature.name] = perturb(value, feature.error, step, self.rng, self.noise)
+        self._pass(spec.time_s, (self.pose.x_in, self.pose.y_in))
         self.clock_s += spec.time_s
         self.battery.drain(spec.time_s, SENSING_PER_S)
         self._verb_ended(aim.target)
@@ -345,6 +428,7 @@ class SimWorld:
                 self._push(obj, aim.u)
             elif self.last_effect == grasping.KNOCKED_OVER:
                 self._knock_over(obj, aim.u)
+        self._pass(spec.time_s, (self.pose.x_in, self.pose.y_in))
         self.clock_s += spec.time_s
         self.battery.drain(spec.time_s, GRASPING_PER_S)
         self._verb_ended()

@@ -21,6 +21,7 @@ from pathlib import Path
 from hero_driver.sim.battery import Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
 from hero_driver.sim.events import Disturbance, parse_events
+from hero_driver.sim.movers import MoverSpec, parse_movers_field
 from hero_driver.sim.noise import NoiseConfig
 
 log = logging.getLogger(__name__)
@@ -67,6 +68,7 @@ class WorldSpec:
     dock: Dock | None = None  # the charging dock, if the world has one (docs/simulator.md, Battery)
     battery: float | None = None  # the battery's level at the start; None: full, or tethered without a dock
     events: tuple[Disturbance, ...] = ()  # scheduled disturbances (docs/simulator.md, Disturbances)
+    movers: tuple[MoverSpec, ...] = ()  # people and carts crossing the floor (docs/simulator.md, Moving obstacles)
 
 
 def resolve(world: str | Path | None) -> Path:
@@ -116,7 +118,8 @@ def _overlap(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool
 def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
     """Check and build a world from decoded JSON (``source`` names it in errors)."""
     top = FieldReader(source, "world", data)
-    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery", "events")
+    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery", "events",
+             "movers")
     room = FieldReader(source, "room", top.table.get("room"))
     room.only("width_in", "depth_in")
     width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
@@ -150,7 +153,8 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     spec = WorldSpec(str(top.table.get("name", Path(source).stem)), source, width, depth,
                      tuple(furniture), robot, tuple(objects), noise, _board(top, source),
                      dock=_dock(source, top.table.get("dock"), width, depth), battery=_battery(top),
-                     events=parse_events(top.table.get("events"), source, [p.entry_id for p in objects], catalogue))
+                     events=parse_events(top.table.get("events"), source, [p.entry_id for p in objects], catalogue),
+                     movers=parse_movers_field(top.table.get("movers"), source, width, depth))
     _check_layout(spec, catalogue)
     return spec
 

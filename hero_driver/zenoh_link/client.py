@@ -44,7 +44,8 @@ from hero_driver.interface import (
     SenseResult,
 )
 from hero_driver.zenoh_link import codec
-from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request, ResetRequest
+from hero_driver.zenoh_link.codec import (CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request,
+                                          ResetRequest, WaitRequest)
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
 from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
@@ -170,6 +171,13 @@ class ZenohDriver:
         leaves the executive's low-battery guard off."""
         with self._lock:
             return None if self._greeting is None else self._greeting.dock
+
+    def safety_in(self) -> float | None:
+        """How near ahead a moving obstacle stops the live driver's moves (the
+        ``blocked_moves`` feature, from its ``hello``); None without the feature or
+        before ``hello`` was answered, which leaves the blocked-move branch off."""
+        with self._lock:
+            return None if self._greeting is None else self._greeting.safety_in
 
     def wait_ready(self, timeout_s: float) -> bool:
         """Wait until a driver is alive, agreed on a version and published its state;
@@ -318,6 +326,10 @@ class ZenohDriver:
     def charge(self) -> Future[RobotState]:
         """The ``battery`` feature: with the base at the dock, charge until full."""
         return self._call("charge", EmptyRequest)
+
+    def wait(self, seconds: float) -> Future[RobotState]:
+        """The ``blocked_moves`` feature: stand still ``seconds`` of robot time."""
+        return self._call("wait", lambda: WaitRequest(seconds))
 
     def noop(self) -> Future[None]:
         """Round trip to the driver node without touching the robot (health, benchmark)."""

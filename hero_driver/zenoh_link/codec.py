@@ -36,11 +36,12 @@ from hero_driver.interface import (
     GraspResult,
     Hello,
     MoveResult,
+    Obstacle,
     Pose,
     RobotState,
     SenseResult,
 )
-from hero_driver.zenoh_link.versions import BATTERY, PROFILE, Greeting
+from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, PROFILE, Greeting
 from robot_profile import ProfileStamp
 
 Json = dict[str, Any]
@@ -82,11 +83,19 @@ class ResetRequest:
 
 
 @dataclass(frozen=True)
+class WaitRequest:
+    """``wait`` (the ``blocked_moves`` feature): stand still this many seconds."""
+
+    seconds: float
+
+
+@dataclass(frozen=True)
 class EmptyRequest:
     """``release``, ``camera`` and ``noop`` take no arguments."""
 
 
-Request = MoveRequest | ProcedureRequest | ResetRequest | EmptyRequest
+Request = MoveRequest | ProcedureRequest | ResetRequest | WaitRequest | EmptyRequest
+MAX_WAIT_S = 3600.0  # the longest wait a request may ask for
 
 
 # --------------------------------------------------------------------------- primitives
@@ -310,6 +319,22 @@ def reset_request_in(message: Json) -> ResetRequest:
                         None if seed is None else _integer(seed, "seed"))
 
 
+def wait_request_in(message: Json) -> WaitRequest:
+    fields = _fields(message, "", ("seconds",))
+    return WaitRequest(_wait_seconds(fields["seconds"]))
+
+
+def wait_request_out(request: WaitRequest) -> Json:
+    return {"seconds": _wait_seconds(request.seconds)}
+
+
+def _wait_seconds(value: object) -> float:
+    seconds = _not_negative(_real(value, "seconds"), "seconds")
+    if seconds > MAX_WAIT_S:
+        raise CodecError(f"seconds: at most {MAX_WAIT_S:g}, got {seconds:g}")
+    return seconds
+
+
 def empty_request_in(message: Json) -> EmptyRequest:
     _fields(message, "", ())
     return EmptyRequest()
@@ -337,15 +362,30 @@ def move_result_out(result: object) -> Json:
     return {"pose": _pose_out(result.pose, "pose"),
             "duration_s": _not_negative(_real(result.duration_s, "duration_s"), "duration_s"),
             "collided": _boolean(result.collided, "collided"),
-            "centred": _boolean(result.centred, "centred")}
+            "centred": _boolean(result.centred, "centred"),
+            **({} if result.blocked is None else {"blocked": _obstacle_out(result.blocked)})}
 
 
 def move_result_in(message: Json) -> MoveResult:
-    fields = _fields(message, "", ("pose", "duration_s", "collided", "centred"))
+    fields = _fields(message, "", ("pose", "duration_s", "collided", "centred"), ("blocked",))
     return MoveResult(_pose_in(fields["pose"], "pose"),
                       _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"),
                       _boolean(fields["collided"], "collided"),
-                      _boolean(fields["centred"], "centred"))
+                      _boolean(fields["centred"], "centred"),
+                      _obstacle_in(fields["blocked"]) if "blocked" in fields else None)
+
+
+def _obstacle_out(obstacle: Obstacle) -> Json:
+    if not isinstance(obstacle, Obstacle):
+        raise CodecError(f"blocked: expected an Obstacle, got {type(obstacle).__name__}")
+    return {"x_in": _real(obstacle.x_in, "blocked.x_in"), "y_in": _real(obstacle.y_in, "blocked.y_in"),
+            "radius_in": _not_negative(_real(obstacle.radius_in, "blocked.radius_in"), "blocked.radius_in")}
+
+
+def _obstacle_in(value: object) -> Obstacle:
+    fields = _fields(value, "blocked", ("x_in", "y_in", "radius_in"))
+    return Obstacle(_real(fields["x_in"], "blocked.x_in"), _real(fields["y_in"], "blocked.y_in"),
+                    _not_negative(_real(fields["radius_in"], "blocked.radius_in"), "blocked.radius_in"))
 
 
 def _feature_values(values: object, path: str) -> dict[str, float | None]:
@@ -513,13 +553,16 @@ def hello_out(hello: object) -> Json:
                              "sha256": _sha256(hello.profile.sha256, "profile.sha256")}
     if hello.dock is not None:
         fields["dock"] = _pose_out(hello.dock, "dock")
+    if hello.safety_in is not None:
+        fields["safety_in"] = _not_negative(_real(hello.safety_in, "safety_in"), "safety_in")
     _listed(fields["features"], "profile", PROFILE, hello.profile is not None)
     _listed(fields["features"], "dock", BATTERY, hello.dock is not None)
+    _listed(fields["features"], "safety_in", BLOCKED_MOVES, hello.safety_in is not None)
     return fields
 
 
 def hello_in(message: Json) -> Greeting:
-    fields = _fields(message, "", ("versions", "features"), ("profile", "dock"))
+    fields = _fields(message, "", ("versions", "features"), ("profile", "dock", "safety_in"))
     served = Hello(tuple(_versions(fields["versions"])), tuple(_features(fields["features"])))
     profile = None
     if "profile" in fields:
@@ -527,7 +570,9 @@ def hello_in(message: Json) -> Greeting:
         profile = ProfileStamp(_name(body["name"], "profile.name"), _sha256(body["sha256"], "profile.sha256"))
     _listed(served.features, "profile", PROFILE, profile is not None)
     _listed(served.features, "dock", BATTERY, "dock" in fields)
-    return Greeting(served, profile, _pose_in(fields["dock"], "dock") if "dock" in fields else None)
+    _listed(served.features, "safety_in", BLOCKED_MOVES, "safety_in" in fields)
+    safety = _not_negative(_real(fields["safety_in"], "safety_in"), "safety_in") if "safety_in" in fields else None
+    return Greeting(served, profile, _pose_in(fields["dock"], "dock") if "dock" in fields else None, safety)
 
 
 def _sha256(value: object, path: str) -> str:

@@ -63,7 +63,7 @@ from hero_driver.zenoh_link.verbs import BY_NAME
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
-from hero_driver.zenoh_link.versions import BATTERY, Greeting
+from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, Greeting
 from robot_profile import DEFAULT_PROFILE, ProfileStamp, RobotProfile, load_profile
 
 STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
@@ -75,6 +75,9 @@ NOT_HERE = (OUT_OF_RANGE, NO_TARGET)  # what sensing or grasping from the reset 
 BUSY_PROBE_S = 0.1  # while the busy check's turn runs, a release goes every this often
 BUSY_PROBES = 20  # ... at most this many
 KNOWN_WORLD = "lab"  # the shipped world the reset-objects check restores (hero_driver/worlds/lab.json)
+CROSSING_WORLD = "crossing"  # the shipped world of the blocked-moves check (hero_driver/worlds/crossing.json)
+CROSSING_DRIVE_IN = 170.0  # ... which drives this far straight ahead, across the person's line
+WAIT_CHECK_S = 1.0  # ... and waits this long first
 START_TOLERANCE_IN = 1.0  # the reset pose vs the world's start pose (inches, degrees)
 PING_PERIOD_S = 0.02  # the shutdown check sends a noop this often ...
 PING_TIMEOUT_S = 2.0  # ... each waiting this long for its reply
@@ -250,6 +253,7 @@ class _Suite:
             ("grasp", self.grasp),
             ("release", self.release),
             ("charge", self.charge),
+            ("blocked-moves", self.blocked_moves),
             ("out-of-range-target", self.out_of_range),
             ("unknown-verb", self.unknown_verb),
             ("unknown-procedure", self.unknown_procedure),
@@ -483,6 +487,45 @@ class _Suite:
                                   f"got {outcome.code}: {outcome.message}")
             return f"{OUT_OF_RANGE} away from the dock: {outcome.message}"
         return f"charged at the dock: pose {_pose_text(outcome)}"
+
+    def blocked_moves(self) -> str:
+        """The optional ``blocked_moves`` feature, checked in the shipped world
+        ``crossing`` (a person pacing across the robot's way; read on the checking
+        machine), since a driver may offer it only where something moves. There, after
+        a fresh ``hello``: without the feature ``wait`` must be an unknown verb; with
+        it, ``wait`` answers a state and a move straight through the person's line must
+        end blocked (or clear), never ``collided``: a driver that ignores movers drives
+        into the person. A driver that cannot restore ``crossing`` answers
+        ``bad_request`` and passes as "not checked". The suite goes on in ``lab``."""
+        reset = self.probe.outcome("reset", {"world": CROSSING_WORLD, "seed": None})
+        if isinstance(reset, DriverError):
+            if reset.code != BAD_REQUEST:
+                raise CheckFailed(f"reset to {CROSSING_WORLD}: expected a state or {BAD_REQUEST}, "
+                                  f"got {reset.code}: {reset.message}")
+            return f"not checked: the driver cannot restore {CROSSING_WORLD}"
+        try:
+            hello = self.probe.outcome("hello", {})
+            features = hello.served.features if isinstance(hello, Greeting) else ()
+            waited = self.probe.outcome("wait", {"seconds": WAIT_CHECK_S})
+            if BLOCKED_MOVES not in features:
+                if not isinstance(waited, DriverError) or waited.code != UNKNOWN_VERB:
+                    raise CheckFailed(f"hello does not list the {BLOCKED_MOVES} feature, so wait must answer "
+                                      f"{UNKNOWN_VERB}, got {_outcome_text(waited)}")
+                return f"not checked: the driver does not offer the {BLOCKED_MOVES} feature"
+            if not isinstance(waited, RobotState):
+                raise CheckFailed(f"wait {WAIT_CHECK_S:g} s: expected a state, got {_outcome_text(waited)}")
+            here = waited.pose
+            goal = {"x_in": here.x_in + CROSSING_DRIVE_IN, "y_in": here.y_in, "heading_deg": here.heading_deg}
+            moved = self.probe.result("move", {"waypoints": [goal], "face": None})
+        finally:
+            self.probe.outcome("reset", {"world": KNOWN_WORLD, "seed": None})
+        if moved.collided:
+            raise CheckFailed(f"a move through {CROSSING_WORLD}'s moving obstacle collided at {_pose_text(moved)}: "
+                              f"with {BLOCKED_MOVES} it must stop short and answer blocked")
+        if moved.blocked is None:
+            return f"the move through {CROSSING_WORLD} met no one (clear at {_pose_text(moved)})"
+        o = moved.blocked
+        return f"stopped short at {_pose_text(moved)}, blocked by an obstacle at ({o.x_in:.1f}, {o.y_in:.1f})"
 
     def out_of_range(self) -> str:
         self.probe.result("reset", {"world": None, "seed": None})

@@ -40,6 +40,7 @@ from hero_driver.interface import (
     INTERNAL,
     TIMEOUT,
     UNKNOWN_VERB,
+    BlockedMoves,
     Charger,
     Driver,
     DriverError,
@@ -187,7 +188,8 @@ class DriverNode:
         """The answer to ``hello``, asked afresh each time: a ``reset`` may have put the
         robot in a world with another charging dock, or none (no ``battery`` feature)."""
         dock = self.driver.dock() if isinstance(self.driver, Charger) else None
-        return greeting(self.profile, dock)
+        safety = self.driver.safety_in() if isinstance(self.driver, BlockedMoves) else None
+        return greeting(self.profile, dock, safety)
 
     def _finish(self, action: _Action) -> None:
         """The driver completed ``action``: answer it, unless its bound already did."""

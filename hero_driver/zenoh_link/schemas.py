@@ -64,7 +64,8 @@ VERB_FIELDS: Mapping[str, tuple[tuple[Mapping[str, Schema], Sequence[str]],
                                 tuple[Mapping[str, Schema], Sequence[str]]]] = {
     "move": (({"waypoints": {"type": "array", "items": POSE, "minItems": 1},
                "face": _or_null(_numbers(2))}, ("face",)),
-             ({"pose": POSE, "duration_s": NOT_NEGATIVE, "collided": BOOLEAN, "centred": BOOLEAN}, ())),
+             ({"pose": POSE, "duration_s": NOT_NEGATIVE, "collided": BOOLEAN, "centred": BOOLEAN,
+               "blocked": _object({"x_in": NUMBER, "y_in": NUMBER, "radius_in": NOT_NEGATIVE})}, ("blocked",))),
     "sense": (({"procedure": NAME}, ()),
               ({"procedure": NAME,
                 "values": {"type": "object", "propertyNames": NAME,
@@ -81,23 +82,26 @@ VERB_FIELDS: Mapping[str, tuple[tuple[Mapping[str, Schema], Sequence[str]],
                 ("camera_matrix", "fisheye", "clock_s", "meta"))),
     "reset": (({"world": _or_null(NAME), "seed": _or_null(INTEGER)}, ("world", "seed")), (STATE_FIELDS, ())),
     "charge": (({}, ()), (STATE_FIELDS, ())),
+    "wait": (({"seconds": {"type": "number", "minimum": 0, "maximum": 3600}}, ()), (STATE_FIELDS, ())),
     "noop": (({}, ()), ({}, ())),
     "hello": (({}, ()),
               ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
                              "minItems": 1, "uniqueItems": True},
                 "features": {"type": "array", "items": NAME, "uniqueItems": True},
                 "profile": _object({"name": NAME, "sha256": {"type": "string", "pattern": "^[0-9a-f]{64}$"}}),
-                "dock": POSE},
-               ("profile", "dock"))),
+                "dock": POSE, "safety_in": NOT_NEGATIVE},
+               ("profile", "dock", "safety_in"))),
 }
 # The ``profile`` field comes exactly when the ``profile`` feature is listed, ``dock``
-# exactly when ``battery`` is.
+# exactly when ``battery`` is, ``safety_in`` exactly when ``blocked_moves`` is.
 LISTS_PROFILE: Schema = {"properties": {"features": {"contains": {"const": "profile"}}}}
 LISTS_BATTERY: Schema = {"properties": {"features": {"contains": {"const": "battery"}}}}
+LISTS_BLOCKED_MOVES: Schema = {"properties": {"features": {"contains": {"const": "blocked_moves"}}}}
 CONDITIONS: Mapping[str, Schema] = {
     "hello.reply": {"allOf": [
         {"if": {"required": ["profile"]}, "then": LISTS_PROFILE, "else": {"not": LISTS_PROFILE}},
-        {"if": {"required": ["dock"]}, "then": LISTS_BATTERY, "else": {"not": LISTS_BATTERY}}]},
+        {"if": {"required": ["dock"]}, "then": LISTS_BATTERY, "else": {"not": LISTS_BATTERY}},
+        {"if": {"required": ["safety_in"]}, "then": LISTS_BLOCKED_MOVES, "else": {"not": LISTS_BLOCKED_MOVES}}]},
 }
 
 

@@ -17,7 +17,7 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from hero_driver.interface import UNKNOWN_VERB, Charger, DriverError
+from hero_driver.interface import UNKNOWN_VERB, BlockedMoves, Charger, DriverError
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (
     CodecError,
@@ -27,6 +27,7 @@ from hero_driver.zenoh_link.codec import (
     ProcedureRequest,
     Request,
     ResetRequest,
+    WaitRequest,
 )
 
 T = TypeVar("T")
@@ -101,6 +102,10 @@ VERBS: tuple[Verb, ...] = (
     # The battery feature: with the base at the dock, charge until full.
     Verb("charge", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.state_out, codec.state_in, 7200.0, lambda driver, _request: _charge(driver), bound_s=7170.0),
+    # The blocked_moves feature: stand still while a moving obstacle passes (at most an hour).
+    Verb("wait", WaitRequest, codec.wait_request_in, codec.wait_request_out,
+         codec.state_out, codec.state_in, 3660.0, lambda driver, request: _wait(driver, request.seconds),
+         bound_s=3630.0),
     # The health ping and the round-trip benchmark.
     Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
          codec.noop_out, codec.noop_in, 5.0, lambda _greeting, _request: _settled(None), touches_robot=False),
@@ -114,6 +119,13 @@ def _charge(driver: Any) -> Future[Any]:
     if not isinstance(driver, Charger):
         raise DriverError(UNKNOWN_VERB, "charge: this driver has no battery feature (see its hello)")
     return driver.charge()
+
+
+def _wait(driver: Any, seconds: float) -> Future[Any]:
+    """``wait`` on a driver without the blocked_moves feature is a verb it does not have."""
+    if not isinstance(driver, BlockedMoves) or driver.safety_in() is None:
+        raise DriverError(UNKNOWN_VERB, "wait: this driver has no blocked_moves feature (see its hello)")
+    return driver.wait(seconds)
 
 
 def _settled(value: T) -> Future[T]:

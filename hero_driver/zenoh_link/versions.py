@@ -11,6 +11,8 @@ ends speak; a driver that predates ``hello`` is taken to serve version 1 and no
 features, because that is all there was before ``hello``. ``profile`` adds the robot
 profile's name and fingerprint to the ``hello`` reply; ``battery`` adds the charging
 dock's pose to it, the ``charge`` verb and the ``battery_empty`` error code.
+``blocked_moves`` adds the safety distance to it, the optional ``blocked`` field of the
+``move`` reply and the ``wait`` verb (docs/driver-protocol.md, "Moving obstacles").
 """
 
 from __future__ import annotations
@@ -23,8 +25,9 @@ from robot_profile import ProfileStamp
 
 PROFILE = "profile"  # the feature: the hello reply names the robot profile the driver serves
 BATTERY = "battery"  # the feature: a real battery level, the dock in hello, the charge verb
+BLOCKED_MOVES = "blocked_moves"  # the feature: moves stop short of moving obstacles, the wait verb
 SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
-FEATURES: tuple[str, ...] = (PROFILE, BATTERY)  # optional features this code serves and uses
+FEATURES: tuple[str, ...] = (PROFILE, BATTERY, BLOCKED_MOVES)  # optional features this code serves and uses
 BEFORE_HELLO = Hello((1,), ())  # what a driver without ``hello`` serves
 
 
@@ -37,14 +40,17 @@ class Greeting:
     served: Hello
     profile: ProfileStamp | None = None
     dock: Pose | None = None
+    safety_in: float | None = None  # the blocked_moves feature: how near ahead a mover stops a move
 
 
-def greeting(profile: ProfileStamp | None, dock: Pose | None = None) -> Greeting:
+def greeting(profile: ProfileStamp | None, dock: Pose | None = None, safety_in: float | None = None) -> Greeting:
     """What a node of this code answers to ``hello``: every version it speaks, the
-    ``profile`` feature only when it has a profile to name, and ``battery`` only when
-    the driver it serves has a dock to charge at."""
-    features = ((PROFILE,) if profile is not None else ()) + ((BATTERY,) if dock is not None else ())
-    return Greeting(Hello(SUPPORTED_VERSIONS, features), profile, dock)
+    ``profile`` feature only when it has a profile to name, ``battery`` only when
+    the driver it serves has a dock to charge at, and ``blocked_moves`` only when it
+    stops moves for moving obstacles."""
+    features = (((PROFILE,) if profile is not None else ()) + ((BATTERY,) if dock is not None else ())
+                + ((BLOCKED_MOVES,) if safety_in is not None else ()))
+    return Greeting(Hello(SUPPORTED_VERSIONS, features), profile, dock, safety_in)
 
 
 class NoCommonVersion(ValueError):

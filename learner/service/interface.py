@@ -131,11 +131,17 @@ MAX_GRASP_ATTEMPTS = 1000
 """Most attempts one record may carry: one object's grasps (its step budget is 40 by
 default), with room to spare; more is a client gone wrong, refused whole."""
 
+MAX_ATTEMPT_S = 86_400.0
+"""Most robot seconds one grasp attempt may cost: a day, far beyond any grasp. Bounding
+each attempt (not just requiring it finite) keeps the running totals finite for any
+number of records, so ``grasp_costs`` always encodes and a learned price is never inf."""
+
 
 def check_grasp_attempts(attempts: object) -> list[tuple[str, float, bool]]:
     """``attempts`` as ``(grasp, seconds, success)`` triples if each names a grasp (1 to
     :data:`MAX_KEY_CHARS` printable characters) and costs finite seconds >= 0 and there
-    are at most :data:`MAX_GRASP_ATTEMPTS`; else ValueError naming the first bad one.
+    are at most :data:`MAX_GRASP_ATTEMPTS` (each at most :data:`MAX_ATTEMPT_S`); else
+    ValueError naming the first bad one.
     Whether the robot knows the grasp is the service's check (it knows the robot)."""
     if not isinstance(attempts, (list, tuple)):
         raise ValueError(f"attempts: must be a list, got {type(attempts).__name__}")
@@ -149,8 +155,9 @@ def check_grasp_attempts(attempts: object) -> list[tuple[str, float, bool]]:
         if not isinstance(grasp, str) or not grasp or len(grasp) > MAX_KEY_CHARS or not grasp.isprintable():
             raise ValueError(f"attempts[{i}]: a grasp is 1 to {MAX_KEY_CHARS} printable characters, got {grasp!r:.120}")
         value = _seconds(seconds)
-        if not 0 <= value < math.inf:
-            raise ValueError(f"attempts[{i}]: seconds must be a finite number >= 0, got {seconds!r:.120}")
+        if not 0 <= value <= MAX_ATTEMPT_S:
+            raise ValueError(f"attempts[{i}]: seconds must be a number from 0 to {MAX_ATTEMPT_S:.0f} (a day), "
+                             f"got {seconds!r:.120}")
         if not isinstance(success, bool):
             raise ValueError(f"attempts[{i}]: success must be true or false, got {success!r:.120}")
         checked.append((grasp, value, success))

@@ -127,9 +127,9 @@ class LocalLearner:
         totals (docs/library-format.md, "Grasp costs"); the library's version is not
         bumped: descriptions did not change. Checked whole before anything is written
         (:func:`~learner.service.interface.check_grasp_attempts`, and with ``knowledge``
-        every grasp must be the robot's). A ``key`` already recorded adds nothing: the
-        key is stored first, so a crash between the two writes loses that one batch
-        rather than ever counting it twice."""
+        every grasp must be the robot's). A ``key`` already recorded adds nothing; the
+        key and the attempts are written in one transaction, so a crash neither loses
+        the batch nor lets its retry count it twice."""
         checked = check_grasp_attempts(list(attempts))
         if self.knowledge is not None:
             for grasp, _seconds, _success in checked:
@@ -140,11 +140,7 @@ class LocalLearner:
             check_learn_key(key)
         with self._lock:
             self._check_open()
-            if key is not None:
-                if self._store.meta_int(GRASP_RECORD_KEY + key):
-                    return
-                self._store.set_meta(GRASP_RECORD_KEY + key, "1")
-            self._store.record_grasp_attempts(checked)
+            self._store.record_grasp_attempts(checked, None if key is None else GRASP_RECORD_KEY + key)
 
     def grasp_costs(self) -> list[GraspCostRecord]:
         """What each grasp has cost so far, for :func:`learner.costs.with_learned_grasp_costs`."""

@@ -210,7 +210,11 @@ def test_until_handled_setup_without_services_raises_a_clear_error() -> None:
         UntilHandled(py_trees.behaviours.Failure("step"), ROBOT).setup()
 
 
-SEEING = Params(use_appearance=True)
+SEEING = Params()  # the appearance is on by default
+
+
+def test_the_appearance_is_on_by_default() -> None:
+    assert Params().use_appearance
 
 
 def test_start_object_hands_the_camera_appearance_to_the_session() -> None:
@@ -241,7 +245,7 @@ def test_a_region_drawn_without_pixel_measures_has_no_appearance() -> None:
 def test_without_the_switch_the_appearance_is_kept_but_rules_nothing_out() -> None:
     library = four_objects()
     library[0] = replace(library[0], appearance=Appearance(True, 8.32, 1.0))
-    services = make_services(descriptions=library)  # default Params: appearance off
+    services = make_services(descriptions=library, params=Params(use_appearance=False))  # --no-appearance
     fresh_board()
     put("objects", [replace(REGION, area_in2=13.44, elongation=2.333)])
     assert run(StartObject(ROBOT), services) == Status.SUCCESS

@@ -57,7 +57,7 @@ def test_commands_and_actions(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -
     assert _complete("csl library sh", monkeypatch, tmp_path) == ["show"]
     assert "--log-level" in _complete("csl demo --lo", monkeypatch, tmp_path)
     verbs = [c for c in _complete("csl driver call r1 ", monkeypatch, tmp_path) if not c.startswith("-")]
-    assert verbs == ["move", "sense", "grasp", "release", "camera", "reset", "charge", "noop", "hello"]
+    assert verbs == ["move", "sense", "grasp", "release", "camera", "reset", "charge", "wait", "noop", "hello"]
     assert _complete("csl driver call r1 re", monkeypatch, tmp_path) == ["release", "reset"]
 
 
@@ -66,7 +66,7 @@ def test_worlds_then_world_files(monkeypatch: pytest.MonkeyPatch, tmp_path: Path
     (tmp_path / "notes.txt").write_text("")
     (tmp_path / "worlds").mkdir()
     offered = _complete("csl demo --world ", monkeypatch, tmp_path)
-    assert offered[:2] == ["lab", "training"] and sorted(offered[2:]) == ["mars.json", "worlds/"]  # not notes.txt
+    assert offered[:4] == ["clutter", "crossing", "lab", "training"] and sorted(offered[4:]) == ["mars.json", "worlds/"]  # not notes.txt
     assert _complete("csl run --world t", monkeypatch, tmp_path) == ["training"]
     assert _complete("csl driver sim --world la", monkeypatch, tmp_path) == ["lab"]
 

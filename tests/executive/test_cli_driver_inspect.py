@@ -133,7 +133,7 @@ def test_nobody_serving_is_exit_3_and_says_how_to_start_one() -> None:
         (["noop", "[1, 2]"], "REQUEST: expected a JSON object"),
         (["sense", "{}"], "REQUEST: procedure: missing field"),
         (["move", '{"waypoints": [{"x_in": 1, "y_in": NaN, "heading_deg": 0}]}'], "REQUEST: waypoints[0].y_in"),
-        (["fly"], "VERB: unknown verb 'fly' (verbs: move, sense, grasp, release, camera, reset, charge, noop, hello)"),
+        (["fly"], "VERB: unknown verb 'fly' (verbs: move, sense, grasp, release, camera, reset, charge, wait, noop, hello)"),
     ],
 )
 def test_bad_requests_are_one_line_exit_2_before_anything_is_sent(argv: list[str], message: str,

@@ -48,7 +48,7 @@ def episode(tmp_path: Path, world: Path, *, check: bool = True, disturb: Disturb
     learner = LocalLearner(tmp_path / f"library-{seed}-{check}.sqlite",
                            seed_library=read_library_json(defaults.EXAMPLE_LIBRARY))
     log = EpisodeLog()
-    executive = Executive(driver, learner, log=log, params=Params(check_in_place=check))
+    executive = Executive(driver, learner, log=log, params=Params(check_in_place=check, use_appearance=False))  # the stories pin sensing
     try:
         return executive.run(), log, driver, start, learner
     finally:
@@ -88,7 +88,7 @@ def test_a_removed_object_is_reported_gone_and_the_run_goes_on(tmp_path: Path) -
 def test_csl_run_exits_0_when_an_object_was_taken_away(tmp_path: Path) -> None:
     world = floor(tmp_path, [{"at_step": 2, "object": 0, "do": "remove"}])
     out = tmp_path / "out"
-    assert main(["run", "--world", str(world), "--no-plots", "--out", str(out),
+    assert main(["run", "--world", str(world), "--no-plots", "--out", str(out), "--no-appearance",  # sensed to step 2
                  "--library", str(tmp_path / "lib.sqlite")]) == 0
     events = [json.loads(line) for line in (out / "episode.jsonl").read_text().splitlines()]
     assert [e["object"] for e in events if e["event"] == "gone"] == [0]

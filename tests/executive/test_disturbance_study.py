@@ -10,8 +10,8 @@ import pytest
 
 from executive import defaults
 from executive.experiment.disturbed import saved_from_disturbed, sim_index, unnoticed
-from executive.experiment.study_disturbance import (DisturbanceJob, ObjectRow, cell, install, plan, preset, run_job,
-                                                    summarise)
+from executive.experiment.situation import install
+from executive.experiment.study_disturbance import DisturbanceJob, ObjectRow, cell, plan, preset, run_job, summarise
 from executive.experiment.worlds import set_members
 from hero_driver.sim.events import Happened
 from learner.library import read_library_json

@@ -75,14 +75,19 @@ def test_strategies_off_means_nearest_neighbour_at_once() -> None:
     assert STRATEGIES_ON.params().max_alternatives == 3 and STRATEGIES_ON.params().nearest_after is None
     assert STRATEGIES_OFF.label == "off"
     assert Control(5, 2).label == "N=5, nearest after 2"
-    assert Control(appearance=True).label == "N=3, nearest last, appearance"
-    assert Control(appearance=True).params().use_appearance and not STRATEGIES_ON.params().use_appearance
+    assert Control(appearance=False).label == "N=3, nearest last, no appearance"
+    assert STRATEGIES_ON.params().use_appearance and not Control(appearance=False).params().use_appearance
 
 
-def test_appearance_off_is_the_execution_run_so_the_pool_runs_it_once() -> None:
+def test_appearance_on_is_the_execution_run_so_the_pool_runs_it_once() -> None:
+    """The appearance is on by default, so the study's 'on' runs are study 2's and only
+    the 'off' runs are its own."""
     config = ExperimentConfig(quick=True, seeds=2, jobs=1, out=Path("."), command="csl experiment paper --quick")
-    off = [spec for spec in study_appearance.plan(config) if not spec.control.appearance]
-    assert set(off) <= set(study_execution.plan(config)) and len(off) == 4  # 2 object sets x 2 seeds
+    plan = study_appearance.plan(config)
+    on = [spec for spec in plan if spec.control.appearance]
+    off = [spec for spec in plan if not spec.control.appearance]
+    assert set(on) <= set(study_execution.plan(config)) and len(on) == 4  # 2 object sets x 2 seeds
+    assert not set(off) & set(study_execution.plan(config)) and len(off) == 4
 
 
 def test_paired_saving_and_verdict_by_hand() -> None:

@@ -55,7 +55,7 @@ def wrap_priced(executive: Executive) -> tuple[float, float]:
 
 def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tmp_path: Path) -> None:
     truth = slowed(FILE, "Front-Wrap", 4.0)
-    on = Params(learned_grasp_costs=True)
+    on = Params(learned_grasp_costs=True, use_appearance=False)  # the grasps the arm-only story tries
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         first = episode(learner, "lab", 0, truth, on)
         wraps = [a.seconds for a in attempt_costs(first.log.events) if a.grasp == "Front-Wrap"]
@@ -98,7 +98,7 @@ def floor(tmp_path: Path, events: list[dict[str, object]]) -> Path:
 
 
 def test_a_disturbed_objects_grasps_are_not_recorded(tmp_path: Path) -> None:
-    on = Params(learned_grasp_costs=True)
+    on = Params(learned_grasp_costs=True, use_appearance=False)  # the grasps the arm-only story tries
     with LocalLearner(tmp_path / "calm.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         episode(learner, floor(tmp_path, []), 0, FILE, on)
         assert learner.grasp_costs() == [GraspCostRecord("Front-Wrap", 1, 60.0, 0, 0.0)]  # the bottle's hold

@@ -108,5 +108,6 @@ def test_a_sense_the_driver_never_answers_fails_its_object_only(tmp_path: Path,
     assert after == []  # object 0's step ended there: nothing more was decided or sent for it
     objects = [e["object"] for e in events if e["event"] == "object"]
     assert objects == list(range(7))
-    assert [e for e in events if e["event"] == "sense" and e["object"] == 1]  # object 1 was sensed: the robot came back
+    # object 1 was worked on, sensed or (the camera's appearance may leave one grasp) grasped: the robot came back
+    assert [e for e in events if e["event"] in ("sense", "grasp") and e["object"] == 1]
     assert "exit status 1: " in said.out

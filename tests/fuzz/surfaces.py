@@ -27,7 +27,6 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from dataclasses import dataclass
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Any
 
 from hypothesis import strategies as st
@@ -112,6 +111,15 @@ class Workbench:
             self._learner = LocalLearner(self.folder / "learner.sqlite", seed_library=read_library_json(LIBRARY),
                                          knowledge=load_knowledge(PROFILE))
         return self._learner
+
+    def renew_learner(self) -> None:
+        """Start the next case from a fresh store (after a case left the store unsound,
+        so that one finding does not make every later case fail on it too)."""
+        if self._learner is not None:
+            self._learner.close()
+            self._learner = None
+        for suffix in ("", "-wal", "-shm"):
+            (self.folder / f"learner.sqlite{suffix}").unlink(missing_ok=True)
 
     def close(self) -> None:
         if self._learner is not None:
@@ -562,24 +570,58 @@ learner_cases = st.one_of(
     st.tuples(st.just("learn"), payloads(_LEARN)),
     st.tuples(st.sampled_from(["library", "version"]), payloads({"v": 1})),
 )
+learner_changes_cases = st.tuples(st.just("changes"), payloads({"v": 1, "since": 0}))
+"""``changes``: what the library gained after version ``since``."""
+_RECORD = {"v": 1, "attempts": [["Front-Wrap", 60.0, True], ["Front-Pinch", 45.0, False]], "key": "fuzz-grasps"}
+learner_grasps_cases = st.one_of(
+    st.tuples(st.just("record_grasps"), payloads(_RECORD)),
+    st.tuples(st.just("record_grasps"), payloads({"v": 1, "attempts": _RECORD["attempts"]})),  # no key: each adds
+    st.tuples(st.just("grasp_costs"), payloads({"v": 1})),
+)
+"""``record_grasps`` (with and without an idempotency key) and ``grasp_costs``: the
+learned grasp costs of docs/method.md §5.7."""
+_GRASP_VERBS = ("record_grasps", "grasp_costs")
+
+
+def _reply_decoder(verb: str) -> Callable[[bytes], Any]:
+    """The client's reader of ``verb``'s reply: what the node answers must read back."""
+    from learner.service import protocol
+
+    return {"learn": protocol.decode_learn_reply, "library": protocol.decode_library_reply,
+            "version": protocol.decode_version_reply, "changes": protocol.decode_changes_reply,
+            "record_grasps": protocol.decode_recorded_reply,
+            "grasp_costs": protocol.decode_grasp_costs_reply}[verb]
 
 
 def check_learner(case: tuple[str, bytes], bench: Workbench) -> str:
     """A learner request through the service node's own handler on a real SQLite
-    service: ValueError is ``bad_request``; anything else (``internal``) is a finding."""
+    service: ValueError is ``bad_request``; anything else (``internal``) is a finding.
+    An accepted request's reply must read back with the client's decoder, and after a
+    grasp-cost request the store's totals must still be finite."""
     from learner.service.zenoh_node import LearnerNode
 
     verb, payload = case
-    node = SimpleNamespace(service=bench.learner)  # _answer reads only the service
+    node = LearnerNode.__new__(LearnerNode)  # the handler without a session: it reads only the service
+    node.service = bench.learner
     try:
-        LearnerNode._answer(node, verb, payload)  # type: ignore[arg-type]
+        body = node._answer(verb, payload)
+        outcome = "accepted"
     except ValueError as exc:
         one_line(str(exc), f"{verb} bad_request")
-        return "refused"
+        body, outcome = None, "refused"
     except Exception as exc:
         raise Finding(f"{verb}: {payload[:80]!r}... answered internal: {type(exc).__name__}: "
                       f"{str(exc)[:200]}") from exc
-    return "accepted"
+    if body is not None:
+        try:
+            _reply_decoder(verb)(body)
+        except Exception as exc:  # a reply its own client cannot read
+            raise Finding(f"{verb}: the reply to {payload[:80]!r} does not read back: {type(exc).__name__}: "
+                          f"{str(exc)[:200]}") from exc
+    if verb in _GRASP_VERBS and not all_finite(totals := bench.learner.grasp_costs()):
+        bench.renew_learner()
+        raise Finding(f"{verb}: after {payload[:120]!r} the grasp cost totals are non-finite: {totals}")
+    return outcome
 
 
 KNOWN: dict[str, tuple[tuple[str, str], ...]] = {}
@@ -617,5 +659,7 @@ SURFACES: tuple[Surface, ...] = (
     Surface("cli", cli_cases, check_cli),
     Surface("driver", driver_cases, check_driver),
     Surface("learner", learner_cases, check_learner),
+    Surface("learner-changes", learner_changes_cases, check_learner),
+    Surface("learner-grasps", learner_grasps_cases, check_learner),
 )
 BY_NAME: dict[str, Surface] = {s.name: s for s in SURFACES}

@@ -10,6 +10,7 @@ again; when its fix lands, the mark and the pattern go.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import math
@@ -325,3 +326,26 @@ def test_log_recording_damaged_at_every_byte(tmp_path: Path) -> None:
             assert str(refused).startswith(str(path)) and "\n" not in str(refused), str(refused)
             outcomes["refused"] += 1
     assert outcomes["refused"] > 300 and outcomes["read"] > 300, outcomes  # both ways, many times
+
+
+def test_learner_grasp_totals_overflow(tmp_path: Path) -> None:
+    """Two ``record_grasps`` of one 1e308 s attempt each (finite, so each is accepted)
+    make the grasp's running total inf: from then on every ``grasp_costs`` answer fails
+    to encode (``bad_request`` "Out of range float values are not JSON compliant", for
+    every robot) and the learned price of the grasp is inf. Refusing such an attempt,
+    or keeping the totals finite, is what the property asks."""
+    from learner.service.protocol import decode_grasp_costs_reply
+    from learner.service.zenoh_node import LearnerNode
+    from tests.fuzz.surfaces import all_finite
+
+    bench = Workbench(tmp_path)
+    try:
+        for key in ("episode/0", "episode/1"):
+            with contextlib.suppress(ValueError):  # a refusal is one way to hold the property
+                bench.learner.record_grasp_attempts([("Front-Wrap", 1e308, True)], key=key)
+        assert all_finite(bench.learner.grasp_costs())
+        node = LearnerNode.__new__(LearnerNode)
+        node.service = bench.learner
+        assert all_finite(decode_grasp_costs_reply(node._answer("grasp_costs", b'{"v": 1}')))
+    finally:
+        bench.close()

@@ -27,7 +27,8 @@ from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.keys import robot_keys
 from learner.service import protocol
 from learner.service.protocol import learner_keys
-from tests.fuzz.surfaces import KNOWN, LIBRARY, REPO, driver_cases, learner_cases
+from tests.fuzz.surfaces import (KNOWN, LIBRARY, REPO, driver_cases, learner_cases, learner_changes_cases,
+                                  learner_grasps_cases)
 from tests.zenoh_rpc.support import free_endpoint
 from zenoh_rpc.config import open_session
 
@@ -94,6 +95,8 @@ def known(surface: str, message: str) -> bool:
 wire_cases = st.one_of(
     driver_cases.map(lambda c: ("driver", *c)),
     learner_cases.map(lambda c: ("learner", *c)),
+    learner_changes_cases.map(lambda c: ("learner", *c)),
+    learner_grasps_cases.map(lambda c: ("learner", *c)),
     st.tuples(st.sampled_from(["driver", "learner"]), st.sampled_from(["fly", "x", "move2", "Learn"]),
               st.binary(max_size=32)),
 )

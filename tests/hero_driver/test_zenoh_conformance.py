@@ -18,7 +18,7 @@ pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
     "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
-    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "charge", "out-of-range-target",
+    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "charge", "blocked-moves", "out-of-range-target",
     "unknown-verb",
     "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",

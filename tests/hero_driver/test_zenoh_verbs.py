@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from hero_driver.interface import CameraImage, GraspResult, Hello, MoveResult, Pose, RobotState, SenseResult
-from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest
+from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
 
 DOC = (Path(__file__).resolve().parents[2] / "docs" / "driver-protocol.md").read_text(encoding="utf-8")
@@ -27,6 +27,7 @@ EXAMPLES: dict[str, tuple[object, object]] = {
     "camera": (EmptyRequest(), CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6)),
     "reset": (ResetRequest("lab", 3), STATE),
     "charge": (EmptyRequest(), STATE),
+    "wait": (WaitRequest(20.0), STATE),
     "noop": (EmptyRequest(), None),
     "hello": (EmptyRequest(), Hello((1,), ("an-optional-feature",))),
 }

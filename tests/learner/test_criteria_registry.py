@@ -32,6 +32,7 @@ HAND_WORKED = [
     # the failure-priced forms keep I^2 / C; what changes is the C a grasp test is given
     ("cs-id3-failure", 2.0, 8.0, 0.5),
     ("cs-id3-failure-rollout", 2.0, 8.0, 0.5),
+    ("cs-id3-failure-search", 2.0, 8.0, 0.5),
 ]
 
 
@@ -65,14 +66,19 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
     assert joint == {"cs-id3-joint", "cs-id3-lookahead", "idx-joint", "idx-lookahead", "eg2-joint", "eg2-lookahead"}
     assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
     # a rollout finishes with its base rule itself: plain gain, no lookahead inside
-    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout", "cs-id3-failure-rollout"}
+    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout", "cs-id3-failure-rollout",
+                                                             "cs-id3-failure-search"}
     rolled = criterion("idx-rollout")
     assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices
                                    or rolled.grasp_paid_on_failure or rolled.rollout_follows_walk)
     # only the failure-priced forms price a grasp test by its failure, and only their
     # rollout follows the walk
-    assert {n for n, s in CRITERIA.items() if s.grasp_paid_on_failure} == {"cs-id3-failure", "cs-id3-failure-rollout"}
-    assert {n for n, s in CRITERIA.items() if s.rollout_follows_walk} == {"cs-id3-failure-rollout"}
+    assert {n for n, s in CRITERIA.items() if s.grasp_paid_on_failure} == {"cs-id3-failure", "cs-id3-failure-rollout",
+                                                                           "cs-id3-failure-search"}
+    assert {n for n, s in CRITERIA.items() if s.rollout_follows_walk} == {"cs-id3-failure-rollout",
+                                                                          "cs-id3-failure-search"}
+    # only the search's rollout searches the nodes below a candidate
+    assert {n for n, s in CRITERIA.items() if s.rollout_searches} == {"cs-id3-failure-search"}
     built = criterion("eg2-lookahead", w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
@@ -117,5 +123,5 @@ def test_parameters_are_checked_by_name() -> None:
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
                        r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead, "
-                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout\)"):
+                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout, cs-id3-failure-search\)"):
         criterion("c4.5")

@@ -23,7 +23,7 @@ def test_json_round_trip_keeps_dont_care_slots() -> None:
     ("doc", "message"),
     [
         ({"format": "x"}, "'format' must be 'csl-library'"),
-        ({"format": "csl-library", "version": 3, "descriptions": []}, "unsupported 'version' 3"),
+        ({"format": "csl-library", "version": 4, "descriptions": []}, "unsupported 'version' 4"),
         ({"format": "csl-library", "version": 1, "descriptions": [{"id": "a"}]},
          "descriptions[0]: missing or empty string field 'grasp'"),
         ({"format": "csl-library", "version": 1, "descriptions": [

@@ -151,3 +151,47 @@ def test_the_bulk_fill_equals_each_row_built_alone(library: list[ObjectDescripti
             if not t.is_grasp:
                 v = d.value_at(t.feature, t.position)
                 assert (np.isnan(matrix.values[i, j]) if v is None else matrix.values[i, j] == v)
+
+
+def known_bytes(matrix: DescriptionMatrix) -> dict[str, tuple[str, bytes] | int]:
+    """Every field of the matrix's known values, bit for bit (dtype and bytes: -0.0 is not 0.0)."""
+    known = matrix.known
+    out: dict[str, tuple[str, bytes] | int] = {"rows_covered": known.rows_covered}
+    for name in ("rows", "cell", "value_column", "value_first", "value_last", "root_counts"):
+        array = getattr(known, name)
+        out[name] = (str(array.dtype) + str(array.shape), np.ascontiguousarray(array).tobytes())
+    return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(descriptions(), min_size=1, max_size=12), st.lists(st.lists(descriptions(), max_size=3), max_size=6))
+def test_known_values_updated_by_appends_equal_a_fresh_build_bit_for_bit(
+        first: list[ObjectDescription], batches: list[list[ObjectDescription]]) -> None:
+    from learner.gain import partition_columns  # noqa: PLC0415
+
+    matrix = DescriptionMatrix(first, KNOWLEDGE)
+    matrix.known  # read before every append, so each append updates it rather than builds it
+    for batch in batches:
+        matrix = matrix.appended(batch)
+        fresh = DescriptionMatrix(matrix.descriptions, KNOWLEDGE)
+        assert known_bytes(matrix) == known_bytes(fresh)
+        if matrix.tests == fresh.tests:
+            columns = np.arange(len(matrix.tests))
+            everyone = tuple(range(len(matrix.descriptions)))
+            a, b = partition_columns(everyone, matrix, columns), partition_columns(everyone, fresh, columns)
+            assert a.ranges == b.ranges and np.array_equal(a.gains, b.gains, equal_nan=True)
+
+
+def test_a_new_distinct_value_and_a_negative_zero_take_their_places() -> None:
+    """By hand: Height(6,0) holds 3.5 and 9 (rows 0, 1); appending 6 (a new value between
+    them) and -0.0 (a new smallest value) renumbers 9 and counts each value's classes."""
+    height = ("Height", P(6, 0))
+    library = [desc("a", "Front-Wrap", (*height, 3.5)), desc("b", "Top-Pinch", (*height, 9.0))]
+    matrix = DescriptionMatrix(library, KNOWLEDGE, grasps_as_features=False)
+    matrix.known
+    grown = matrix.appended([desc("c", "Top-Pinch", (*height, 6.0)), desc("d", "Front-Wrap", (*height, -0.0))])
+    known = grown.known
+    assert known.value_first.tolist() == [0.0, 3.5, 6.0, 9.0] and np.signbit(known.value_first[0])
+    assert known.rows.tolist() == [3, 0, 2, 1]
+    assert known.root_counts.tolist() == [[1, 0], [1, 0], [0, 1], [0, 1]]
+    assert known_bytes(grown) == known_bytes(DescriptionMatrix(grown.descriptions, KNOWLEDGE, grasps_as_features=False))

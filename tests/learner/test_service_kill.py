@@ -38,7 +38,9 @@ def start_run(out: Path, endpoint: str, outbox: Path, seed: int) -> subprocess.P
     return subprocess.Popen(
         [sys.executable, "-m", "executive.cli", "run", "--learner", "zenoh", "--learner-name", "test",
          "--learner-connect", endpoint, "--outbox", str(outbox), "--seed", str(seed), "--no-plots",
-         "--out", str(out)],
+         "--out", str(out),
+         # sensing first, so that most objects send a description: the kills need learns to interrupt
+         "--no-appearance"],
         cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 

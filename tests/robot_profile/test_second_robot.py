@@ -34,6 +34,7 @@ def test_demo_with_the_rover_profile_senses_only_with_its_procedures(tmp_path: P
     events = [json.loads(line) for line in (out / "episode.jsonl").read_text().splitlines()]
     sensed = [(e["procedure"], e["seconds"]) for e in events if e["event"] == "sense"]
     assert sensed and all(times[name] == seconds for name, seconds in sensed)
-    handled = [e for e in events if e["event"] == "leave"
-               or (e["event"] == "grasp" and e["success"] and not e["as_feature"])]
+    # an object is handled when left (No-Grab) or held, by its grasp at a leaf or by a grasp
+    # tried as a feature that held (the camera's appearance makes that common)
+    handled = {e["object"] for e in events if e["event"] == "leave" or (e["event"] == "grasp" and e["success"])}
     assert len(handled) >= 5  # measured: 7 of 7 with seed 0

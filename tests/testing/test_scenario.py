@@ -8,6 +8,7 @@ from pathlib import Path
 import py_trees
 import pytest
 
+from behaviours.services import Params
 from csl_testing import Scenario, ScenarioFactory, one_object, simulated_hero, tree_display
 from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.interface import DriverError
@@ -39,7 +40,8 @@ def test_every_input_reaches_the_episode(tmp_path: Path) -> None:
     store = tmp_path / "mine.sqlite"
     known = read_library_json(EXAMPLE_LIBRARY)
     result = Scenario(objects=[("cup-8oz/upright", 110, 80, 20)], seed=5, noise="clean", library=known,
-                      driver=recording_driver, robot="r7", max_ticks=2, store=store).run()
+                      driver=recording_driver, robot="r7", max_ticks=2, store=store,
+                      params=Params(use_appearance=False)).run()  # arm only: three ticks, so two stop it
     assert [(r, o, s, n.outlier_p) for r, o, s, n in calls] == [
         ("r7", (Placement("cup-8oz/upright", 110.0, 80.0, 20.0),), 5, 0.0)]
     with pytest.raises(DriverError, match="closed"):

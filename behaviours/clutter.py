@@ -1,0 +1,76 @@
+"""Objects close together: a sonar reading a neighbour contaminates is never used.
+
+The paper's CSL "assumes that objects are apart" (docs/method.md). With a neighbour
+within a base width, a sensing procedure aimed at the object may hear the neighbour
+first: a sweep's rays that meet it never reach the object, a scan counts its echo, and
+a neighbour squarely in the way is measured instead. ``BeamClear?`` stands between the
+choice of a test and the move to its position: from the planner's beam corridor
+(:func:`planner.positions.beam_blockers`: the footprint, the sonar point and the scan's
+swath, an inch of margin) and the latest image's other regions, it succeeds when no
+other object is in or near the sound's way. When one is, the test is unusable from
+there, as a position with no path is (``session.unusable``), logged as ``beam_blocked`` with
+the neighbours' centroids: the learner reselects
+among the other tests and positions, and nothing is measured, so no contaminated value
+ever reaches a description. A region vision reports as a cluster (objects touching
+that it could not cut apart, ``Region.cluster``) has its neighbour inside it: no
+sensing of it is used at all, and the learner is left with its grasps (tried as
+features or at a leaf), so the cluster is still handled, without sonar. Grasps (no sound) and values already measured (no new
+reading) pass unchecked, and so does everything with the check off
+(``Params.beam_check``: the study's "off" arm). The check cannot be a move cost yet:
+the learner prices sensing and grasp moves with one position-only estimator
+(docs/executive.md "Clutter").
+"""
+
+from __future__ import annotations
+
+import math
+
+from py_trees.common import Status
+
+from behaviours.base import CslBehaviour
+from behaviours.events import Event
+from planner import Region
+from planner.positions import beam_blockers
+
+
+class BeamClear(CslBehaviour):
+    """Condition ``BeamClear?``: the chosen test's sound reaches the object before any
+    neighbour's echo; else the test is unusable from its position (fails)."""
+
+    def __init__(self, robot: str, name: str = "BeamClear?") -> None:
+        super().__init__(name, robot)
+
+    def update(self) -> Status:
+        test = self.step.test
+        if not self.services.params.beam_check:
+            self.feedback_message = "check off"
+            return Status.SUCCESS
+        if test is None or test.test.is_grasp or test.cost == 0:
+            self.feedback_message = "no sound to check"
+            return Status.SUCCESS
+        obj = self.obj
+        target = test.target
+        if obj.region.cluster:
+            self.obj.session.unusable(test)
+            self.feedback_message = "a cluster: no reading would be the object's alone"
+            self.note(Event.BEAM_BLOCKED, to=target.to_json(), cluster=True,
+                      blockers=[[round(c, 1) for c in obj.region.centroid]])
+            return Status.FAILURE
+        blockers = self.timed(lambda: beam_blockers(obj.region, target.distance_in or 0.0,
+                                                    target.orientation_deg or 0.0, self.others()))
+        if not blockers:
+            self.feedback_message = "beam clear"
+            return Status.SUCCESS
+        self.obj.session.unusable(test)
+        self.feedback_message = f"beam meets {len(blockers)} other object(s)"
+        self.note(Event.BEAM_BLOCKED, to=target.to_json(), cluster=False,
+                  blockers=[[round(c, 1) for c in r.centroid] for r in blockers])
+        return Status.FAILURE
+
+    def others(self) -> list[Region]:
+        """Every region of the latest image but the object's own (the one nearest its
+        centroid within ``Params.pushed_in``: the same object seen anew)."""
+        own = self.obj.region.centroid
+        pushed = self.services.params.pushed_in
+        return [r for r in self.services.navigator.scene.regions
+                if math.hypot(r.centroid[0] - own[0], r.centroid[1] - own[1]) > pushed]

@@ -1,0 +1,173 @@
+"""Study: low battery — success and cost against the battery's start level, with the
+low-battery guard on and off and the dock-detour pricing on and off.
+
+Beyond the paper: CSL "can not handle ... low battery". Each floor of unseen test
+objects gets a charging dock by the west wall and a start level L; the robot works
+until the floor is done. Three settings on the same floors and seeds:
+
+- ``guard off``: no threshold; the robot runs flat, the driver refuses every later
+  verb with ``battery_empty``, and the object in hand and all the rest fail;
+- ``guard``: below the threshold the robot docks, charges and resumes (behaviours.battery);
+- ``guard + pricing``: the same, with the dock detour priced into the learner's moves
+  (executive.battery_cost).
+
+Measured per level and setting: the success rate, robot minutes per object, dock trips,
+objects resumed with their measurements kept after a charge, and flat-battery failures.
+
+Run: ``csl experiment battery [--quick] [--seeds N] [--jobs J]``.
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from behaviours.services import Params
+from executive.executive import Executive
+from executive.experiment import situation
+from executive.experiment.situation import installed
+from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
+from executive.experiment.worlds import random_floor
+from executive.report import Truth, rows
+from hero_driver.sim_driver import SimulatedHero
+from learner.service.local import LocalLearner
+
+TITLE = "Low battery: success and cost vs the start level, guard and detour pricing on and off"
+THRESHOLD = Params().battery_low
+DOCK = {"x_in": 15.0, "y_in": 90.0, "heading_deg": 180.0}  # by the west wall, clear of the first column
+QUICK_LEVELS = (0.03, 0.21)
+FULL_LEVELS = (0.02, 0.1, 0.205, 0.21, 0.22, 0.24)
+SETTINGS = ("guard off", "guard", "guard + pricing")
+
+def params_for(setting: str) -> Params:
+    """The executive's settings for one of :data:`SETTINGS`."""
+    if setting not in SETTINGS:
+        raise ValueError(f"unknown battery setting {setting!r}; expected one of {', '.join(SETTINGS)}")
+    return Params(battery_low=0.0 if setting == "guard off" else THRESHOLD,
+                  price_detours=setting == "guard + pricing")
+
+
+def write_docked_floor(folder: Path, seed: int, level: float) -> Path:
+    """The experiment floor of unseen objects for ``seed`` with a dock and a start level."""
+    world = random_floor("test", seed)
+    world.update(dock=DOCK, battery=level, name=f"test-{seed}-battery-{level:g}")
+    path = folder / f"test-{seed}-battery.json"
+    path.write_text(json.dumps(world), encoding="utf-8")
+    return path
+
+
+@dataclass(frozen=True)
+class BatteryJob:
+    """One floor (``seed``) from start level ``level`` under one setting."""
+
+    level: float
+    setting: str
+    seed: int
+    study: str = field(default="battery", compare=False)
+
+    def run(self) -> list[ObjectRow]:
+        return run_job(self)
+
+
+@dataclass(frozen=True)
+class ObjectRow:
+    """One object of one episode."""
+
+    level: float
+    setting: str
+    seed: int
+    object: str
+    outcome: str
+    correct: bool
+    robot_s: float
+    charges: int  # dock visits while this object was in hand
+    resumed: bool  # charged mid-object and went on with what it had measured
+    flat: bool  # failed with the battery flat
+
+
+def run_job(job: BatteryJob) -> list[ObjectRow]:
+    """Run one floor here (in a worker process) and report it object by object."""
+    library, profile = installed()
+    with tempfile.TemporaryDirectory(prefix="csl-battery-") as tmp:
+        folder = Path(tmp)
+        hero = SimulatedHero("experiment", world=write_docked_floor(folder, job.seed, job.level), seed=job.seed,
+                             profile=profile, noise=noise_config(EXECUTION_NOISE))
+        learner = LocalLearner(folder / "library.sqlite", seed_library=list(library))
+        executive = Executive(hero, learner, profile=profile, params=params_for(job.setting))
+        start = hero.truth()
+        try:
+            result = executive.run()
+        finally:
+            executive.shutdown()
+            learner.close()
+        hero.close()
+    events = executive.log.events
+    charges = [e.get("object") for e in events if e["event"] == "charge"]
+    flat = {e.get("object") for e in events if e["event"] == "driver_error" and e.get("code") == "battery_empty"}
+    truths = [Truth(s.entry_id, tuple(g.procedure for g in s.grasps), s.x_in, s.y_in) for s in start]
+    out = []
+    for record, row in zip(result.objects, rows(result.objects, truths)):
+        n = charges.count(record.index)
+        out.append(ObjectRow(job.level, job.setting, job.seed, row.object, row.outcome, bool(row.correct),
+                             round(row.robot_s, 1), n, n > 0 and row.outcome != "failed",
+                             record.index in flat and row.outcome == "failed"))
+    return out
+
+
+def plan(levels: Sequence[float], seeds: Sequence[int]) -> list[BatteryJob]:
+    return [BatteryJob(level, s, seed) for level in levels for s in SETTINGS for seed in seeds]
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One level and setting, over its seeds."""
+
+    success: float
+    minutes: float  # robot minutes per object, charging included
+    charges: int
+    resumed: int
+    flat: int
+    objects: int
+
+
+def cell(found: Sequence[ObjectRow]) -> Cell:
+    return Cell(mean(float(r.correct) for r in found), mean(r.robot_s for r in found) / 60.0,
+                sum(r.charges for r in found), sum(r.resumed for r in found), sum(r.flat for r in found), len(found))
+
+
+def summarise(results: Mapping[BatteryJob, Sequence[ObjectRow]], levels: Sequence[float]) -> StudyResult:
+    cells = {(level, s): cell([row for job, found in results.items() if job.level == level and job.setting == s
+                               for row in found]) for level in levels for s in SETTINGS}
+    table = tuple(
+        (f"{level:g}", *(f"{percent(c.success)}, {num(c.minutes)} min, {c.charges} dock, {c.resumed} resumed, "
+                         f"{c.flat} flat" for c in (cells[(level, s)] for s in SETTINGS)))
+        for level in levels)
+    low = min(levels)
+    flat_on = sum(c.flat for (_, s), c in cells.items() if s != "guard off")
+    guard = [cells[(level, "guard")] for level in levels]
+    priced = [cells[(level, "guard + pricing")] for level in levels]
+    result_rows = (
+        ResultRow("flat-battery failures with the guard on (must be 0)", "-", str(flat_on)),
+        ResultRow(f"success from level {low:g}: guard off / guard / guard + pricing", "not handled",
+                  " / ".join(percent(cells[(low, s)].success) for s in SETTINGS)),
+        ResultRow("robot min per object over all levels: guard / guard + pricing", "-",
+                  f"{num(mean(c.minutes for c in guard))} / {num(mean(c.minutes for c in priced))}"),
+        ResultRow("dock trips over all levels: guard / guard + pricing", "-",
+                  f"{sum(c.charges for c in guard)} / {sum(c.charges for c in priced)}"),
+    )
+    notes = (f"Each cell: success, robot minutes per object (charging included), dock trips, objects resumed "
+             f"after a charge with their measurements kept, flat-battery failures. Threshold {THRESHOLD:g}; "
+             f"the dock at ({DOCK['x_in']:g}, {DOCK['y_in']:g}).",)
+    return StudyResult(TITLE, result_rows, notes, details=((("start level", *SETTINGS), table),))
+
+
+def report(quick: bool, seeds: int | None, jobs: int) -> str:
+    """Train, run every level under every setting, and give the BENCHMARKS.md section
+    (``csl experiment battery``)."""
+    levels = QUICK_LEVELS if quick else FULL_LEVELS
+    return situation.report("battery", quick, seeds, jobs, (1, 4), lambda floors: plan(levels, floors), run_job,
+                            lambda results: summarise(results, levels))

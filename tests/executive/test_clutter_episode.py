@@ -1,0 +1,68 @@
+"""Objects close together, whole episodes in the simulator (docs/executive.md
+"Clutter"): every object of the shipped cluttered floor is located apart and handled
+without a contact; on a generated floor of pairs 1 in apart the beam check keeps every
+contaminated sonar reading from the learner (with it off, the same floor uses some:
+the count can fail), and the objects it could not sense from a position are named in
+the log with the neighbour in the way."""
+
+from __future__ import annotations
+
+import json
+from functools import cache
+from pathlib import Path
+
+from behaviours.services import Params
+from executive.cli import main
+from executive.executive import EpisodeResult, Executive
+from executive.exit_status import ALL_HANDLED
+from executive.experiment.study_clutter import WatchedHero, floor
+from executive.experiment.study_training import run_training
+from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.worldfile import load_world
+from hero_driver.sim_driver import SimulatedHero
+from learner.description import ObjectDescription
+from learner.service.local import LocalLearner
+from robot_profile import load_profile
+
+
+@cache
+def trained() -> tuple[ObjectDescription, ...]:
+    return tuple(run_training(load_profile()).descriptions)
+
+
+def episode(tmp_path: Path, world: Path | str, check: bool) -> tuple[EpisodeResult, Executive, WatchedHero]:
+    hero = WatchedHero(SimulatedHero("r1", world=world, seed=0))
+    learner = LocalLearner(tmp_path / f"library-{check}.sqlite", seed_library=list(trained()))
+    executive = Executive(hero, learner, params=Params(beam_check=check))  # type: ignore[arg-type]
+    try:
+        return executive.run(), executive, hero
+    finally:
+        executive.shutdown()
+        learner.close()
+
+
+def test_the_beam_check_keeps_contaminated_readings_from_the_learner(tmp_path: Path) -> None:
+    # the test objects (floor 2), each paired with a neighbour 1 in away; other floors still
+    # leak a reading now and then with the check on (BENCHMARKS.md "Clutter")
+    world = floor(tmp_path, 1.0, 2)
+    used = {}
+    for check in (True, False):
+        _, executive, hero = episode(tmp_path, world, check)
+        used[check] = sum(sum(taken) for taken in hero.readings.values())
+        assert hero.contacts == 0
+        if check:
+            beams = [e for e in executive.log.events if e["event"] == "beam_blocked"]
+            assert beams and all(e["blockers"] for e in beams)  # said, with where the neighbour is
+    assert used[True] == 0 and used[False] > 0
+
+
+def test_csl_run_on_the_shipped_clutter_floor_handles_every_object(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    code = main(["run", "--world", "clutter", "--no-plots", "--out", str(out),
+                 "--library", str(tmp_path / "lib.sqlite")])
+    events = [json.loads(line) for line in (out / "episode.jsonl").read_text().splitlines()]
+    [located] = [e for e in events if e["event"] == "located"]
+    placed = load_world("clutter", profile_and_catalogue()[1]).objects
+    assert len(located["regions"]) == len(placed) == 6  # the pair and the trio told apart
+    outcomes = [e for e in events if e["event"] in ("learn", "leave", "gave_up", "gone")]
+    assert code == ALL_HANDLED and outcomes

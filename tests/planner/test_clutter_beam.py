@@ -1,0 +1,55 @@
+"""The beam check (docs/planner.md "Clutter"): a neighbour in the sound's way, or within
+an inch of it, makes a sensing position unusable; one beside or behind does not."""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, strategies as st
+
+from planner.positions import BEAM_MARGIN_IN, beam_blockers, beam_corridor
+from planner.vision import Region
+
+
+def square(x: float, y: float, side: float) -> Region:
+    h = side / 2
+    polygon = ((x - h, y - h), (x + h, y - h), (x + h, y + h), (x - h, y + h))
+    return Region(polygon, (x, y), int(side * side / 0.64), 0.0, False, side, side)
+
+
+TARGET = square(0.0, 0.0, 4.0)  # faces at x = ±2, y = ±2
+
+
+def test_corridor_spans_sonar_to_far_face() -> None:
+    # position (10, 0): sonar at x = 2 + 10 = 12 on the +x ray, the corridor 4 in wide
+    hull = beam_corridor(TARGET, 10.0, 0.0)
+    assert math.isclose(hull[:, 0].max(), 12.0) and math.isclose(hull[:, 0].min(), -2.0)
+    assert math.isclose(hull[:, 1].max(), 2.0) and math.isclose(hull[:, 1].min(), -2.0)
+
+
+def test_neighbour_between_sonar_and_object_blocks() -> None:
+    between = square(7.0, 0.0, 2.0)
+    assert beam_blockers(TARGET, 10.0, 0.0, [TARGET, between]) == [between]
+
+
+def test_neighbour_half_an_inch_beside_the_corridor_blocks() -> None:
+    # its near edge at y = 2.5: 0.5 in from the corridor's side, within the 1 in margin
+    beside = square(7.0, 3.5, 2.0)
+    assert BEAM_MARGIN_IN == 1.0
+    assert beam_blockers(TARGET, 10.0, 0.0, [beside]) == [beside]
+
+
+def test_neighbour_two_inches_beside_or_behind_is_clear() -> None:
+    beside = square(7.0, 5.0, 2.0)  # near edge at y = 4: 2 in from the corridor
+    assert beam_blockers(TARGET, 10.0, 0.0, [beside]) == []
+    # from the other side, (10, 180), the sonar is at x = -12: the neighbour at x 6..8 is behind
+    assert beam_blockers(TARGET, 10.0, 180.0, [square(7.0, 0.0, 2.0)]) == []
+
+
+@given(st.floats(0.0, 30.0), st.floats(0.0, 360.0, exclude_max=True), st.floats(5.0, 40.0))
+def test_a_neighbour_farther_than_the_whole_beam_never_blocks(distance: float, orientation: float,
+                                                               extra: float) -> None:
+    # the corridor lies within (face + distance + half width) of the centroid: 2*sqrt(2) + d + 2
+    reach = 2 * math.sqrt(2) + distance + 2.0 + BEAM_MARGIN_IN + 1.0 + extra
+    far = square(reach + 1.0, 0.0, 2.0)
+    assert beam_blockers(TARGET, distance, orientation, [far]) == []
