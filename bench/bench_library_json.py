@@ -20,7 +20,6 @@ import statistics
 import sys
 import tempfile
 import time
-import tracemalloc
 from collections.abc import Callable
 from pathlib import Path
 
@@ -31,6 +30,8 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
 from learner.library import read_library_json, write_library_json  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
+
+from bench_library_load import held_bytes  # noqa: E402  (bench/ is the script's folder)
 
 SIZES = (1_000, 10_000, 100_000)
 
@@ -46,17 +47,6 @@ def medians(run: Callable[[], object], repeats: int) -> tuple[float, float]:
         cpu.append(time.process_time() - began_cpu)
         del result
     return statistics.median(wall), statistics.median(cpu)
-
-
-def held_bytes(path: Path) -> int:
-    gc.collect()
-    tracemalloc.start()
-    library = read_library_json(path)
-    gc.collect()
-    held = tracemalloc.get_traced_memory()[0]
-    tracemalloc.stop()
-    del library
-    return held
 
 
 def main() -> None:
@@ -83,7 +73,7 @@ def main() -> None:
                     sys.exit(f"{n}: the {layout} file reads back different")
                 _, parse = medians(lambda: json.loads(path.read_text(encoding="utf-8")), args.repeats)  # noqa: B023
                 wall, cpu = medians(lambda: read_library_json(path), args.repeats)  # noqa: B023
-                rows.append((layout, path.stat().st_size, parse, wall, cpu, held_bytes(path)))
+                rows.append((layout, path.stat().st_size, parse, wall, cpu, held_bytes(lambda: read_library_json(path))))  # noqa: B023
                 path.unlink()
             for layout, size, parse, wall, cpu, held in rows:
                 print(f"| {n:,} | {layout} | {size / 1e6:.1f} | {parse:.2f} | {wall:.2f} | {cpu:.2f} "

@@ -7,12 +7,16 @@ from __future__ import annotations
 import argparse
 
 
-def non_negative_int(text: str) -> int:
-    """argparse type: an integer >= 0 (a seed, a count)."""
+def _whole_number(text: str) -> int:
     try:
-        value = int(text)
+        return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+
+
+def non_negative_int(text: str) -> int:
+    """argparse type: an integer >= 0 (a seed, a count)."""
+    value = _whole_number(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must not be negative, got {value}")
     return value
@@ -21,10 +25,7 @@ def non_negative_int(text: str) -> int:
 def positive_int(text: str) -> int:
     """argparse type: an integer >= 1 (a count); the one check behind every command's
     counts, so one mistake reads the same whichever command it was made on."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    value = _whole_number(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value
