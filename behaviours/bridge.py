@@ -8,9 +8,12 @@ them.
 
 from __future__ import annotations
 
+import math
+
 from hero_driver.interface import CameraImage, Pose as DriverPose
 from learner.position import Position
 from planner import Navigator, OverheadImage, Pose as PlannerPose, Region
+from planner.positions import beam_blockers, neighbours
 
 
 def to_planner_pose(p: DriverPose) -> PlannerPose:
@@ -45,16 +48,26 @@ class PlannerMoveCost:
     Positions relative to the object become world poses (docs/conventions.md); the
     estimate mode of the planner prices them in milliseconds. Cached per pair: the
     learner prices the same few positions again at every node.
+
+    With ``beam_check`` a move to *sense* from a position whose sonar corridor meets
+    another region of the latest image (``BeamClear?``'s own test, behaviours/clutter.py),
+    or to sense a cluster at all, is priced ``inf``: the learner never picks such a test,
+    instead of picking it and having ``BeamClear?`` refuse it. ``same_within_in`` is
+    ``Params.pushed_in``: a region that near the object's centroid is the object itself.
     """
 
-    def __init__(self, navigator: Navigator, region: Region) -> None:
+    def __init__(self, navigator: Navigator, region: Region, beam_check: bool = False,
+                 same_within_in: float = 1.0) -> None:
         self.navigator, self.region = navigator, region
+        self.beam_check, self.same_within_in = beam_check, same_within_in
         self._cache: dict[tuple[Position, Position], float] = {}
+        self._blocked: dict[Position, bool] = {}
 
     def retarget(self, region: Region) -> None:
         """The object moved (pushed, knocked over): price positions around where it is now."""
         self.region = region
         self._cache.clear()
+        self._blocked.clear()
 
     def move_cost(self, start: Position, goal: Position) -> float:
         key = (start, goal)
@@ -62,6 +75,20 @@ class PlannerMoveCost:
             self._cache[key] = 0.0 if start == goal else \
                 self.navigator.move_cost(self.pose(start), self.pose(goal)).seconds
         return self._cache[key]
+
+    def sensing_move_cost(self, start: Position, goal: Position) -> float:
+        """``move_cost``, or ``inf`` when a reading from ``goal`` would not be the object's alone."""
+        return math.inf if self.beam_check and self.beam_blocked(goal) else self.move_cost(start, goal)
+
+    def beam_blocked(self, position: Position) -> bool:
+        """True when the sound from ``position`` would meet another object first (or the
+        object is a cluster, its neighbour inside it). Cached per position; a new image
+        of the scene is seen at the next ``retarget``."""
+        if position not in self._blocked:
+            others = neighbours(self.region, self.navigator.scene.regions, self.same_within_in)
+            self._blocked[position] = self.region.cluster or bool(beam_blockers(
+                self.region, position.distance_in or 0.0, position.orientation_deg or 0.0, others))
+        return self._blocked[position]
 
     def pose(self, position: Position) -> PlannerPose:
         """The world pose from which the sonar stands at ``position`` facing the object."""

@@ -16,21 +16,20 @@ that it could not cut apart, ``Region.cluster``) has its neighbour inside it: no
 sensing of it is used at all, and the learner is left with its grasps (tried as
 features or at a leaf), so the cluster is still handled, without sonar. Grasps (no sound) and values already measured (no new
 reading) pass unchecked, and so does everything with the check off
-(``Params.beam_check``: the study's "off" arm). The check cannot be a move cost yet:
-the learner prices sensing and grasp moves with one position-only estimator
-(docs/executive.md "Clutter").
+(``Params.beam_check``: the study's "off" arm). The same test priced up front is
+``PlannerMoveCost.sensing_move_cost`` (behaviours/bridge.py): with its ``beam_check`` on
+(the object loop does not yet pass it) the learner never picks such a position, and
+this check stays for a scene seen anew since (docs/executive.md "Clutter").
 """
 
 from __future__ import annotations
-
-import math
 
 from py_trees.common import Status
 
 from behaviours.base import CslBehaviour
 from behaviours.events import Event
 from planner import Region
-from planner.positions import beam_blockers
+from planner.positions import beam_blockers, neighbours
 
 
 class BeamClear(CslBehaviour):
@@ -68,9 +67,6 @@ class BeamClear(CslBehaviour):
         return Status.FAILURE
 
     def others(self) -> list[Region]:
-        """Every region of the latest image but the object's own (the one nearest its
-        centroid within ``Params.pushed_in``: the same object seen anew)."""
-        own = self.obj.region.centroid
-        pushed = self.services.params.pushed_in
-        return [r for r in self.services.navigator.scene.regions
-                if math.hypot(r.centroid[0] - own[0], r.centroid[1] - own[1]) > pushed]
+        """Every region of the latest image but the object's own (the one within
+        ``Params.pushed_in`` of its centroid: the same object seen anew)."""
+        return neighbours(self.obj.region, self.services.navigator.scene.regions, self.services.params.pushed_in)

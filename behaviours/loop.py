@@ -72,7 +72,8 @@ class StartObject(CslBehaviour):
         services = self.services
         began = services.clock()
         start = relative_position(services.navigator, region, self.robot_pose())
-        estimator = PlannerMoveCost(services.navigator, region)
+        estimator = PlannerMoveCost(services.navigator, region, beam_check=services.params.beam_check,
+                                    same_within_in=services.params.pushed_in)
         session = open_session(services, region, estimator, start, len(self.bb.results))
         appearance, use_appearance = session.appearance, services.params.use_appearance
         record = ObjectRecord(len(self.bb.results), region, region.pixel_count, session, estimator,

@@ -19,6 +19,7 @@ from dataclasses import replace
 from py_trees.common import Access, Status
 
 from behaviours.actions import MoveTo, pose_json
+from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import other_end, overhead, relative_position, to_driver_pose
 from behaviours.choosing import Choose
@@ -170,7 +171,8 @@ class CheckSideEffects(DriverAction):
 
     The pixel count tells them apart (docs/method.md §5): about the same area means the
     same object, moved; a clearly different area means it changed and all sensing is
-    void. Succeeds when there were side effects.
+    void, and the object is known from now on by the footprint the camera sees (none when
+    its region is lost). Succeeds when there were side effects.
     """
 
     def __init__(self, robot: str, name: str = "SideEffects?") -> None:
@@ -187,6 +189,7 @@ class CheckSideEffects(DriverAction):
                 if math.hypot(r.centroid[0] - old.centroid[0], r.centroid[1] - old.centroid[1]) < 18.0]
         if not near:  # rolled out of sight or merged with something: nothing sensed holds
             step.side_effect = "changed"
+            obj.session.appearance = None  # and how it looks now, the camera cannot say
             self.note(Event.SIDE_EFFECT, effect="changed", reason="region lost")
             return Status.SUCCESS
         new = min(near, key=lambda r: math.hypot(r.centroid[0] - old.centroid[0], r.centroid[1] - old.centroid[1]))
@@ -205,12 +208,16 @@ class CheckSideEffects(DriverAction):
         obj.region, obj.pixels_before = new, new.pixel_count
         obj.estimator.retarget(new)
         obj.session.orientation_free = new.round
+        if effect == "changed":
+            obj.session.appearance = appearance_of(new)
         return Status.SUCCESS
 
 
 class StartOver(CslBehaviour):
     """A failed grasp had side effects: restore every description and start over from
-    here; if the object changed, everything sensed so far is void too."""
+    here; if the object changed, everything sensed so far is void too, and the new
+    object is known by the footprint the camera saw after the grasp (none when its
+    region was lost), never by the one the original had (docs/method.md §5.8)."""
 
     def __init__(self, robot: str, name: str = "StartOver") -> None:
         super().__init__(name, robot)
@@ -220,8 +227,9 @@ class StartOver(CslBehaviour):
         assert step.attempt is not None and step.side_effect is not None
         here = relative_position(self.services.navigator, obj.region, self.robot_pose())
         changed = step.side_effect == "changed"
-        try:
-            obj.session.grasp_failed(step.attempt.grasp, side_effects=True, changed=changed, position=here)
+        try:  # a changed object keeps the appearance SideEffects? saw of it
+            obj.session.grasp_failed(step.attempt.grasp, side_effects=True, changed=changed, position=here,
+                                     appearance=obj.session.appearance)
         except ValueError:  # a grasp pushing it twice was the last one left
             obj.finish("failed")
             self.note(Event.GAVE_UP, reason="every grasp in the library failed")

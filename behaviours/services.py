@@ -50,7 +50,7 @@ class Params:
     check_in_place: bool = True  # a camera look before each sensing and grasp (behaviours.disturbance)
     beam_check: bool = True  # a test whose sonar beam meets another object is unusable there (behaviours.clutter)
     search_in: float = 24.0  # how far from its place a moved object is looked for before it counts as gone
-    learned_grasp_costs: bool = False  # record each object's grasp costs and price grasps by them (method §5.7)
+    learned_grasp_costs: bool = True  # record each object's grasp costs and price grasps by them (method §5.7)
     blocked_tries: int = 8  # a move a moving obstacle blocked: re-planned or retried this often; 0: branch off
     blocked_wait_s: float = 20.0  # and before a retry, the robot waits this long for the obstacle to pass
 

@@ -40,7 +40,8 @@ from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
 
-NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search")
+NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search",
+                  "cs-id3-failure-search-every-row")
 STARTS = [Position(d, o) for d, o in ((6, 0), (16, 90), (24, 180), (40, 270), (40, 0), (16, 180))]
 STUDY_STARTS = [Position(d, o) for d, o in ((24, 0), (60, 90), (100, 180))]  # ExperimentConfig.start_poses
 

@@ -55,12 +55,14 @@ def movers_preset(text: str) -> object:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--movers: ")) from None
 
 
-def add_movers_option(p: argparse.ArgumentParser) -> None:
-    """``--movers`` on the simulator's commands: people and carts crossing the floor."""
+def add_movers_option(p: argparse.ArgumentParser, when: str) -> None:
+    """``--movers`` on the simulator's commands (``driver sim``; ``demo`` and ``run
+    --driver sim``, whose simulator runs in-process): people and carts crossing the
+    floor; ``when`` says when it applies."""
     p.add_argument("--movers", type=movers_preset, default=None, metavar="N[:SPEED]",
                    help="N people and carts cross the room on lines drawn from the seed, at SPEED in/s "
                         "(default 12); moves stop short of them (the blocked_moves feature; docs/simulator.md, "
-                        "Moving obstacles; default: only the world file's movers)")
+                        f"Moving obstacles; {when}default: only the world file's movers)")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -104,7 +106,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple)")
     add_disturb_option(sim, "")
-    add_movers_option(sim)
+    add_movers_option(sim, "")
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "

@@ -3,6 +3,10 @@
 The learner prices every candidate test from where the robot stands *now*, so the move
 estimator is pluggable: the knowledge file's simple model by default, the planner's
 map-based heuristic once an executive provides one (any object with ``move_cost``).
+An estimator may also price a move to a *sensing* position apart (optional
+``sensing_move_cost``): a position from which the sound would meet another object is
+worth nothing for sensing (``inf``) though a grasp from there is fine; callers price
+through :func:`sensing_cost`, never ask the estimator which it has.
 
 Grasps are priced by the knowledge file until the robot has tried them: the paper
 "neglects learning failure recovery costs for grasping procedures"; here each grasp's
@@ -24,9 +28,22 @@ from learner.position import Position
 
 @runtime_checkable
 class MoveCostEstimator(Protocol):
-    """Seconds to move the sensor from ``start`` to ``goal`` (both concrete); ``inf``: no path."""
+    """Seconds to move the sensor from ``start`` to ``goal`` (both concrete); ``inf``: no path.
+
+    Optionally also ``sensing_move_cost(start, goal) -> float``: the move to *sense* from
+    ``goal``, ``inf`` when a reading there would not be the object's alone (its sound
+    meets a neighbour). Optional, so not a protocol member: :func:`sensing_cost` asks.
+    """
 
     def move_cost(self, start: Position, goal: Position) -> float: ...
+
+
+def sensing_cost(estimator: MoveCostEstimator, start: Position, goal: Position) -> float:
+    """Seconds to move to ``goal`` to *sense* there: the estimator's ``sensing_move_cost``
+    where it has one, else its ``move_cost`` (the move is the same; only the reading's
+    worth differs, and an estimator without the optional method knows nothing of it)."""
+    priced = getattr(estimator, "sensing_move_cost", None)  # optional: one look, here only
+    return priced(start, goal) if priced is not None else estimator.move_cost(start, goal)
 
 
 class ModelMoveCost:

@@ -15,7 +15,9 @@ cost of taking the test and then finishing the object with the rule itself
 of failing (it is paid only then), ``cs-id3-failure-rollout`` rolls that rule out with
 an estimate that follows the session's walk (learner/rollout_walk.py), and
 ``cs-id3-failure-search`` also rolls out every grasp test and every ``*`` fill the
-library uses, then searches the best few a few nodes deep (docs/optimum.md).
+library uses, then searches the best few a few nodes deep (docs/optimum.md);
+``cs-id3-failure-search-every-row`` is that search with a node a leaf only when every
+description at it, carried ones included, shares one grasp (``leaf_every_row``).
 
 :data:`CRITERIA` is the one registry of them: command-line help, the benches and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
@@ -60,6 +62,12 @@ class Traits:
     least expected cost over the best few tests at each, as the session walks them)
     before the one-step rule takes over, within a budget of searched nodes per decision
     (learner/rollout_walk.py).
+    ``leaf_every_row``: a node is a leaf only when every description at it, carried ones
+    included, shares one grasp (``decision_tree.leaf_at``). Without it the descriptions
+    carried down a test they lack do not decide a leaf, and the leaf's grasp is executed
+    blind where a carried description of another grasp is still as likely as a measured
+    one; with it the session tests on while a test still tells them apart
+    (docs/optimum.md, "Carried rows decide the leaf").
     """
 
     cost_blind_choices: bool = False
@@ -69,6 +77,7 @@ class Traits:
     grasp_paid_on_failure: bool = False
     rollout_follows_walk: bool = False
     rollout_searches: bool = False
+    leaf_every_row: bool = False
 
 
 @dataclass(frozen=True)
@@ -191,14 +200,18 @@ _BASES = (
 def _failure_priced(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
     """``base`` with a grasp test priced at its chance of failing, alone, rolled out with
     an estimate that follows the session's walk (docs/method.md §3.7), and with that
-    walk searched a few nodes deep before the rollout (docs/optimum.md)."""
+    walk searched a few nodes deep before the rollout (docs/optimum.md), and that search
+    with a node a leaf only when every row at it, carried ones included, shares a grasp."""
     priced = dataclasses.replace(base, name=f"{base.name}-failure", formula=f"{base.formula}, grasp C x P(fail)",
                                  help="a grasp test costs only when it fails", grasp_paid_on_failure=True)
     rolled = dataclasses.replace(priced, name=f"{priced.name}-rollout", formula=f"{priced.formula}, walk rollout",
                                  help="least expected cost, as walked", rollout=True, rollout_follows_walk=True)
     searched = dataclasses.replace(rolled, name=f"{priced.name}-search", formula=f"{priced.formula}, walk search",
                                    help="least expected cost, walk searched", rollout_searches=True)
-    return priced, rolled, searched
+    every_row = dataclasses.replace(searched, name=f"{searched.name}-every-row",
+                                    formula=f"{searched.formula}, leaf when every row agrees",
+                                    help="walk searched, carried rows decide leaves too", leaf_every_row=True)
+    return priced, rolled, searched, every_row
 
 
 DEFAULT_CRITERION = "cs-id3-failure"  # the data's choice: docs/optimum.md, "Under noise"
@@ -212,8 +225,8 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
 """Every criterion by name, in the order help and benches list them (the bases, the
 refined forms of the cost-sensitive ones, then the rollouts of CSL's rule and Norton's;
 eg2's would not fit the one help line; last CSL's rule with grasp tests priced by their
-failure, alone, rolled out and searched). Iterating it gives the names, so it also serves
-as argparse ``choices``."""
+failure, alone, rolled out, searched, and searched with carried rows deciding leaves).
+Iterating it gives the names, so it also serves as argparse ``choices``."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:

@@ -16,7 +16,7 @@ import numpy as np
 from learner.matrix import Test
 from learner.partition import Range, match
 from learner.position import Position
-from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_index, leaf_classes, rank, split,
+from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_index, rank, split,
                                target_for, yielded)
 
 
@@ -89,8 +89,10 @@ def grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf
 
 
 def leaf_at(node: Node, current: Position, ctx: Context) -> GraspLeaf | None:
-    """The leaf this node is, when its deciding descriptions share one grasp."""
-    if len(leaf_classes(node, ctx.matrix)) == 1:
+    """The leaf this node is, when its deciding descriptions share one grasp (for a
+    ``leaf_every_row`` criterion: when every description at it does, carried included)."""
+    rows = np.asarray(node.rows, dtype=np.int64) if ctx.criterion.leaf_every_row else deciding_index(node)
+    if len(np.unique(ctx.matrix.class_of[rows])) == 1:
         return grasp_options(node, current, ctx)[0]
     return None
 

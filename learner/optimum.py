@@ -34,7 +34,8 @@ own grasp is executed.
   "executing" it means moving on) teaches nothing when wrong, so the search never tries
   it blind, and a walk that executes it wrongly has left the object behind (``missed``).
 - The learner executes a grasp at its own leaf (``leaf_at``: the deciding, i.e. not
-  carried, descriptions share one grasp) or, where nothing splits, the first of an
+  carried, descriptions share one grasp; every description, carried ones included, for
+  a ``leaf_every_row`` criterion) or, where nothing splits, the first of an
   ambiguous leaf's options; after a failure the session rebuilds from its root
   (``RecognitionSession.grasp_failed``). The optimal policy may execute any (confirmable)
   grasp at any point, and stops only when every candidate left shares one grasp.
@@ -267,11 +268,18 @@ class _Search:
         if key not in self._cheapest:
             self._cheapest[key] = min(
                 (self._move(at, t) + self.price[b.column] for b in facts.branchings
-                 for t in self._targets_for(b.column, at)), default=math.inf)
+                 if not self.matrix.tests[b.column].is_grasp for t in self._targets_for(b.column, at)),
+                default=math.inf)
+        # a grasp tried as a feature is paid only when it fails: its failure share of the
+        # node's weights, as _actions prices it (in full it would overstate the bound and
+        # prune the best action)
+        failing = min((sum(w * s for w, s in zip(weights, b.shares[0])) * (self._move(at, t) + self.price[b.column])
+                       for b in facts.branchings if self.matrix.tests[b.column].is_grasp
+                       for t in self._targets_for(b.column, at)), default=math.inf)
         grasping = min((sum(w for w, k in zip(weights, self._dropped(node, g)[1]) if k)
                         * (self._move(at, self._grasp_place(node, at, g)) + self.knowledge.grasp(g).feature_cost_s)
                         for g in facts.grasps if self.knowledge.grasp(g).verifiable), default=math.inf)
-        cheapest = min(self._cheapest[key], grasping)
+        cheapest = min(self._cheapest[key], failing, grasping)
         return cheapest if math.isfinite(cheapest) else 0.0  # no action at all: a last guess, free
 
     # -- facts, worked out once -------------------------------------------------------
@@ -443,7 +451,10 @@ def _walk(session: RecognitionSession, row: int, *, first: bool = True,
         elif math.isnan(value):  # unknown for this object: each branch equally likely
             forks = []
             for lo, hi in decision.ranges:
-                fork = copy.deepcopy(session, {id(matrix): matrix})
+                # the library and the criterion are shared, not copied: a copied criterion's
+                # bound formula compares unequal, and every decision of the fork would miss
+                # the walk's shared decisions (rollout_walk.shared_decisions)
+                fork = copy.deepcopy(session, {id(matrix): matrix, id(session.ctx.criterion): session.ctx.criterion})
                 _observe(fork, decision, (lo + hi) / 2, truth_row=row)
                 forks.append(_walk(fork, row, first=first, forked={**forked, column: (lo + hi) / 2}))
             return (spent + sum(c for c, _, _ in forks) / len(forks), sum(r for _, r, _ in forks) / len(forks),

@@ -42,6 +42,7 @@ import dataclasses
 import math
 from collections.abc import Iterator
 
+from learner.costs import sensing_cost
 from learner.decision_tree import grasp_options, leaf_at
 from learner.matrix import DescriptionMatrix, Test
 from learner.position import Position
@@ -136,7 +137,8 @@ def star_fills(test: ScoredTest, current: Position, ctx: Context) -> list[Scored
                     else sorted({p.orientation_deg for p in used}))
     fills = []
     for target in (Position(d, o) for d in distances for o in orientations):
-        move = ctx.estimator.move_cost(current, target)
+        move = (ctx.estimator.move_cost(current, target) if test.test.is_grasp
+                else sensing_cost(ctx.estimator, current, target))
         if target != test.target and math.isfinite(move):
             fills.append(dataclasses.replace(test, target=target, move_cost=move))
     return fills

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance
-from learner.costs import MoveCostEstimator
+from learner.costs import MoveCostEstimator, sensing_cost
 from learner.criteria import Criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge
@@ -305,7 +305,7 @@ class RecognitionSession:
 
     # -- grasping -------------------------------------------------------------------
     def grasp_failed(self, grasp: str, *, side_effects: bool, changed: bool = False,
-                     position: Position | None = None) -> None:
+                     position: Position | None = None, appearance: Appearance | None = None) -> None:
         """A grasp at a leaf failed; rebuild the tree from the current position.
 
         Without side effects the object is not of that grasp's class: drop its
@@ -316,7 +316,9 @@ class RecognitionSession:
         relative to the object still holds; a grasp that pushes the object a second time
         is dropped (pushing it across the floor again teaches nothing). *Changed*
         (knocked over) is in effect a new object: all descriptions are restored and all
-        sensing is void.
+        sensing is void; ``appearance`` is what the camera sees of it now (None when it
+        could not look), so the new object is narrowed, and later learned, by its own
+        footprint and never by the one it had before (docs/method.md §5.8).
         """
         self._changed()
         if position is not None:
@@ -325,7 +327,7 @@ class RecognitionSession:
             self.wrong_predictions.append(grasp)
         if side_effects and changed:
             self.unreliable_count = 0  # a new object as far as sensing goes
-            self.appearance = None  # and it no longer looks as the camera saw it
+            self.appearance = appearance  # it no longer looks as the camera saw it first
             self.dropped_grasps.clear()
             self.measurements.clear()
             self.pushes.clear()
@@ -370,7 +372,9 @@ class RecognitionSession:
             if not any(k and d.grasp == wrong_grasp for k, d in zip(known, self.matrix.descriptions)):
                 continue
             target = target_for(test, self.position, self.ctx)
-            move = self.ctx.estimator.move_cost(self.position, target)
+            move = sensing_cost(self.ctx.estimator, self.position, target)
+            if not np.isfinite(move):
+                continue  # no usable reading from there (no path, or the sound meets a neighbour)
             sense = self.ctx.knowledge.procedure_for(test.feature).time_s
             if best is None or move + sense < best.cost:
                 best = ScoredTest(test, target, 0.0, move, sense, 0.0, (), self.ctx.knowledge.feature(test.feature).error)

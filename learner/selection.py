@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from learner.costs import MoveCostEstimator
+from learner.costs import MoveCostEstimator, sensing_cost
 from learner.criteria import Criterion
 from learner.gain import Split, joint_gain, partition_columns
 from learner.knowledge import Knowledge
@@ -184,7 +184,7 @@ def rank(
         # classes one level down: take splitting tests anyway, ties settled as ever.
         usable = found.n_ranges >= 2
     joint = _JointGains(node, ctx, columns, found, measurements) if ctx.criterion.joint_gain else None
-    move_costs: dict[Position, float] = {}  # many tests share a position: price each once
+    move_costs: dict[tuple[Position, bool], float] = {}  # many tests share a position: price each once
     scored: list[ScoredTest] = []
     for j in np.flatnonzero(usable):
         test = matrix.tests[columns[j]]
@@ -193,9 +193,10 @@ def rank(
             target, move, sense = current, 0.0, 0.0
         else:
             target = (_anywhere(test, ctx) if ctx.criterion.cost_blind_choices else target_for(test, current, ctx))
-            if target not in move_costs:
-                move_costs[target] = ctx.estimator.move_cost(current, target)
-            move = move_costs[target]
+            if (target, test.is_grasp) not in move_costs:
+                move_costs[target, test.is_grasp] = (ctx.estimator.move_cost(current, target) if test.is_grasp
+                                                     else sensing_cost(ctx.estimator, current, target))
+            move = move_costs[target, test.is_grasp]
             sense = procedure_cost(test, ctx.knowledge)
         if not math.isfinite(move):
             continue  # no path to the test's position: the learner cannot use it

@@ -125,6 +125,13 @@ def beam_blockers(region: Region, distance_in: float, orientation_deg: float,
             and _convex_gap(corridor, _convex_hull(o.polygon_array())) <= margin_in]
 
 
+def neighbours(region: Region, regions: Sequence[Region], same_within_in: float) -> list[Region]:
+    """Every region of ``regions`` but ``region`` itself (the one whose centroid lies
+    within ``same_within_in`` of its own: the same object seen anew in a later image)."""
+    cx, cy = region.centroid
+    return [r for r in regions if math.hypot(r.centroid[0] - cx, r.centroid[1] - cy) > same_within_in]
+
+
 def _convex_hull(points: np.ndarray) -> np.ndarray:
     """Counter-clockwise hull of ``points`` (Nx2 floats), as an Mx2 array."""
     hull = cv2.convexHull(np.asarray(points, dtype=np.float32)).reshape(-1, 2)

@@ -210,9 +210,11 @@ def _simulator(args: argparse.Namespace, robot: str, profile: RobotProfile) -> D
     from hero_driver.sim_driver import SimulatedHero
 
     from hero_driver.sim.events import DisturbPreset
+    from hero_driver.sim.movers import MoverPreset
 
     return SimulatedHero(robot, world=args.world or "lab", seed=args.seed or 0, profile=profile, noise=_noise(args),
-                         camera=args.camera or "simple", disturb=args.disturb or DisturbPreset())
+                         camera=args.camera or "simple", disturb=args.disturb or DisturbPreset(),
+                         movers=args.movers or MoverPreset())
 
 
 def _noise(args: argparse.Namespace) -> NoiseConfig | None:
@@ -346,6 +348,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
                           log=log, on_tick=None if recording is None else recording.tick,
                           camera=setup.camera, board=setup.board)
     _say_battery_guard(driver, setup.params.battery_low)
+    _say_blocked_branch(driver, setup.params.blocked_tries)
     first_image = driver.camera().result(timeout=60)
     start = driver.state().pose
     truths = _truths(driver, [])
@@ -423,6 +426,16 @@ def _say_battery_guard(driver: Driver, threshold: float) -> None:
     if threshold > 0 and dock_of(driver) is None:
         print(f"battery: driver {driver.robot} has no battery feature (no charging dock): the low-battery "
               f"guard is off", file=sys.stderr)
+
+
+def _say_blocked_branch(driver: Driver, tries: int) -> None:
+    """One line when the blocked-move branch cannot act: the driver has no
+    ``blocked_moves`` feature, so a move into a person or cart ends collided."""
+    from behaviours.blocked import branch_off_notice
+
+    notice = branch_off_notice(driver, tries)
+    if notice is not None:
+        print(notice, file=sys.stderr)
 
 
 def _unanswered(events: list[dict[str, object]]) -> dict[int, str]:

@@ -38,12 +38,16 @@ SITUATIONS = (
               "object, objects reported gone and descriptions saved from disturbed attempts as a "
               "Markdown section (BENCHMARKS.md, 'Disturbances').",
               "two rates and 2 seeds (about 20 s on 2 cores)", "floors per rate and setting (default 6, or 2 with --quick)"),
-    Situation("battery", "low battery: the guard and the dock-detour pricing on and off, over start levels",
-              "Sweep the battery's start level over floors of unseen test objects with a charging dock, "
+    Situation("battery", "low battery: the guard and the dock-detour pricing on and off, over start levels "
+              "and drain rates",
+              "Sweep the battery's start level, then the drain rate (a multiplier on the documented "
+              "rates, from half a charge), over floors of unseen test objects with a charging dock, "
               "with the low-battery guard off, on, and on with the dock detour priced into the learner's "
               "moves; print success, robot minutes per object, dock trips, objects resumed after a "
-              "charge and flat-battery failures as a Markdown section (BENCHMARKS.md, 'Battery').",
-              "two levels and 1 seed (about 30 s on 2 cores)", "floors per level and setting (default 4, or 1 with --quick)"),
+              "charge, flat-battery failures and descriptions saved from attempts the battery cut short "
+              "as a Markdown section (BENCHMARKS.md, 'Battery').",
+              "two levels, drains x1 and x8, 1 seed (about 15 s on 2 cores)",
+              "floors per sweep point and setting (default 4, or 1 with --quick)"),
     Situation("obstacles", "people and carts crossing the floor: the safety stop and blocked-move branch on and off",
               "Sweep the number and speed of the simulator's movers (--movers N:SPEED) over floors of unseen "
               "test objects with the driver's safety stop and the executive's blocked-move branch on and "

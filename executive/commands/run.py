@@ -12,7 +12,7 @@ from executive.args import (add_criterion_options, add_learned_grasp_costs_optio
                             add_retrain_option, add_verb_timeout_option, battery_level, endpoint,
                             non_negative_seconds)
 from executive.commands import sim_only
-from hero_driver.cli import add_disturb_option
+from hero_driver.cli import add_disturb_option, add_movers_option
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.argtypes import non_negative_int, positive_int
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
@@ -64,6 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     _noise_option(demo, "")
     _camera_option(demo, "")
     add_disturb_option(demo, "")
+    add_movers_option(demo, "")
     add_retrain_option(demo)
     _executive_options(demo)
     demo.set_defaults(handler=_handler("run_demo"))
@@ -82,6 +83,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     _noise_option(run, "with --driver sim; ")
     _camera_option(run, "with --driver sim; ")
     add_disturb_option(run, "with --driver sim; ")
+    add_movers_option(run, "with --driver sim; ")
     run.add_argument("--library", type=Path, default=None,
                      help="the library store (SQLite; default $CSL_HOME/library.sqlite, seeded with the example)")
     run.add_argument("--learner", choices=("local", "zenoh"), default="local",

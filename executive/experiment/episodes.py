@@ -10,16 +10,17 @@ shared between episodes except, within a chain, the library on disk.
 from __future__ import annotations
 
 import tempfile
-from collections import defaultdict
+from collections import Counter, defaultdict
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 from executive.executive import EpisodeResult, Executive
 from executive.experiment.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
 from executive.experiment.table import mean
 from executive.experiment.worlds import write_floor
-from executive.report import Truth, match_truth, rows
+from executive.exit_status import HANDLED_OUTCOMES
+from executive.report import Row, Truth, match_truth, rows
 from hero_driver.sim_driver import SimulatedHero
 from learner.criteria import DEFAULT_CRITERION, criterion
 from learner.description import ObjectDescription
@@ -174,8 +175,10 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
     stats = _object_stats(executive.log.events)
 
     def row(name: str, outcome: str, grasp: str, success: bool, robot: tuple[float, float, float],
-            computing_ms: float = 0.0, tests: int = 0, index: int | None = None, recoveries: str = "-") -> EpisodeRow:
-        distances, as_features, wrong = stats.get(index, ([], 0, 0)) if index is not None else ([], 0, 0)
+            computing_ms: float = 0.0, tests: int = 0, indices: Sequence[int] = (), recoveries: str = "-") -> EpisodeRow:
+        distances = [d for i in indices for d in stats.get(i, ([], 0, 0))[0]]
+        as_features = sum(stats.get(i, ([], 0, 0))[1] for i in indices)
+        wrong = sum(stats.get(i, ([], 0, 0))[2] for i in indices)
         moving, sensing, grasping = robot
         return EpisodeRow(
             spec.study, spec.variant, spec.criterion, spec.noise, spec.noise_factor, spec.control.label,
@@ -184,11 +187,44 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
             round(grasping, 2), round(computing_ms, 1), tests,
             round(sum(distances) / len(distances), 2) if distances else None, as_features, wrong, recoveries)
 
-    found = {id(match_truth(r, truths)) for r in result.objects}
+    matched = [(match_truth(record, truths), r) for record, r in zip(result.objects, rows(result.objects, truths))]
+    found = {id(t) for t, _ in matched}
     out = [row(r.object, r.outcome, r.grasp, bool(r.correct), (r.moving_s, r.sensing_s, r.grasping_s),
-               r.computing_ms, r.tests, record.index, r.recoveries)
-           for record, r in zip(result.objects, rows(result.objects, truths))]
+               r.computing_ms, r.tests, indices, r.recoveries)
+           for r, indices in one_row_per_object(matched)]
     out += [row(t.name, "not found", "-", False, (0.0, 0.0, 0.0)) for t in truths if id(t) not in found]
+    return out
+
+
+def one_row_per_object(matched: Sequence[tuple[Truth | None, Row]]) -> list[tuple[Row, tuple[int, ...]]]:
+    """One row per true object, whatever the robot's records of it.
+
+    The robot may record one object twice (seen again after it was knocked over and
+    rolled, or its region split): each record is matched to the nearest true object, so
+    two records can name the same one, and the CSV must still hold one row per object on
+    the floor. The robot time, computation, tests and recoveries of all its records add
+    up (the robot spent them on this object); the verdict is the last record's that
+    handled it (grasped or left), else the last record's. Records matched to no truth
+    (no simulator) stay rows of their own. Returns each row with the record indices it
+    folds, in the order the objects were first seen.
+    """
+    groups: dict[int, list[Row]] = {}
+    for truth, r in matched:
+        groups.setdefault(id(truth) if truth is not None else -1 - r.index, []).append(r)
+    out = []
+    for records in groups.values():
+        handled = [r for r in records if r.outcome in HANDLED_OUTCOMES]
+        verdict = (handled or records)[-1]
+        counts: Counter[str] = Counter()
+        for r in records:
+            counts.update(dict(r.recovery_counts))
+        kinds = tuple(sorted(counts.items()))
+        out.append((replace(verdict, moving_s=sum(r.moving_s for r in records),
+                            sensing_s=sum(r.sensing_s for r in records),
+                            grasping_s=sum(r.grasping_s for r in records),
+                            computing_ms=sum(r.computing_ms for r in records), tests=sum(r.tests for r in records),
+                            recoveries=", ".join(f"{k} ×{v}" for k, v in kinds) or "-", recovery_counts=kinds),
+                    tuple(r.index for r in records)))
     return out
 
 

@@ -4,7 +4,7 @@ The knowledge file prices each grasp once; the real robot may disagree. Here the
 simulated robot's Front-Wrap takes :data:`FACTOR` times the file's 60 s (a slow wrap: the
 simulator's profile is overridden, the learner's knowledge is not), and chains of
 episodes on the test floors run with learned grasp costs off (the file's prices for
-ever) and on (``Params.learned_grasp_costs``, ``csl run --learned-grasp-costs``: after
+ever) and on (``Params.learned_grasp_costs``, ``csl run``'s default since this study: after
 each object, its grasps' attempts, failures' recoveries included, are added to the
 store's totals, and the objects that follow, in this episode and the next, are priced
 by their Bayesian mean, ``learner.costs.with_learned_grasp_costs``). Front-Wrap is the
@@ -55,15 +55,18 @@ class GraspCostRow:
 
 @dataclass(frozen=True)
 class GraspCostJob:
-    """A chain of ``episodes`` test floors on one learner store, learned costs on or off."""
+    """A chain of ``episodes`` test floors on one learner store, learned costs on or off;
+    the simulated Front-Wrap takes ``factor`` times the file's time (1: the file right,
+    the check that learning costs nothing there, docs/method.md §5.7)."""
 
     study: str = field(compare=False)
     learned: bool
     seed: int
     episodes: int
+    factor: float = FACTOR
 
     def run(self) -> list[GraspCostRow]:
-        truth = slowed(installed_profile(), GRASP, FACTOR)
+        truth = slowed(installed_profile(), GRASP, self.factor)
         out: list[GraspCostRow] = []
         with tempfile.TemporaryDirectory(prefix="csl-grasp-costs-") as tmp:
             folder = Path(tmp)

@@ -4,11 +4,14 @@ grasping, and recharged at a charging dock placed in the world file.
 The paper names a low battery among what CSL cannot handle (docs/method.md); the
 simulator makes it happen so the executive's guard can be tested. Rates are per second
 of robot time, so a run stays repeatable and as fast as the CPU allows. The rates are
-documented in docs/simulator.md ("Battery"): change them there too.
+documented in docs/simulator.md ("Battery"): change them there too. A world file may
+scale all three drain rates by one multiplier (:class:`Charge`), the battery study's
+swept disturbance rate: an older pack, a heavier load.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from hero_driver.interface import BATTERY_EMPTY, DriverError, Pose
@@ -33,6 +36,21 @@ class Dock:
         return Pose(self.x_in, self.y_in, self.heading_deg)
 
 
+@dataclass(frozen=True)
+class Charge:
+    """The battery as a world file sets it: the start ``level`` (0..1) and ``drain``, a
+    multiplier (> 0) on the documented drain rates; charging keeps its own rate."""
+
+    level: float = 1.0
+    drain: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.level <= 1.0:
+            raise ValueError(f"battery level must be in [0, 1], got {self.level!r}")
+        if not (isinstance(self.drain, (int, float)) and math.isfinite(self.drain) and self.drain > 0.0):
+            raise ValueError(f"battery drain must be a number > 0, got {self.drain!r}")
+
+
 class Battery:
     """The charge left, 0..1. A verb starts only with charge left; the verb that empties
     the battery finishes on the reserve (the level stops at 0), and every later move,
@@ -43,10 +61,9 @@ class Battery:
     training floor and the probe worlds, which spend many hours of robot time, never
     run flat."""
 
-    def __init__(self, level: float = 1.0, metered: bool = True) -> None:
-        if not 0.0 <= level <= 1.0:
-            raise ValueError(f"battery level must be in [0, 1], got {level!r}")
-        self.level, self.metered = level, metered
+    def __init__(self, start: float | Charge = 1.0, metered: bool = True) -> None:
+        charge = start if isinstance(start, Charge) else Charge(start)
+        self.level, self.drain_scale, self.metered = charge.level, charge.drain, metered
 
     def require(self, verb: str) -> None:
         """Refuse ``verb`` when the battery is flat."""
@@ -54,9 +71,10 @@ class Battery:
             raise DriverError(BATTERY_EMPTY, f"{verb}: the battery is empty; charge at the dock first")
 
     def drain(self, seconds: float, per_s: float) -> None:
-        """Spend ``seconds`` of robot time at a rate of ``per_s`` of a full charge."""
+        """Spend ``seconds`` of robot time at a rate of ``per_s`` of a full charge,
+        scaled by the world's drain multiplier."""
         if self.metered:
-            self.level = max(0.0, self.level - seconds * per_s)
+            self.level = max(0.0, self.level - seconds * per_s * self.drain_scale)
 
     def charge(self) -> float:
         """Charge to full; the robot seconds it took."""

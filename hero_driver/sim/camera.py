@@ -84,11 +84,14 @@ class YawErrors:
 
 
 def _paint(img: np.ndarray, frame: Frame, polygons: Sequence[Sequence[tuple[float, float]]], value: int) -> None:
-    """Set ``value`` where the polygons cover at least half a pixel."""
+    """Set ``value`` where the polygons cover at least half a pixel. Each polygon is
+    filled on its own: one ``fillPoly`` call over several fills by the even-odd rule, so
+    where two overlap (a person walking past a cart) the overlap would come out a hole."""
     if not polygons:
         return
     fine = np.zeros((frame.height_px * SUPERSAMPLE, frame.width_px * SUPERSAMPLE), dtype=np.uint8)
-    cv2.fillPoly(fine, [frame.to_pixels(p, SUPERSAMPLE) for p in polygons], 255, lineType=cv2.LINE_8, shift=SHIFT)
+    for polygon in polygons:
+        cv2.fillPoly(fine, [frame.to_pixels(polygon, SUPERSAMPLE)], 255, lineType=cv2.LINE_8, shift=SHIFT)
     coverage = cv2.resize(fine, (frame.width_px, frame.height_px), interpolation=cv2.INTER_AREA)
     img[coverage >= 128] = value
 
@@ -117,11 +120,17 @@ def _distortion_maps(width_px: int, height_px: int) -> tuple[np.ndarray, np.ndar
 
 def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, float]], robot: Pose,
            base_radius_in: float, noise: NoiseConfig, rng: np.random.Generator,
-           clock_s: float, preset: str = "simple") -> CameraImage:
-    """Draw the room, furniture, the objects on the floor as (footprint, x, y, yaw)
-    and the robot, then apply the lens and pixel noise; ``preset`` names the look."""
+           clock_s: float, preset: str = "simple", movers: Sequence[Sequence[tuple[float, float]]] = ()) -> CameraImage:
+    """Draw the room, furniture, the movers (their outlines: people and carts), the
+    objects on the floor as (footprint, x, y, yaw) and the robot, then apply the lens
+    and pixel noise; ``preset`` names the look.
+
+    A mover is drawn in the walls' band, as furniture is: vision maps it as an
+    obstacle and never takes it for an object to grasp. It is drawn beneath the
+    objects: a person stepping over an object hides little of it from above, and
+    the executive must not read a passer-by as the object taken away."""
     if preset == "realistic":
-        return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s)
+        return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s, movers)
     if preset != "simple":
         raise ValueError(f"camera preset {preset!r}: expected one of {', '.join(PRESETS)}")
     frame = Frame.for_room(spec)
@@ -130,6 +139,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
                                      spec.room_width_in, spec.room_depth_in, 0.0)], FLOOR)
     _paint(img, frame, [rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg) for f in spec.furniture],
            WALL)
+    _paint(img, frame, list(movers), WALL)
     _paint(img, frame, [footprint_polygon(fp, x, y, yaw, segments=64) for fp, x, y, yaw in objects], OBJECT)
     _paint(img, frame, [_disc(robot.x_in, robot.y_in, base_radius_in)], BASE)
     h = math.radians(robot.heading_deg)

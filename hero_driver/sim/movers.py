@@ -12,7 +12,8 @@ tested. Two sources, both seeded and repeatable (docs/simulator.md, "Moving obst
 Movers are kinematic pymunk bodies advanced with the simulated clock, in steps of at
 most ``STEP_S``, during every verb that takes robot time. Their shapes collide with
 nothing and every query of the rest of the simulator filters them out: people step
-over objects on the floor and the sonar looks past their legs. Only the robot's base
+over objects on the floor and the sonar looks past their legs. The overhead camera
+draws them as obstacles (:meth:`Movers.outlines`). Only the robot's base
 meets them, and a mover never walks into the base: it waits while its next step would
 bring it within ``YIELD_GAP_IN`` of it (people give way to a robot). A person kept
 waiting ``PATIENCE_S`` steps aside to walk round the robot (behind it if it can), back
@@ -43,6 +44,7 @@ PERSON_RADIUS_IN = 9.0  # a preset person: a disc of this radius (shoulder width
 CART_SIZE_IN = (30.0, 20.0)  # a preset cart: a box this long (along its path) and wide
 PRESET_SPEED_IN_S = 12.0  # a preset mover's speed unless the preset gives one (a slow walk is ~40)
 WALL_CLEARANCE_IN = 2.0  # a preset path ends this far from the walls (plus the mover's reach)
+OUTLINE_SEGMENTS = 48  # a person's disc is drawn as a polygon of this many sides
 NEVER_MOVES = pymunk.ShapeFilter(categories=0, mask=0)  # no collision, no query of the simulator sees it
 
 
@@ -258,6 +260,17 @@ class Mover:
         self._place(self.progress)  # the robot is in the way: waits this stride
         self.waited_s += seconds
 
+    def outline(self) -> tuple[tuple[float, float], ...]:
+        """The mover's outline on the floor now (world points): what the overhead
+        camera draws (a person's disc as a polygon, a cart's four corners)."""
+        body = self.body
+        if self.spec.shape == "disc":
+            x, y, r = float(body.position.x), float(body.position.y), self.spec.radius_in
+            return tuple((x + r * math.cos(2 * math.pi * k / OUTLINE_SEGMENTS),
+                          y + r * math.sin(2 * math.pi * k / OUTLINE_SEGMENTS)) for k in range(OUTLINE_SEGMENTS))
+        assert isinstance(self.shape, pymunk.Poly)
+        return tuple((float(p.x), float(p.y)) for p in (body.local_to_world(v) for v in self.shape.get_vertices()))
+
     def truth(self) -> MoverTruth:
         return MoverTruth(self.index, self.spec.shape, float(self.body.position.x), float(self.body.position.y),
                           self.spec.reach_in)
@@ -288,6 +301,10 @@ class Movers:
                     break
                 mover.progress = (mover.progress + 1.0) % (2.0 * mover.length)
                 mover._place(mover.progress)  # noqa: SLF001 (the movers' own bookkeeping)
+
+    def outlines(self) -> tuple[tuple[tuple[float, float], ...], ...]:
+        """Every mover's outline now, for the overhead camera."""
+        return tuple(m.outline() for m in self.all)
 
     def nearest_gap(self, point: tuple[float, float], radius: float) -> float:
         """The smallest clearance from a disc to any mover (inf without movers)."""

@@ -22,4 +22,4 @@ def render_world(sim: SimWorld, preset: str) -> CameraImage:
               o.yaw_deg + sim.camera_yaw.error(o.index, (o.x_in, o.y_in, o.yaw_deg), sim.noise, sim.rng))
              for o in sim.physics.objects if o.status == "floor"]
     return camera.render(sim.spec, floor, sim.pose, sim.profile.robot.geometry.base_radius_in, sim.noise,
-                         sim.rng, sim.clock_s, preset=preset)
+                         sim.rng, sim.clock_s, preset=preset, movers=sim.physics.movers.outlines())

@@ -3,8 +3,9 @@
 Nothing here is a grey band the vision could rely on. The floor is a textured tile
 (fixed per world, as a real floor is the same every day), lit unevenly (a gradient
 across the room and vignetting), objects are light and shaded darker towards their
-edges, objects and the robot cast soft shadows, the camera is slightly rotated and
-tilted, its lens has barrel distortion and the sensor adds noise. The robot is
+edges, people and carts crossing the floor are dark, all of them and the robot cast
+soft shadows, the camera is slightly rotated and tilted, its lens has barrel
+distortion and the sensor adds noise. The robot is
 painted dark with a white disc ahead of its centre. The lab's marker board
 (:mod:`hero_driver.sim.render_board`) is printed on the floor.
 
@@ -45,6 +46,9 @@ OBJECT_ALBEDO = 0.80
 EDGE_SHADING = 0.25  # an object's edge is this much darker than its top's middle
 ROBOT_ALBEDO = 0.12
 ROBOT_MARKER_ALBEDO = 0.92
+# People and carts: dark clothes and a dark cart, below half the floor's albedo (what
+# segmentation takes for a new obstacle, never an object), with no white disc (never the robot).
+MOVER_ALBEDO = 0.14
 PAPER_ALBEDO, INK_ALBEDO = 0.85, 0.06
 
 # Light: brightest at high x, low y; vignetting darkens the corners.
@@ -114,8 +118,11 @@ def lens_model(width_px: int, height_px: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, float]], robot: Pose,
-           base_radius_in: float, rng: np.random.Generator, clock_s: float) -> CameraImage:
-    """Draw the room as a real overhead camera would see it (module docstring)."""
+           base_radius_in: float, rng: np.random.Generator, clock_s: float,
+           movers: Sequence[Sequence[tuple[float, float]]] = ()) -> CameraImage:
+    """Draw the room as a real overhead camera would see it (module docstring);
+    ``movers`` are the outlines of the people and carts on the floor, drawn dark
+    (MOVER_ALBEDO) beneath the objects."""
     geo = Geometry.for_room(spec)
     albedo = _floor_albedo(spec, geo)
     board = board_for(spec)
@@ -127,7 +134,10 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
 
     object_polys = [footprint_polygon(fp, x, y, yaw, segments=64) for fp, x, y, yaw in objects]
     robot_poly = _disc(robot.x_in, robot.y_in, base_radius_in)
-    albedo *= 1.0 - SHADOW_DEPTH * _shadow(geo, [*object_polys, robot_poly])
+    albedo *= 1.0 - SHADOW_DEPTH * _shadow(geo, [*movers, *object_polys, robot_poly])
+
+    walking = _coverage(geo, list(movers))
+    albedo = walking * MOVER_ALBEDO + (1 - walking) * albedo
 
     things = _coverage(geo, object_polys)
     albedo = things * OBJECT_ALBEDO * _shading(things) + (1 - things) * albedo

@@ -138,9 +138,10 @@ class SimWorld:
 
     def safety_in(self) -> float | None:
         """The blocked_moves feature: how near ahead a mover stops a move; None (off)
-        when the world has no movers, as the battery feature needs a dock, or when
-        this simulator ignores them (``stop_for_movers`` false)."""
-        return SAFETY_IN if self.stop_for_movers and self.physics.movers.all else None
+        when this simulator ignores movers (``stop_for_movers`` false). The safety stop
+        is the driver's, not the world's: a world without movers offers it too (nothing
+        ever blocks there), so a run on the lab does not announce a branch that is off."""
+        return SAFETY_IN if self.stop_for_movers else None
 
     def _pass(self, seconds: float, at: tuple[float, float], heading_deg: float | None = None) -> None:
         """Robot time passes with the base standing at ``at`` (facing ``heading_deg``;

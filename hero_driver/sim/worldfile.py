@@ -18,7 +18,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from hero_driver.sim.battery import Dock
+from hero_driver.sim.battery import Charge, Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
 from hero_driver.sim.events import Disturbance, parse_events
 from hero_driver.sim.movers import MoverSpec, parse_movers_field
@@ -66,7 +66,7 @@ class WorldSpec:
     noise: NoiseConfig | None
     board: Path | None = None  # the marker board printed on its floor (docs/camera.md)
     dock: Dock | None = None  # the charging dock, if the world has one (docs/simulator.md, Battery)
-    battery: float | None = None  # the battery's level at the start; None: full, or tethered without a dock
+    battery: Charge | None = None  # start level and drain multiplier; None: full, or tethered without a dock
     events: tuple[Disturbance, ...] = ()  # scheduled disturbances (docs/simulator.md, Disturbances)
     movers: tuple[MoverSpec, ...] = ()  # people and carts crossing the floor (docs/simulator.md, Moving obstacles)
 
@@ -118,8 +118,8 @@ def _overlap(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool
 def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
     """Check and build a world from decoded JSON (``source`` names it in errors)."""
     top = FieldReader(source, "world", data)
-    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery", "events",
-             "movers")
+    top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery",
+             "battery_drain", "events", "movers")
     room = FieldReader(source, "room", top.table.get("room"))
     room.only("width_in", "depth_in")
     width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
@@ -199,14 +199,18 @@ def _dock(source: str, raw: object, width: float, depth: float) -> Dock | None:
     return dock
 
 
-def _battery(top: FieldReader) -> float | None:
-    """The optional start level of the battery."""
-    if top.table.get("battery") is None:
+def _battery(top: FieldReader) -> Charge | None:
+    """The optional start level of the battery and multiplier on its drain rates
+    (``battery_drain``, > 0; either one meters the battery)."""
+    if top.table.get("battery") is None and top.table.get("battery_drain") is None:
         return None
-    level = top.number("battery", 0.0)
+    level = 1.0 if top.table.get("battery") is None else top.number("battery", 0.0)
     if level > 1.0:
         raise top.fail("battery", f"must be a level from 0 to 1, got {level:g}")
-    return level
+    drain = 1.0 if top.table.get("battery_drain") is None else top.number("battery_drain", 0.0)
+    if drain <= 0.0:
+        raise top.fail("battery_drain", f"must be a multiplier > 0 on the drain rates, got {drain:g}")
+    return Charge(level, drain)
 
 
 def _array(reader: FieldReader, field: str) -> list[object]:

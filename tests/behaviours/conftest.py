@@ -157,6 +157,7 @@ def region(x: float = 100.0, y: float = 50.0, pixels: int = 200, round_: bool = 
 
 
 REGION = region()
+_EMPTY_MASKS = (np.zeros((1, 1), dtype=bool), np.zeros((1, 1), dtype=bool))
 
 
 @dataclass
@@ -168,6 +169,7 @@ class FakeNavigator:
     plans: list[tuple[Pose, Pose]] = field(default_factory=list)
     scenes: deque[tuple[Region, ...]] = field(default_factory=deque)
     observed: int = 0
+    latest: tuple[Region, ...] = ()  # what the last ``observe`` found (``scene``)
 
     def pose_for(self, region: Region, distance_in: float, orientation_deg: float) -> Pose:
         theta = math.radians(orientation_deg)
@@ -203,9 +205,13 @@ class FakeNavigator:
 
     def observe(self, image: Any) -> Scene:
         self.observed += 1
-        regions = self.scenes.popleft()
-        empty = np.zeros((1, 1), dtype=bool)
-        return Scene(image, regions, None, empty, empty)
+        self.latest = self.scenes.popleft()
+        return Scene(image, self.latest, None, *_EMPTY_MASKS)
+
+    @property
+    def scene(self) -> Scene:
+        """The latest scene (the beam check reads its other regions): none seen yet, no regions."""
+        return Scene(None, self.latest, None, *_EMPTY_MASKS)  # type: ignore[arg-type]
 
 
 def pose_at(nav: FakeNavigator, position: Position, where: Region = REGION) -> DriverPose:

@@ -9,32 +9,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 
-import numpy as np
 from py_trees.common import Status
 
 from behaviours.choosing import BestTest
 from behaviours.clutter import BeamClear
 from behaviours.services import Params
-from planner import Region, Scene
+from planner import Region
 from tests.behaviours.conftest import REGION, ROBOT, WIDTH, FakeNavigator, P, make_services, region, run, start_object
 
 
-@dataclass
-class SeeingNavigator(FakeNavigator):
-    """The fake navigator with a latest scene holding ``regions``."""
-
-    regions: tuple[Region, ...] = ()
-
-    @property
-    def scene(self) -> Scene:
-        empty = np.zeros((1, 1), dtype=bool)
-        return Scene(None, self.regions, None, empty, empty)  # type: ignore[arg-type]
-
-
 def chosen(*regions: Region, params: Params = Params()):  # noqa: ANN201 - the test's tuple
-    services = make_services(navigator=SeeingNavigator(regions=regions), params=params)
+    services = make_services(navigator=FakeNavigator(latest=regions), params=params)
     record, step = start_object(services)
     assert run(BestTest(ROBOT), services) == Status.SUCCESS
     assert str(step.test.test) == WIDTH and step.test.target == P(24, 0)

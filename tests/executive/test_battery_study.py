@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 from executive.experiment.study_battery import (
-    DOCK, SETTINGS, BatteryJob, ObjectRow, cell, params_for, plan, summarise, write_docked_floor,
+    DOCK, DRAIN_LEVEL, QUICK_DRAINS, QUICK_LEVELS, SETTINGS, BatteryJob, ObjectRow, cell, params_for, plan,
+    learned_after_flat, summarise, write_docked_floor,
 )
 
 
@@ -23,7 +24,8 @@ def test_the_settings_turn_the_guard_and_the_pricing_on_and_off() -> None:
 
 def test_a_docked_floor_has_the_dock_and_the_start_level(tmp_path: Path) -> None:
     world = json.loads(write_docked_floor(tmp_path, 3, 0.21).read_text())
-    assert world["dock"] == DOCK and world["battery"] == 0.21 and world["objects"]
+    assert world["dock"] == DOCK and world["battery"] == 0.21 and world["battery_drain"] == 1.0 and world["objects"]
+    assert json.loads(write_docked_floor(tmp_path, 3, 0.5, 8.0).read_text())["battery_drain"] == 8.0
     # the dock is clear of the objects' slots (the first column starts 45 +- 6 in from the wall)
     assert all(o["x_in"] - DOCK["x_in"] > 20 for o in world["objects"])
 
@@ -66,3 +68,34 @@ def test_one_floor_from_a_nearly_flat_battery_with_the_guard_off_and_on() -> Non
     assert sum(r.flat for r in off) > 0 and not any(r.charges for r in off)
     # under the threshold from the start: one charge, then nothing runs flat
     assert sum(r.charges for r in on) == 1 and not any(r.flat for r in on)
+
+
+def test_the_quick_plan_has_a_row_per_sweep_point() -> None:
+    # quick: 2 levels at x1, then x1 and x8 from DRAIN_LEVEL, 3 settings, 1 floor
+    jobs = plan(QUICK_LEVELS, [0], QUICK_DRAINS)
+    assert len(jobs) == (2 + 2) * 3
+    assert {(j.level, j.drain) for j in jobs} == {(0.03, 1.0), (0.21, 1.0), (DRAIN_LEVEL, 1.0), (DRAIN_LEVEL, 8.0)}
+    results = {job: [row(job.setting, True, 120.0 * job.drain, charges=int(job.drain > 1))] for job in jobs}
+    # one object of the x8 guard-off floor: failed flat, and (a bug this would show) a description saved
+    x8_off = BatteryJob(DRAIN_LEVEL, "guard off", 0, 8.0)
+    results[x8_off] = [ObjectRow(DRAIN_LEVEL, "guard off", 0, "x", "failed", False, 90.0, 0, False, True, 8.0, True)]
+    study = summarise(results, QUICK_LEVELS, QUICK_DRAINS)
+    levels_table, drains_table = study.details
+    assert [r[0] for r in levels_table[1]] == ["0.03", "0.21"]
+    assert drains_table[0] == ("drain (from 0.5)", *SETTINGS)
+    assert [r[0] for r in drains_table[1]] == ["x1", "x8"]
+    # x8 under the guard: 120 s x 8 = 16 min an object, one dock trip, resumed
+    assert drains_table[1][1][2] == "100%, 16.0 min, 1 dock, 1 resumed, 0 flat"
+    assert drains_table[1][1][1] == "0%, 1.5 min, 0 dock, 0 resumed, 1 flat"
+    by_name = {r.measured: r.ours for r in study.rows}
+    assert by_name["descriptions saved from attempts the battery cut short: guard off / guard / guard + pricing "
+                   "(must be 0)"] == "1 / 0 / 0"
+    assert by_name["success at drain x8 from 0.5: guard off / guard / guard + pricing"] == "0% / 100% / 100%"
+
+
+def test_only_a_description_saved_after_a_refusal_counts_as_cut_short() -> None:
+    empty = {"event": "driver_error", "code": "battery_empty"}
+    events = [{"event": "learn", "object": 5, "id": "learned/Top-Pinch"}, {**empty, "object": 5},  # held, then flat
+              {**empty, "object": 6}, {"event": "learn", "object": 6, "id": "learned/Front-Wrap"},  # flat, then saved
+              {**empty, "object": 7}, {"event": "learn", "object": 7, "id": None}]  # flat, nothing saved
+    assert learned_after_flat(events) == {6}

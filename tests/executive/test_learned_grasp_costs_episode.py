@@ -1,6 +1,6 @@
 """Learned grasp costs in whole episodes (issue 15 §6, docs/method.md §5.7): the
 executive records each object's grasp attempts in the library store and prices the
-learner's choices by them, as ``csl run --learned-grasp-costs`` does.
+learner's choices by them, as ``csl run`` does by default (``Params()``).
 
 The lab, seed 0, with the simulated Front-Wrap taking 4 x the knowledge file's 60 s (the
 study's slow wrap): on the first object the wrap is tried three times as a feature and
@@ -55,7 +55,7 @@ def wrap_priced(executive: Executive) -> tuple[float, float]:
 
 def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tmp_path: Path) -> None:
     truth = slowed(FILE, "Front-Wrap", 4.0)
-    on = Params(learned_grasp_costs=True, use_appearance=False)  # the grasps the arm-only story tries
+    on = Params(use_appearance=False)  # the default (learned costs on); the grasps the arm-only story tries
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         first = episode(learner, "lab", 0, truth, on)
         wraps = [a.seconds for a in attempt_costs(first.log.events) if a.grasp == "Front-Wrap"]
@@ -70,7 +70,8 @@ def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tm
             assert wrap_priced(second) == pytest.approx((60.0, 180.0))
         finally:
             second.shutdown()
-        off = Executive(SimulatedHero("r1", world="lab", seed=1, profile=truth), learner, profile=FILE)
+        off = Executive(SimulatedHero("r1", world="lab", seed=1, profile=truth), learner, profile=FILE,
+                        params=Params(learned_grasp_costs=False))
         try:
             assert wrap_priced(off) == pytest.approx((60.0, 90.0))  # learned costs off: the file's
         finally:
@@ -79,7 +80,7 @@ def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tm
 
 def test_learned_costs_off_record_nothing(tmp_path: Path) -> None:
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
-        executive = episode(learner, "lab", 0, slowed(FILE, "Front-Wrap", 4.0), Params())
+        executive = episode(learner, "lab", 0, slowed(FILE, "Front-Wrap", 4.0), Params(learned_grasp_costs=False))
         assert attempt_costs(executive.log.events)  # grasps were tried
         assert learner.grasp_costs() == []
 
@@ -98,7 +99,7 @@ def floor(tmp_path: Path, events: list[dict[str, object]]) -> Path:
 
 
 def test_a_disturbed_objects_grasps_are_not_recorded(tmp_path: Path) -> None:
-    on = Params(learned_grasp_costs=True, use_appearance=False)  # the grasps the arm-only story tries
+    on = Params(use_appearance=False)  # the default: learned costs on  # the grasps the arm-only story tries
     with LocalLearner(tmp_path / "calm.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         episode(learner, floor(tmp_path, []), 0, FILE, on)
         assert learner.grasp_costs() == [GraspCostRecord("Front-Wrap", 1, 60.0, 0, 0.0)]  # the bottle's hold
@@ -114,13 +115,13 @@ def test_a_disturbed_objects_grasps_are_not_recorded(tmp_path: Path) -> None:
                                          GraspCostRecord("Top-Pinch", 0, 0.0, 1, 63.0)]
 
 
-def test_csl_run_records_grasp_costs_only_with_the_flag(tmp_path: Path) -> None:
+def test_csl_run_records_grasp_costs_unless_told_not_to(tmp_path: Path) -> None:
     library = tmp_path / "library.sqlite"
-    assert main(["run", "--no-plots", "--out", str(tmp_path / "off"), "--library", str(library)]) == 0
+    assert main(["run", "--no-plots", "--out", str(tmp_path / "off"), "--library", str(library),
+                 "--no-learned-grasp-costs"]) == 0
     with LibraryStore(library) as store:
-        assert store.grasp_cost_records() == []  # off by default: the file's prices, nothing recorded
-    assert main(["run", "--no-plots", "--out", str(tmp_path / "on"), "--library", str(library),
-                 "--learned-grasp-costs"]) == 0
+        assert store.grasp_cost_records() == []  # turned off: the file's prices, nothing recorded
+    assert main(["run", "--no-plots", "--out", str(tmp_path / "on"), "--library", str(library)]) == 0  # default
     events = [json.loads(line) for line in (tmp_path / "on" / "episode.jsonl").read_text().splitlines()]
     attempts = attempt_costs(events)
     held, failed = Counter(a.grasp for a in attempts if a.success), Counter(a.grasp for a in attempts if not a.success)

@@ -33,7 +33,7 @@ def test_the_simulator_is_slowed_and_the_executive_priced_by_what_was_recorded(t
         hero = SimulatedHero("r1", world="lab", seed=0, profile=truth)
         try:
             on = Executive(hero, learner, profile=profile, params=Params(learned_grasp_costs=True))
-            off = Executive(hero, learner, profile=profile)
+            off = Executive(hero, learner, profile=profile, params=Params(learned_grasp_costs=False))
             priced = on.services.library.current().knowledge
             # two holds of 240 s and a failure of 300 s: a hold (3 x 60 + 480) / 5 = 132 s, a
             # failure (3 x 90 + 300) / 4 = 142.5 s, so the penalty the learner sees is 10.5 s

@@ -48,8 +48,8 @@ def test_wait_refuses_seconds_out_of_bounds(seconds: float) -> None:
         BY_NAME["wait"].encode_request(WaitRequest(seconds))
 
 
-def test_a_simulator_offers_the_feature_only_where_something_moves() -> None:
-    assert SimulatedHero(world="lab").safety_in() is None
+def test_a_simulator_offers_the_feature_unless_it_ignores_movers() -> None:
+    assert SimulatedHero(world="lab").safety_in() == 6.0  # the stop is the driver's: no movers, still on
     assert SimulatedHero(world="crossing").safety_in() == 6.0
     assert SimulatedHero(world="crossing", stop_for_movers=False).safety_in() is None
 
@@ -99,7 +99,7 @@ def test_the_zenoh_client_offers_the_feature_its_driver_offers(server: zenoh.Ses
 
 @pytest.mark.zenoh
 def test_a_driver_without_the_feature_answers_wait_unknown_verb(server: zenoh.Session, endpoint: str) -> None:
-    with DriverNode(SimulatedHero("nf", world="lab"), server), \
+    with DriverNode(SimulatedHero("nf", world="lab", stop_for_movers=False), server), \
             ZenohDriver("nf", connect=[endpoint], discover_s=5.0) as client:
         assert client.wait_ready(5.0) and client.safety_in() is None
         with pytest.raises(DriverError) as err:

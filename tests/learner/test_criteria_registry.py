@@ -33,6 +33,7 @@ HAND_WORKED = [
     ("cs-id3-failure", 2.0, 8.0, 0.5),
     ("cs-id3-failure-rollout", 2.0, 8.0, 0.5),
     ("cs-id3-failure-search", 2.0, 8.0, 0.5),
+    ("cs-id3-failure-search-every-row", 2.0, 8.0, 0.5),
 ]
 
 
@@ -67,18 +68,24 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
     assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
     # a rollout finishes with its base rule itself: plain gain, no lookahead inside
     assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout", "cs-id3-failure-rollout",
-                                                             "cs-id3-failure-search"}
+                                                             "cs-id3-failure-search",
+                                                             "cs-id3-failure-search-every-row"}
     rolled = criterion("idx-rollout")
     assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices
                                    or rolled.grasp_paid_on_failure or rolled.rollout_follows_walk)
     # only the failure-priced forms price a grasp test by its failure, and only their
     # rollout follows the walk
     assert {n for n, s in CRITERIA.items() if s.grasp_paid_on_failure} == {"cs-id3-failure", "cs-id3-failure-rollout",
-                                                                           "cs-id3-failure-search"}
+                                                                           "cs-id3-failure-search",
+                                                                           "cs-id3-failure-search-every-row"}
     assert {n for n, s in CRITERIA.items() if s.rollout_follows_walk} == {"cs-id3-failure-rollout",
-                                                                          "cs-id3-failure-search"}
-    # only the search's rollout searches the nodes below a candidate
-    assert {n for n, s in CRITERIA.items() if s.rollout_searches} == {"cs-id3-failure-search"}
+                                                                          "cs-id3-failure-search",
+                                                                          "cs-id3-failure-search-every-row"}
+    # only the searches' rollouts search the nodes below a candidate, and only the last
+    # lets carried rows decide a leaf: every other criterion keeps the learner's leaf rule
+    searching = {n for n, s in CRITERIA.items() if s.rollout_searches}
+    assert searching == {"cs-id3-failure-search", "cs-id3-failure-search-every-row"}
+    assert {n for n, s in CRITERIA.items() if s.leaf_every_row} == {"cs-id3-failure-search-every-row"}
     built = criterion("eg2-lookahead", w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
@@ -86,7 +93,7 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
     # the default is cs-id3's formula with grasps tried as features priced by their failure share, and nothing else
     assert default.grasp_paid_on_failure and default.cost_sensitive
     assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout
-                or default.rollout_follows_walk)
+                or default.rollout_follows_walk or default.leaf_every_row)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:
@@ -123,5 +130,6 @@ def test_parameters_are_checked_by_name() -> None:
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
                        r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead, "
-                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout, cs-id3-failure-search\)"):
+                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout, cs-id3-failure-search, "
+                       r"cs-id3-failure-search-every-row\)"):
         criterion("c4.5")

@@ -7,7 +7,7 @@ import math
 
 from hypothesis import given, strategies as st
 
-from planner.positions import BEAM_MARGIN_IN, beam_blockers, beam_corridor
+from planner.positions import BEAM_MARGIN_IN, beam_blockers, beam_corridor, neighbours
 from planner.vision import Region
 
 
@@ -53,3 +53,10 @@ def test_a_neighbour_farther_than_the_whole_beam_never_blocks(distance: float, o
     reach = 2 * math.sqrt(2) + distance + 2.0 + BEAM_MARGIN_IN + 1.0 + extra
     far = square(reach + 1.0, 0.0, 2.0)
     assert beam_blockers(TARGET, distance, orientation, [far]) == []
+
+
+def test_neighbours_leave_out_the_object_seen_anew() -> None:
+    # 0.5 in off the centroid: the object itself in a newer image; 1.5 in off: another one
+    anew, other = square(0.3, 0.4, 4.0), square(0.9, 1.2, 2.0)
+    assert neighbours(TARGET, [TARGET, anew, other], 1.0) == [other]
+    assert neighbours(TARGET, [TARGET, anew, other], 2.0) == []
