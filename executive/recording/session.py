@@ -30,6 +30,10 @@ class _Viewers:
     def on_subscribe(self, client: object, channel: object) -> None:
         self.subscribed.set()
 
+    def on_unsubscribe(self, client: object, channel: object) -> None:
+        """A client leaving changes nothing: the episode goes on (only the first
+        subscription is waited for). Without it the server logs a failed callback."""
+
 
 class Recording:
     """Where an episode is recorded to; :meth:`close` finishes the MCAP file and stops
