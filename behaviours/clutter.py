@@ -17,9 +17,9 @@ sensing of it is used at all, and the learner is left with its grasps (tried as
 features or at a leaf), so the cluster is still handled, without sonar. Grasps (no sound) and values already measured (no new
 reading) pass unchecked, and so does everything with the check off
 (``Params.beam_check``: the study's "off" arm). The same test priced up front is
-``PlannerMoveCost.sensing_move_cost`` (behaviours/bridge.py): with its ``beam_check`` on
-(the object loop does not yet pass it) the learner never picks such a position, and
-this check stays for a scene seen anew since (docs/executive.md "Clutter").
+``PlannerMoveCost.sensing_move_cost`` (behaviours/bridge.py, given ``Params.beam_check``
+by the object loop): the learner never picks such a position, and this check stays for
+a scene seen anew since (docs/executive.md "Clutter").
 """
 
 from __future__ import annotations

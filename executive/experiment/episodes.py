@@ -176,9 +176,9 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
 
     def row(name: str, outcome: str, grasp: str, success: bool, robot: tuple[float, float, float],
             computing_ms: float = 0.0, tests: int = 0, indices: Sequence[int] = (), recoveries: str = "-") -> EpisodeRow:
-        distances = [d for i in indices for d in stats.get(i, ([], 0, 0))[0]]
-        as_features = sum(stats.get(i, ([], 0, 0))[1] for i in indices)
-        wrong = sum(stats.get(i, ([], 0, 0))[2] for i in indices)
+        folded = [stats.get(i, ([], 0, 0)) for i in indices]
+        distances = [d for ds, _, _ in folded for d in ds]
+        as_features, wrong = sum(f[1] for f in folded), sum(f[2] for f in folded)
         moving, sensing, grasping = robot
         return EpisodeRow(
             spec.study, spec.variant, spec.criterion, spec.noise, spec.noise_factor, spec.control.label,
