@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from planner.cache import LruCache
 from planner.calibration import MarkerBoard
 from planner.geometry import Pose
+from planner.merging import flag_merged
 from planner.image import OverheadImage
 from planner.move_cost import CostEstimator, MoveCost, arrived, price_plan
 from planner.paths import OK, PathPlanner, PlanResult
@@ -71,10 +72,12 @@ class Navigator:
         self._avoided: tuple[Disc, ...] = ()
 
     def observe(self, image: OverheadImage) -> Scene:
-        """Look at a new overhead image; later calls plan on it."""
+        """Look at a new overhead image; later calls plan on it. A region covering two
+        objects the previous image saw apart is a cluster (:mod:`planner.merging`)."""
         if self.camera is None and self._board is not None:
             self.camera = calibrated_camera(image.pixels, self._board)
-        scene = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))
+        seen = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))
+        scene = flag_merged(self._scene, seen, self.robot.geometry.base_radius_in)
         self._scene, self._avoided = scene, ()
         self._rebuild()
         return scene
