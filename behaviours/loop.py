@@ -85,7 +85,7 @@ class StartObject(CslBehaviour):
             "appearance": appearance.to_json(), "ruled_out": len(session.unlike_rows()),
             **({"appearance_ignored": True} if session.appearance_ignored else {})}
         self.note(Event.OBJECT, centroid=[round(c, 1) for c in region.centroid], pixels=region.pixel_count,
-                  start=start.to_json(), **seen)
+                  start=start.to_json(), **seen, **({"cluster": True} if region.cluster else {}))
         return Status.SUCCESS
 
 

@@ -357,7 +357,8 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         truth = match_truth(record, truths)
         label = truth.name if truth else "unknown"
         console.print(f"  object {record.index}: {label} -> "
-                      f"{record.grasp or '-'} ({record.outcome}), {record.ledger.robot_s / 60:.1f} robot min")
+                      f"{record.grasp or '-'} ({record.outcome}), {record.ledger.robot_s / 60:.1f} robot min"
+                      + (f"; {CLUSTER_NOTICE}" if _clustered(record) else ""))
         if recording is not None:
             recording.handled(record, label)
         if args.show_status:  # on stderr when stdout carries the --json document
@@ -388,11 +389,16 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     library = learner.path if isinstance(learner, LocalLearner) else None
     created = getattr(args, "library_created", False)  # run's --library (or the default) did not exist
     unanswered = _unanswered(log.events)
-    outcomes = ["failed" if record.index in unanswered else record.outcome for record in result.objects]
+    clusters_left = [r.index for r in result.objects if _clustered(r) and r.outcome == "left"]
+    outcomes = ["failed" if record.index in unanswered or record.index in clusters_left else record.outcome
+                for record in result.objects]
     status, why = episode_status(outcomes)
     history = _append_history(args, setup, learner, library, outcomes, table, log.events)
     for index, message in unanswered.items():
         print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
+    for index in clusters_left:
+        print(f"csl: object {index} not handled: touching objects the camera saw as one region (a cluster), "
+              "left on the floor when no grasp held", file=sys.stderr)
     if as_json:
         print_json(episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out, plots=not args.no_plots,
                                 library=library, library_created=created, status=status, why=why))
@@ -416,6 +422,17 @@ def _append_history(args: argparse.Namespace, setup: Setup, learner: LearnerServ
     path = default_history()
     append_run(path, run)
     return path
+
+
+CLUSTER_NOTICE = ("the camera saw touching objects as one region (a cluster, docs/planner.md \"Clutter\"): "
+                  "handled by grasping, no sonar")
+
+
+def _clustered(record: ObjectRecord) -> bool:
+    """Whether vision called the object a cluster when first seen or since. Such an
+    object left (no grasp held) is a failure, not a No-Grab object: what was left is
+    two or more objects the robot could not tell apart."""
+    return record.region.cluster or record.first_region.cluster
 
 
 def _say_battery_guard(driver: Driver, threshold: float) -> None:

@@ -15,7 +15,7 @@ from pathlib import Path
 from behaviours.services import Params
 from executive.cli import main
 from executive.executive import EpisodeResult, Executive
-from executive.exit_status import ALL_HANDLED
+from executive.exit_status import ALL_HANDLED, SOME_FAILED
 from executive.experiment.study_clutter import WatchedHero, floor
 from executive.experiment.study_training import run_training
 from hero_driver.sim.world import profile_and_catalogue
@@ -68,3 +68,33 @@ def test_csl_run_on_the_shipped_clutter_floor_handles_every_object(tmp_path: Pat
     assert len(located["regions"]) == len(placed) == 6  # the pair and the trio told apart
     outcomes = [e for e in events if e["event"] in ("learn", "leave", "gave_up", "gone")]
     assert code == ALL_HANDLED and outcomes
+
+
+# two lying 16 oz bottles in an L, 0.1 in apart: one region filling 0.70 of its hull,
+# far from convex for one footprint: vision calls it a cluster from the first image
+L_OF_BOTTLES = {"name": "an L of two bottles", "room": {"width_in": 160, "depth_in": 140}, "furniture": [],
+                "robot": {"x_in": 40.0, "y_in": 40.0, "heading_deg": 45.0},
+                "objects": [{"id": "soda-bottle-16oz/lying", "x_in": 100.0, "y_in": 90.0, "yaw_deg": 0.0},
+                            {"id": "soda-bottle-16oz/lying", "x_in": 97.55, "y_in": 95.25, "yaw_deg": 90.0}]}
+
+
+def test_csl_run_says_when_it_handles_a_cluster_without_sonar_and_fails_when_it_leaves_it(
+        tmp_path: Path, capsys, monkeypatch) -> None:  # noqa: ANN001
+    monkeypatch.setenv("COLUMNS", "400")  # the progress line unwrapped
+    world = tmp_path / "l-of-bottles.json"
+    world.write_text(json.dumps(L_OF_BOTTLES), encoding="utf-8")
+    out = tmp_path / "out"
+    code = main(["run", "--world", str(world), "--no-plots", "--out", str(out),
+                 "--library", str(tmp_path / "lib.sqlite")])
+    events = [json.loads(line) for line in (out / "episode.jsonl").read_text().splitlines()]
+    [first] = [e for e in events if e["event"] == "object"]
+    assert first["cluster"] is True
+    assert not [e for e in events if e["event"] == "sense"]  # no sonar
+    said = capsys.readouterr()
+    [line] = [x for x in (said.out + said.err).splitlines() if x.startswith("  object 0:")]
+    assert "-> No-Grab (left)," in line and line.endswith("; the camera saw touching objects as one region (a cluster, "
+                                                         'docs/planner.md "Clutter"): handled by grasping, no sonar')
+    # every grasp tried on the pair's middle fails, so the pair is left: two bottles
+    # still on the floor are a failed run, not a No-Grab object
+    assert [e["grasp"] for e in events if e["event"] == "leave"] == ["No-Grab"]
+    assert code == SOME_FAILED and "object 0 not handled: touching objects" in said.err
