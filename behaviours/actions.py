@@ -253,7 +253,8 @@ class Grasp(DriverAction):
 
 class Learn(DriverAction):
     """Save the new object description after a successful grasp (with every feature
-    measured, discriminating ones included) and put the object away."""
+    measured, discriminating ones included) and put the object away. Nothing is saved
+    for a cluster: its grasps were tried on touching objects, not on the one held."""
 
     def __init__(self, robot: str, name: str = "Learn") -> None:
         super().__init__(name, robot)
@@ -265,7 +266,9 @@ class Learn(DriverAction):
         if obj.outcome != "grasped" or obj.grasp is None or obj.grasp_position is None:
             return Status.FAILURE
         description = obj.session.description(f"learned/{obj.grasp}", obj.grasp, obj.grasp_position)
-        if description.observations:  # a description with no features would match anything
+        if obj.clustered:  # what was tried on touching objects is no one object's
+            self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0, reason="a cluster of touching objects")
+        elif description.observations:  # a description with no features would match anything
             obj.learned_id = self.timed(lambda: self.services.learner.learn(description))
             self.note(Event.LEARN, id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
                       wrong=list(obj.session.wrong_predictions))

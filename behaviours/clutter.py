@@ -24,11 +24,17 @@ a scene seen anew since (docs/executive.md "Clutter").
 
 from __future__ import annotations
 
-from py_trees.common import Status
+import math
+from concurrent.futures import Future
 
-from behaviours.base import CslBehaviour
+from py_trees.common import Access, Status
+
+from behaviours.base import CslBehaviour, DriverAction
+from behaviours.bridge import overhead
 from behaviours.events import Event
+from hero_driver.interface import CameraImage
 from planner import Region
+from planner.merging import within_push
 from planner.positions import beam_blockers, neighbours
 
 
@@ -70,3 +76,38 @@ class BeamClear(CslBehaviour):
         """Every region of the latest image but the object's own (the one within
         ``Params.pushed_in`` of its centroid: the same object seen anew)."""
         return neighbours(self.obj.region, self.services.navigator.scene.regions, self.services.params.pushed_in)
+
+
+class LookForTheRest(DriverAction):
+    """``LookForTheRest``: after a grasp held one object of a cluster and it was put
+    away, look again and queue, next, what is left of the cluster.
+
+    The object list comes from the first image, where the cluster was one region: the
+    objects still lying where it was are in no list, and the run would end with them
+    on the floor, unreported. Every region of the new image within a push
+    (:func:`planner.merging.within_push`) of the cluster's outline, and not one already
+    queued, goes to the front of the list (``rest_of_cluster`` with their centroids);
+    each is then worked on as any object. Succeeds at once for any other object.
+    """
+
+    def __init__(self, robot: str, name: str = "LookForTheRest") -> None:
+        super().__init__(name, robot)
+        self.bb.register_key("objects", access=Access.WRITE)
+
+    def start(self) -> Future[CameraImage] | Status:
+        obj = self.obj
+        if not obj.clustered or obj.outcome != "grasped":
+            self.feedback_message = "not a cluster grasped"
+            return Status.SUCCESS
+        return self.services.driver.camera()
+
+    def finish(self, result: CameraImage) -> Status:
+        scene = self.timed(lambda: self.services.navigator.observe(overhead(result)))
+        queued = list(self.bb.objects)
+        near = self.services.params.pushed_in
+        rest = [r for r in scene.regions if within_push(self.obj.region, r.centroid)
+                and not any(math.dist(r.centroid, q.centroid) <= near for q in queued)]
+        self.bb.objects = rest + queued
+        self.note(Event.REST_OF_CLUSTER, regions=[[round(c, 1) for c in r.centroid] for r in rest])
+        self.feedback_message = f"{len(rest)} left of the cluster"
+        return Status.SUCCESS

@@ -27,7 +27,8 @@ class Event(str, Enum):
         return self.value
 
     LOCATED = "located", "the overhead camera's object regions (centroid, pixels, orientation), nearest first"
-    OBJECT = "object", "work starts on an object: where it lies and where the robot stands relative to it"
+    OBJECT = "object", ("work starts on an object: where it lies and where the robot stands relative to it "
+                        "(`cluster: true` when vision saw touching objects as one region)")
     CHOOSE = "choose", "a test chosen (how: best, reselect or backtrack), its position, gain, move and sensing seconds"
     MOVE = "move", "the robot drove to a position: seconds, whether it collided, the pose it ended at"
     SENSE = "sense", "a sensing procedure applied: the values it yielded and its seconds"
@@ -44,6 +45,7 @@ class Event(str, Enum):
     DISCRIMINATE = "discriminate", "after a wrong prediction, a feature measured to tell the object apart", True
     LEAVE = "leave", "a grasp the finger sensor cannot confirm (No-Grab): the object is left where it is"
     LEARN = "learn", "the new object description saved (id, grasp, features, wrong predictions)"
+    REST_OF_CLUSTER = "rest_of_cluster", "a cluster's grasped object put away: what the camera sees left of it, queued next", True
     GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True

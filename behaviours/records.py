@@ -91,6 +91,12 @@ class ObjectRecord:
     def done(self) -> bool:
         return self.outcome is not None
 
+    @property
+    def clustered(self) -> bool:
+        """Vision saw touching objects as this one region, when first seen or since
+        (``Region.cluster``, docs/planner.md "Clutter")."""
+        return self.region.cluster or self.first_region.cluster
+
     def finish(self, outcome: str, grasp: str | None = None, position: Position | None = None) -> None:
         """The object is handled (grasped, left) or given up on (failed)."""
         self.outcome, self.grasp, self.grasp_position = outcome, grasp, position

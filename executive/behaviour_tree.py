@@ -25,7 +25,7 @@ from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
 from behaviours.battery import guarded
 from behaviours.blocked import around_movers
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
-from behaviours.clutter import BeamClear
+from behaviours.clutter import BeamClear, LookForTheRest
 from behaviours.disturbance import look_before
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
@@ -57,6 +57,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         StartObject(robot),
         UntilHandled(step, robot, name="recognize and grasp"),
         Learn(robot),
+        LookForTheRest(robot),
     ])
     return guarded(Sequence("retrieve objects", memory=True, children=[
         LocateObjects(robot),

@@ -80,7 +80,8 @@ def _reach(region: Region, point: tuple[float, float]) -> float:
     return float(cv2.pointPolygonTest(region.polygon_array().astype(np.float32), point, True))
 
 
-def _within_push(region: Region, point: tuple[float, float]) -> bool:
+def within_push(region: Region, point: tuple[float, float]) -> bool:
+    """Whether ``point`` lies inside ``region``'s outline or within a push (:data:`PUSHED_IN`) of it."""
     return _reach(region, point) >= -PUSHED_IN
 
 
@@ -89,7 +90,7 @@ def _merged(region: Region, parts: list[Region], newcomers: list[Region], robot:
     """Whether ``region`` is the earlier ``parts`` (the earlier regions it became) touching,
     or a cluster seen again; ``newcomers`` are the new image's regions no earlier one became."""
     if any(p.cluster and region.pixel_count >= KEPT_AREA_SHARE * p.pixel_count
-           and not any(_within_push(p, r.centroid) for r in newcomers) for p in parts):
+           and not any(within_push(p, r.centroid) for r in newcomers) for p in parts):
         return True
     return any(region.pixel_count >= max(a.pixel_count, b.pixel_count) + JOINT_AREA_SHARE * min(a.pixel_count, b.pixel_count)
                and not _hidden_between(a, b, robot, base_radius_in + HIDDEN_MARGIN_IN)

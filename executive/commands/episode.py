@@ -358,7 +358,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         label = truth.name if truth else "unknown"
         console.print(f"  object {record.index}: {label} -> "
                       f"{record.grasp or '-'} ({record.outcome}), {record.ledger.robot_s / 60:.1f} robot min"
-                      + (f"; {CLUSTER_NOTICE}" if _clustered(record) else ""))
+                      + (f"; {CLUSTER_NOTICE}" if record.clustered else ""))
         if recording is not None:
             recording.handled(record, label)
         if args.show_status:  # on stderr when stdout carries the --json document
@@ -389,7 +389,9 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     library = learner.path if isinstance(learner, LocalLearner) else None
     created = getattr(args, "library_created", False)  # run's --library (or the default) did not exist
     unanswered = _unanswered(log.events)
-    clusters_left = [r.index for r in result.objects if _clustered(r) and r.outcome == "left"]
+    # a cluster left (no grasp held) is two or more objects the robot could not tell apart,
+    # not a No-Grab object: a failure
+    clusters_left = [r.index for r in result.objects if r.clustered and r.outcome == "left"]
     outcomes = ["failed" if record.index in unanswered or record.index in clusters_left else record.outcome
                 for record in result.objects]
     status, why = episode_status(outcomes)
@@ -426,13 +428,6 @@ def _append_history(args: argparse.Namespace, setup: Setup, learner: LearnerServ
 
 CLUSTER_NOTICE = ("the camera saw touching objects as one region (a cluster, docs/planner.md \"Clutter\"): "
                   "handled by grasping, no sonar")
-
-
-def _clustered(record: ObjectRecord) -> bool:
-    """Whether vision called the object a cluster when first seen or since. Such an
-    object left (no grasp held) is a failure, not a No-Grab object: what was left is
-    two or more objects the robot could not tell apart."""
-    return record.region.cluster or record.first_region.cluster
 
 
 def _say_battery_guard(driver: Driver, threshold: float) -> None:

@@ -7,6 +7,8 @@ is (160, 50, 180), (24,0) is (124, 50, 180), (6,0) is (106, 50, 180).
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 from py_trees.common import Status
 
@@ -401,6 +403,19 @@ def test_learn_fails_for_an_object_not_grasped(services, driver, outcome) -> Non
         record.finish(outcome)
     assert run(Learn(ROBOT), services) == Status.FAILURE
     assert services.learner.learned == [] and driver.calls == []
+
+
+def test_learn_saves_nothing_from_a_cluster_but_puts_the_object_away(services, driver, log) -> None:  # noqa: ANN001
+    # the same measurements as the first test above, on touching objects: none is the held one's alone
+    record, step = start_object(services, where=dataclasses.replace(REGION, cluster=True))
+    measure(record, 8.5)
+    record.session.record({"Height": 3.4, "Depth": 3.0, "Top-Hole?": 1.0}, P(6, 0))
+    record.finish("grasped", "Front-Wrap", P(6, 0))
+    driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 500.0, 0.9))
+    assert run(Learn(ROBOT), services) == Status.SUCCESS
+    assert services.learner.learned == [] and driver.verbs() == ["release"] and record.learned_id is None
+    assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": None, "grasp": "Front-Wrap",
+                           "features": 0, "reason": "a cluster of touching objects"}]
 
 
 def test_learn_saves_nothing_when_nothing_was_measured(services, driver, log) -> None:  # noqa: ANN001

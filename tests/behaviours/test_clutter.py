@@ -13,10 +13,11 @@ import math
 from py_trees.common import Status
 
 from behaviours.choosing import BestTest
-from behaviours.clutter import BeamClear
+from behaviours.clutter import BeamClear, LookForTheRest
 from behaviours.services import Params
 from planner import Region
-from tests.behaviours.conftest import REGION, ROBOT, WIDTH, FakeNavigator, P, make_services, region, run, start_object
+from tests.behaviours.conftest import (REGION, ROBOT, WIDTH, FakeNavigator, P, get, image, make_services, put, region, run,
+                                      start_object)
 
 
 def chosen(*regions: Region, params: Params = Params()):  # noqa: ANN201 - the test's tuple
@@ -71,3 +72,35 @@ def test_no_sensing_of_a_cluster_is_used_even_with_nothing_else_in_view() -> Non
     assert run(BeamClear(ROBOT), services) == Status.FAILURE
     assert record.session.awaiting_reselection
     assert services.log.of("beam_blocked")[-1]["cluster"] is True
+
+
+# -- LookForTheRest: after a cluster's grasp, what is left of it is queued next ------------
+
+def _grasped(services, where: Region):  # noqa: ANN001, ANN202
+    record, _ = start_object(services, where=where)
+    record.finish("grasped", "Top-Pinch", P(6, 0))
+    return record
+
+
+def test_what_is_left_of_a_grasped_cluster_goes_to_the_front_of_the_list() -> None:
+    cluster = dataclasses.replace(REGION, cluster=True)  # the 4 x 4 in square at (100, 50)
+    # the new image: the other object 1.5 in off the square's side (within 3 in), a far
+    # one already queued, and one seen anew 0.5 in from the queued one (the same object)
+    left, far = region(103.5, 50.0), region(160.0, 50.0)
+    services = make_services(navigator=FakeNavigator().see(left, far, region(160.5, 50.0)))
+    services.driver.script("camera", image())
+    _grasped(services, cluster)
+    put("objects", [far])
+    assert run(LookForTheRest(ROBOT), services) == Status.SUCCESS
+    assert get("objects") == [left, far]
+    assert services.log.of("rest_of_cluster")[-1]["regions"] == [[103.5, 50.0]]
+
+
+def test_an_object_that_was_no_cluster_or_was_left_needs_no_second_look() -> None:
+    for where, outcome in ((REGION, "grasped"), (dataclasses.replace(REGION, cluster=True), "left")):
+        services = make_services()
+        record, _ = start_object(services, where=where)
+        record.finish(outcome, "Top-Pinch" if outcome == "grasped" else "No-Grab", P(6, 0))
+        put("objects", [])
+        assert run(LookForTheRest(ROBOT), services) == Status.SUCCESS
+        assert services.driver.verbs() == [] and get("objects") == []

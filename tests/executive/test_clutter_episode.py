@@ -31,8 +31,8 @@ def trained() -> tuple[ObjectDescription, ...]:
     return tuple(run_training(load_profile()).descriptions)
 
 
-def episode(tmp_path: Path, world: Path | str, check: bool) -> tuple[EpisodeResult, Executive, WatchedHero]:
-    hero = WatchedHero(SimulatedHero("r1", world=world, seed=0))
+def episode(tmp_path: Path, world: Path | str, check: bool, seed: int = 0) -> tuple[EpisodeResult, Executive, WatchedHero]:
+    hero = WatchedHero(SimulatedHero("r1", world=world, seed=seed))
     learner = LocalLearner(tmp_path / f"library-{check}.sqlite", seed_library=list(trained()))
     executive = Executive(hero, learner, params=Params(beam_check=check))  # type: ignore[arg-type]
     try:
@@ -98,3 +98,18 @@ def test_csl_run_says_when_it_handles_a_cluster_without_sonar_and_fails_when_it_
     # still on the floor are a failed run, not a No-Grab object
     assert [e["grasp"] for e in events if e["event"] == "leave"] == ["No-Grab"]
     assert code == SOME_FAILED and "object 0 not handled: touching objects" in said.err
+
+
+def test_what_is_left_of_a_grasped_cluster_is_worked_on_next(tmp_path: Path) -> None:
+    # floor 4 with pairs 1 in apart: a failed grasp pushes the 2 in box against the
+    # magazine box; the camera calls the two one region, a cluster (seen apart before),
+    # a grasp holds the magazine box, and the 2 in box (165.8, 48.8) is found left of
+    # it and handled next
+    result, executive, hero = episode(tmp_path, floor(tmp_path, 1.0, 4), True, seed=4)
+    [rest] = [e for e in executive.log.events if e["event"] == "rest_of_cluster" and e["regions"]]
+    cluster = result.objects[rest["object"]]
+    assert cluster.clustered and cluster.outcome == "grasped" and cluster.learned_id is None
+    [left] = rest["regions"]
+    after = result.objects[rest["object"] + 1]
+    assert [round(c, 1) for c in after.first_region.centroid] == left and after.outcome is not None
+    assert hero.contacts == 0
