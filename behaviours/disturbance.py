@@ -44,6 +44,7 @@ from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
 from hero_driver.interface import CameraImage
 from planner import Region
+from planner.merging import within_push
 
 OUTLINE_PIXELS = 1.5
 """Rasterised a fraction of a pixel elsewhere or turned, a region of N pixels counts up
@@ -77,7 +78,9 @@ def judge(expected: Region, pixels: float, regions: list[Region], others: list[t
     ``in_place_in`` of the expected centroid has a pixel count within ``changed_ratio``
     of ``pixels`` (or within ``OUTLINE_PIXELS`` sqrt(pixels), if more); else what
     happened. A region sitting where another known object is (``others``: their
-    centroids) is that object, never ours."""
+    centroids) is that object, never ours, unless it is a cluster reaching where ours
+    was: ours was pushed against that object (changed, so started afresh on the
+    cluster), not gone."""
 
     def distance(r: Region) -> float:
         return math.hypot(r.centroid[0] - expected.centroid[0], r.centroid[1] - expected.centroid[1])
@@ -87,8 +90,11 @@ def judge(expected: Region, pixels: float, regions: list[Region], others: list[t
 
     tolerance = max(changed_ratio, OUTLINE_PIXELS / math.sqrt(max(pixels, 1.0)))
 
-    mine = [r for r in regions if distance(r) <= search_in and not any(
-        math.hypot(r.centroid[0] - x, r.centroid[1] - y) <= in_place_in for x, y in others)]
+    def theirs(r: Region) -> bool:  # a cluster over where ours was holds ours too
+        return not (r.cluster and within_push(r, expected.centroid)) and any(
+            math.hypot(r.centroid[0] - x, r.centroid[1] - y) <= in_place_in for x, y in others)
+
+    mine = [r for r in regions if distance(r) <= search_in and not theirs(r)]
     if not mine:
         return Finding(GONE, None, math.inf, 1.0)
     # nearest first; of two about as near, the one of the right size

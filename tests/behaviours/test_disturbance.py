@@ -9,6 +9,7 @@ the default tolerances are 1 in (``pushed_in``), 25 % of the pixels
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import py_trees
@@ -22,6 +23,7 @@ from behaviours.disturbance import (CHANGED, FINDING, GONE, MOVED, Disturbed, Fi
 from behaviours.services import Params
 from hero_driver.interface import Pose as DriverPose
 from learner.position import Position
+from planner import Region
 from tests.behaviours.conftest import REGION, ROBOT, get, image, make_services, measure, put, region, run, start_object
 
 TOLERANCES = {"in_place_in": 1.0, "search_in": 24.0, "changed_ratio": 0.25}
@@ -65,6 +67,17 @@ def test_judge_never_takes_another_known_object_for_ours() -> None:
     assert alone is not None and alone.kind == GONE
     moved = judge(REGION, 200, [neighbour, region(95.0, 50.0)], [(110.0, 50.0)], **TOLERANCES)
     assert moved is not None and moved.kind == MOVED and moved.region == region(95.0, 50.0)
+
+
+def test_judge_a_cluster_reaching_where_ours_was_holds_ours_pushed_against_a_known_object() -> None:
+    # ours (the 4 x 4 in square at (100, 50)) pushed against the known object at (106, 50):
+    # one region from x 101 to 108, a cluster, its centroid 0.5 in from the other's
+    pair = Region(((101.0, 48.0), (108.0, 48.0), (108.0, 52.0), (101.0, 52.0)), (105.5, 50.0), 350, 0.0, False,
+                  7.0, 4.0, cluster=True)
+    finding = judge(REGION, 200, [pair], [(106.0, 50.0)], **TOLERANCES)  # 1 in outside ours: within a push
+    assert finding is not None and finding.kind == CHANGED and finding.region == pair  # started afresh on it
+    alone = judge(REGION, 200, [dataclasses.replace(pair, cluster=False)], [(106.0, 50.0)], **TOLERANCES)
+    assert alone is not None and alone.kind == GONE  # not a cluster: the other object, as before
 
 
 def test_judge_prefers_the_region_of_the_right_size_among_equally_near_ones() -> None:
