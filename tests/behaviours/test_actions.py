@@ -19,6 +19,7 @@ from hero_driver.interface import (BUSY, NO_TARGET, OUT_OF_RANGE, UNAVAILABLE, D
 from learner.appearance import Appearance
 from learner.description import ObjectDescription, Observation
 from learner.selection import ScoredTest
+from planner import Region
 from tests.behaviours.conftest import (HEIGHT, PENDING, REGION, ROBOT, FakeDriver, P, fresh_board, get, image, measure,
                                        moved, pose_at, put, refused, region, run, setup, start_object, tick)
 
@@ -372,12 +373,18 @@ def test_grasp_refused_by_the_driver_is_a_failed_grasp(services, driver, log) ->
 # -- Learn -----------------------------------------------------------------------------------
 
 
-def test_learn_saves_what_was_measured_and_puts_the_object_away(services, driver, log) -> None:  # noqa: ANN001
-    record, step = start_object(services)
+def _wrapped_after_four_features(services, driver, where: Region = REGION):  # noqa: ANN001, ANN202
+    """Width 8.5 at (24,0), Height 3.4, Depth 3.0 and a top hole at (6,0), then Front-Wrap held."""
+    record, _ = start_object(services, where=where)
     measure(record, 8.5)
     record.session.record({"Height": 3.4, "Depth": 3.0, "Top-Hole?": 1.0}, P(6, 0))
     record.finish("grasped", "Front-Wrap", P(6, 0))
     driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 500.0, 0.9))
+    return record
+
+
+def test_learn_saves_what_was_measured_and_puts_the_object_away(services, driver, log) -> None:  # noqa: ANN001
+    record = _wrapped_after_four_features(services, driver)
     assert run(Learn(ROBOT), services) == Status.SUCCESS
     assert services.learner.learned == [ObjectDescription("learned/Front-Wrap", "Front-Wrap", P(6, 0), (
         Observation("Depth", P(6, 0), 3.0), Observation("Height", P(6, 0), 3.4),
@@ -407,11 +414,7 @@ def test_learn_fails_for_an_object_not_grasped(services, driver, outcome) -> Non
 
 def test_learn_saves_nothing_from_a_cluster_but_puts_the_object_away(services, driver, log) -> None:  # noqa: ANN001
     # the same measurements as the first test above, on touching objects: none is the held one's alone
-    record, step = start_object(services, where=dataclasses.replace(REGION, cluster=True))
-    measure(record, 8.5)
-    record.session.record({"Height": 3.4, "Depth": 3.0, "Top-Hole?": 1.0}, P(6, 0))
-    record.finish("grasped", "Front-Wrap", P(6, 0))
-    driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 500.0, 0.9))
+    record = _wrapped_after_four_features(services, driver, dataclasses.replace(REGION, cluster=True))
     assert run(Learn(ROBOT), services) == Status.SUCCESS
     assert services.learner.learned == [] and driver.verbs() == ["release"] and record.learned_id is None
     assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": None, "grasp": "Front-Wrap",
