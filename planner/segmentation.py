@@ -16,6 +16,7 @@ see) are what is dark on it relative to a smooth fit of the floor's lighting.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +33,12 @@ OBSTACLE_RATIO = 0.6  # on the empty floor, darker than the lit floor by this mu
 PRINT_RATIO = 1.5  # the white paper the board's markers are printed on
 MIN_ROBOT_PIXELS = 40
 ROBOT_SOLIDITY = 0.75  # a disc less its white disc (1/16 of it) and blurred edges
+ROBOT_ROUNDNESS = 0.9  # 4 pi area / perimeter^2 of its hull: the robot 0.97-0.99, a cart's box 0.76-0.79
+# The white disc's share of the body and its centre's distance from the body's, in
+# radii: 1/16 and 2/3 drawn, 0.049-0.054 and 0.64-0.67 seen through blur and the
+# threshold (lab, realistic camera); a person over a can showed 0.018 and 0.87.
+MARKER_SHARE = (0.025, 0.17)
+MARKER_OFFSET = (0.4, 0.85)
 MIN_PRINT_PIXELS = 30
 INPAINT_MARGIN_PX = 5  # paint out a rim too: blur and shadows reach ~4 in past an edge
 MIN_BRIGHT_PIXELS = 3  # fewer is a speck of noise or texture (the 2 in box shows ~6)
@@ -199,24 +206,49 @@ def _printed_marks(ratio: np.ndarray) -> np.ndarray:
 
 
 def _robot(ratio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The robot's body and its white disc (0/255 masks; empty when absent): the
-    largest dark region that is a solid disc (the dark share of its convex hull at
-    least ROBOT_SOLIDITY, the hull taking in the white disc wherever blur opens it to
-    the edge) with a bright region inside it."""
+    """The robot's body and its white disc (0/255 masks; empty when absent).
+
+    A candidate is a dark region that is a solid disc (the dark share of its convex
+    hull at least ROBOT_SOLIDITY, the hull taking in the white disc wherever blur opens
+    it to the edge, and the hull round: ROBOT_ROUNDNESS) with a bright region inside.
+    A person or a cart standing over a light object is one too, so the robot is the
+    candidate whose bright region is most like its white disc (docs/camera.md): a
+    sixteenth of the body, its centre 2/3 of the radius ahead of the body's; one too
+    unlike it (MARKER_SHARE, MARKER_OFFSET) is no robot at all."""
     dark = cv2.morphologyEx((ratio < ROBOT_RATIO).astype(np.uint8), cv2.MORPH_CLOSE, _CROSS)
     # Outer boundaries of every dark region, those inside the walls' ring included.
     contours, hierarchy = cv2.findContours(dark, cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
     bright = ratio > MARKER_RATIO
-    best = (0, np.zeros(ratio.shape, np.uint8), np.zeros(ratio.shape, np.uint8))
+    best = (math.inf, np.zeros(ratio.shape, np.uint8), np.zeros(ratio.shape, np.uint8))
     for contour, links in zip(contours, hierarchy[0] if hierarchy is not None else []):
         if links[3] != -1 or cv2.contourArea(contour) < MIN_ROBOT_PIXELS:
             continue
+        hull = cv2.convexHull(contour)
+        if 4.0 * math.pi * cv2.contourArea(hull) < ROBOT_ROUNDNESS * cv2.arcLength(hull, True) ** 2:
+            continue  # a cart's box
         body = np.zeros(ratio.shape, np.uint8)
-        cv2.fillPoly(body, [cv2.convexHull(contour)], 255)
+        cv2.fillPoly(body, [hull], 255)
         inside = body > 0
         area = int(np.count_nonzero(inside))
         marker = inside & bright
-        if (area > best[0] and np.count_nonzero(dark[inside]) >= ROBOT_SOLIDITY * area
-                and np.count_nonzero(marker) >= 2):
-            best = (area, body, marker.astype(np.uint8) * 255)
+        if np.count_nonzero(dark[inside]) < ROBOT_SOLIDITY * area or np.count_nonzero(marker) < 2:
+            continue
+        unlike = _unlike_the_marker(inside, marker)
+        if unlike < best[0]:
+            best = (unlike, body, marker.astype(np.uint8) * 255)
     return best[1], best[2]
+
+
+def _unlike_the_marker(body: np.ndarray, marker: np.ndarray) -> float:
+    """How far a bright region inside a dark disc is from the robot's white disc
+    (0 = just like it, ``inf`` = outside MARKER_SHARE or MARKER_OFFSET): the log of
+    its share of the body over a sixteenth, plus its centre's distance from the body's
+    in radii off 2/3."""
+    area = np.count_nonzero(body)
+    share = np.count_nonzero(marker) / area
+    rows, cols = np.nonzero(body)
+    marker_rows, marker_cols = np.nonzero(marker)
+    offset = math.hypot(marker_rows.mean() - rows.mean(), marker_cols.mean() - cols.mean()) / math.sqrt(area / math.pi)
+    if not (MARKER_SHARE[0] <= share <= MARKER_SHARE[1] and MARKER_OFFSET[0] <= offset <= MARKER_OFFSET[1]):
+        return math.inf
+    return abs(math.log(share * 16.0)) + abs(offset - 2.0 / 3.0)
