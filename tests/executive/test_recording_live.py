@@ -76,13 +76,14 @@ def test_csl_run_live_waits_for_a_client_then_serves_the_episode(tmp_path: Path,
     runner = threading.Thread(target=lambda: status.append(args.handler(args)), daemon=True)
     runner.start()
     err = ""
-    for _ in range(200):  # the address is printed before the wait for a client
-        err += capsys.readouterr().err
-        if "live view at ws://127.0.0.1:" in err:
+    for _ in range(2400):  # the address is printed before the wait for a client (the library
+        err += capsys.readouterr().err  # is trained first: slow on a loaded machine)
+        if "live view at ws://127.0.0.1:" in err or not runner.is_alive():
             break
         runner.join(0.05)
+    assert "live view at ws://127.0.0.1:" in err, f"no address printed (status {status}): {err}"
     port = int(err.split("live view at ws://127.0.0.1:")[1].split()[0])
-    assert not status, "nothing runs before a client subscribes"
+    assert not status, f"nothing runs before a client subscribes: {err}"
     client = FoxgloveClient(port)
     channels: dict[str, int] = {}
     while topics.EVENTS.name not in channels:
