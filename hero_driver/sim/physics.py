@@ -27,6 +27,7 @@ SPIN_FRICTION = 40.0  # bound of the gear joint's torque: pushes rarely spin obj
 SETTLE_DT_S = 1.0 / 120.0
 SETTLE_MAX_STEPS = 1200
 REST_SPEED_IN_S = 0.01
+OVERLAP_IN = 0.15  # deeper than this, two shapes overlap (pymunk leaves its collision slop, 0.1)
 
 
 @dataclass
@@ -155,11 +156,23 @@ class Physics:
         obj.joints[0].max_force = SLIDE_DECEL_IN_S2 * obj.body.mass
 
     def settle(self) -> None:
-        """Step until every object rests (also resolves overlaps after a knock-over)."""
-        bodies = [o.body for o in self.objects if o.status == "floor"]
+        """Step until every object rests and none overlaps another or a wall (a
+        knocked-over object laid onto a neighbour). Overlaps are checked as well as
+        speeds because pymunk pushes overlapping shapes apart with bias velocities
+        that never show in a body's velocity: they look at rest while overlapping."""
+        floor = [o for o in self.objects if o.status == "floor"]
         for _ in range(SETTLE_MAX_STEPS):
             self.space.step(SETTLE_DT_S)
-            if all(b.velocity.length < REST_SPEED_IN_S and abs(b.angular_velocity) < 0.01 for b in bodies):
+            if (all(o.body.velocity.length < REST_SPEED_IN_S and abs(o.body.angular_velocity) < 0.01 for o in floor)
+                    and not any(self._overlapping(o) for o in floor)):
                 break
-        for b in bodies:
-            b.velocity, b.angular_velocity = (0.0, 0.0), 0.0
+        for o in floor:
+            o.body.velocity, o.body.angular_velocity = (0.0, 0.0), 0.0
+
+    def _overlapping(self, obj: SimObject) -> bool:
+        """Whether ``obj`` overlaps anything by more than OVERLAP_IN (people and carts,
+        which no query sees, aside)."""
+        # Only shapes that touch are returned; the depth's sign depends on the pair's
+        # order in pymunk, so its size is what counts.
+        return any(abs(p.distance) > OVERLAP_IN for hit in self.space.shape_query(obj.shape)
+                   for p in hit.contact_point_set.points)

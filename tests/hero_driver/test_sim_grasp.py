@@ -11,8 +11,11 @@ from hypothesis import strategies as st
 
 from hero_driver.interface import BAD_REQUEST, OUT_OF_RANGE, DriverError
 from hero_driver.sim.grasping import JAMMED, KNOCKED_OVER, LIFTED, NOTHING, PUSHED
-from hero_driver.sim.probe import grasp_probe
+from hero_driver.sim.noise import NoiseConfig
+from hero_driver.sim.physics import OVERLAP_IN
+from hero_driver.sim.probe import approach_pose, grasp_probe
 from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.worldfile import parse_world
 from tests.hero_driver.test_sim_support import lone, object_pixels
 
 GRASPS = ["Front-Pinch", "Front-Wrap", "Top-Pinch", "Top-Vert-Grip", "Top-Hor-Grip", "No-Grab"]
@@ -133,3 +136,26 @@ def test_side_effects_are_deterministic_per_seed() -> None:
     assert effects == {KNOCKED_OVER, PUSHED, NOTHING}
     for seed in range(5):
         assert outcome(seed) == outcome(seed)
+
+
+def test_an_object_knocked_over_onto_a_neighbour_is_pushed_clear_of_it() -> None:
+    """The upright 16 oz tumbler tips away from the robot (at +x) onto a can standing
+    2 in behind it: the lying tumbler lands across the can, and settling must part them
+    (pymunk's overlap push never shows in a body's speed, so a rest check alone stops
+    at once and leaves them overlapping)."""
+    catalogue = profile_and_catalogue()[1]
+    tumbler = catalogue["tumbler-16oz/upright"].footprint.radius_in
+    can = catalogue["soda-can-12oz/upright"].footprint.radius_in
+    data = {"name": "knocked onto a can", "room": {"width_in": 400, "depth_in": 400},
+            "robot": {"x_in": 20.0, "y_in": 20.0, "heading_deg": 0.0},
+            "objects": [{"id": "tumbler-16oz/upright", "x_in": 200.0, "y_in": 200.0, "yaw_deg": 0.0},
+                        {"id": "soda-can-12oz/upright", "x_in": 200.0 - tumbler - 2.0 - can, "y_in": 200.0}]}
+    for seed in range(200):
+        sim = SimWorld(parse_world(data, "<knocked onto a can>", catalogue), seed, noise=NoiseConfig.off())
+        sim.pose = approach_pose(sim, 0, 6.0, 0.0)
+        sim.grasp("Front-Wrap")
+        if sim.last_effect == KNOCKED_OVER:
+            break
+    lying, standing = (o.shape for o in sim.physics.objects)
+    assert sim.truth()[0].entry_id == "tumbler-16oz/lying"
+    assert max((abs(p.distance) for p in lying.shapes_collide(standing).points), default=0.0) <= OVERLAP_IN
