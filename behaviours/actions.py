@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 from py_trees.common import Access, Status
 
 from behaviours.base import DriverAction
-from behaviours.bridge import overhead, to_driver_pose
+from behaviours.bridge import to_driver_pose
 from behaviours.events import Event
 from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Obstacle, RobotState,
                                    SenseResult)
@@ -26,6 +26,8 @@ from planner import PlanResult
 class LocateObjects(DriverAction):
     """Take an overhead image and queue every object region, nearest first."""
 
+    POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
+
     def __init__(self, robot: str, name: str = "LocateObjects") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)
@@ -34,7 +36,7 @@ class LocateObjects(DriverAction):
         return self.services.driver.camera()
 
     def finish(self, result: CameraImage) -> Status:
-        scene = self.services.navigator.observe(overhead(result))
+        scene = self.look(result)
         robot = self.robot_pose()
         regions = sorted(scene.regions, key=lambda r: (math.hypot(r.centroid[0] - robot.x_in,
                                                                   r.centroid[1] - robot.y_in), r.centroid))

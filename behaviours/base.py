@@ -18,13 +18,13 @@ from typing import Any, TypeVar
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviours.bridge import to_planner_pose
+from behaviours.bridge import overhead, to_planner_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.resume import Reconnecting, relocate, same_robot
 from behaviours.services import Services, namespace
 from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, DriverError
-from planner import Pose as PlannerPose
+from planner import Pose as PlannerPose, Scene
 
 T = TypeVar("T")
 
@@ -82,6 +82,24 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
             return fn()
         finally:
             self.obj.ledger.computing_s += clock() - start
+
+    def look(self, image: CameraImage) -> Scene:
+        """Observe a new overhead image (plans are made on it from now on) and let it
+        correct the driver's dead reckoning (:mod:`behaviours.localisation`): when the
+        image places the robot away from where its pose says, the pose on the blackboard
+        becomes the corrected one. Only a behaviour with write access to the pose looks."""
+        services = self.services
+        seen = overhead(image)
+        working = self.bb.exists("object") and self.bb.get("object") is not None  # else nothing to charge it to
+        scene = self.timed(lambda: services.navigator.observe(seen)) if working else services.navigator.observe(seen)
+        localise = getattr(services.driver, "localise", None)
+        if scene.robot is not None and localise is not None and localise(scene.robot.x_in, scene.robot.y_in):
+            was = self.bb.pose
+            self.bb.pose = services.driver.state().pose
+            self.note(Event.LOCALISED, seen=[round(scene.robot.x_in, 1), round(scene.robot.y_in, 1)],
+                      was=None if was is None else [round(was.x_in, 1), round(was.y_in, 1)],
+                      offset=[round(v, 2) for v in services.driver.offset])
+        return scene
 
     def robot_pose(self) -> PlannerPose:
         """Where the robot is: the end of its last move, else what the driver reports."""

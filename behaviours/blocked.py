@@ -35,7 +35,6 @@ from py_trees.composites import Selector, Sequence
 
 from behaviours.actions import BLOCKED, Blockage, MoveTo
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import overhead
 from behaviours.events import Event
 from behaviours.services import namespace
 from hero_driver.interface import BlockedMoves, CameraImage, Driver, RobotState
@@ -102,6 +101,8 @@ class LookAgain(DriverAction):
     """A new overhead image, with the obstacle the move met drawn into the planner's map
     (a disc ``AVOID_MARGIN_IN`` wider than it reaches, kept clear of the robot)."""
 
+    POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
+
     def __init__(self, robot: str, name: str = "LookAgain") -> None:
         super().__init__(name, robot)
         self.bb.register_key(BLOCKED, access=Access.READ)
@@ -112,7 +113,7 @@ class LookAgain(DriverAction):
     def finish(self, result: CameraImage) -> Status:
         navigator = self.services.navigator
         blockage: Blockage | None = self.bb.get(BLOCKED)
-        self.timed(lambda: navigator.observe(overhead(result)))
+        self.look(result)
         if blockage is None:
             return Status.FAILURE
         o, robot = blockage.obstacle, self.robot_pose()

@@ -45,12 +45,14 @@ class Choose(CslBehaviour):
                   gain=round(test.gain, 4), move_s=round(test.move_cost, 1), sense_s=round(test.sense_cost, 1))
         return Status.SUCCESS
 
-    def chose_grasp(self, leaf: GraspLeaf, how: str) -> Status:
+    def chose_grasp(self, leaf: GraspLeaf, how: str, candidates: tuple[str, ...] | None = None) -> Status:
+        """Attempt ``leaf``'s grasp; ``candidates``: the descriptions it is chosen among,
+        when they are not the session's node (an ambiguous leaf offered after a guess)."""
         position, move_s = self.reachable_end(leaf.position, leaf.move_cost)
         self.step.attempt = GraspAttempt(leaf.grasp, position)
         self.feedback_message = f"{leaf.grasp}{position}"
         self.note(Event.CHOOSE_GRASP, how=how, grasp=leaf.grasp, at=position.to_json(),
-                  move_s=round(move_s, 1), candidates=list(self.obj.session.candidates))
+                  move_s=round(move_s, 1), candidates=list(candidates or self.obj.session.candidates))
         return Status.SUCCESS
 
     def reachable_end(self, position: Position, move_s: float) -> tuple[Position, float]:

@@ -30,7 +30,6 @@ from concurrent.futures import Future
 from py_trees.common import Access, Status
 
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import overhead
 from behaviours.events import Event
 from hero_driver.interface import CameraImage
 from planner import Region
@@ -90,6 +89,8 @@ class LookForTheRest(DriverAction):
     each is then worked on as any object. Succeeds at once for any other object.
     """
 
+    POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
+
     def __init__(self, robot: str, name: str = "LookForTheRest") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)
@@ -102,7 +103,7 @@ class LookForTheRest(DriverAction):
         return self.services.driver.camera()
 
     def finish(self, result: CameraImage) -> Status:
-        scene = self.timed(lambda: self.services.navigator.observe(overhead(result)))
+        scene = self.look(result)
         queued = list(self.bb.objects)
         near = self.services.params.pushed_in
         rest = [r for r in scene.regions if within_push(self.obj.region, r.centroid)

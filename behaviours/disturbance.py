@@ -38,7 +38,7 @@ import py_trees
 from py_trees.common import Access, Status
 
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import overhead, relative_position
+from behaviours.bridge import relative_position
 from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
@@ -114,6 +114,8 @@ class Disturbed(DriverAction):
     already known costs no robot time and needs no look; neither does anything when the
     check is off (``Params.check_in_place``)."""
 
+    POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
+
     def __init__(self, robot: str, what: str, name: str = "Disturbed?") -> None:
         super().__init__(name, robot)
         if what not in ("test", "grasp"):
@@ -137,7 +139,7 @@ class Disturbed(DriverAction):
     def finish(self, result: CameraImage) -> Status:
         obj, services = self.obj, self.services
         params = services.params
-        scene = self.timed(lambda: services.navigator.observe(overhead(result)))
+        scene = self.look(result)
         others = [r.centroid for r in self.bb.objects] + [
             r.region.centroid for r in self.bb.results if r is not obj and r.outcome not in ("grasped", GONE)]
         finding = judge(obj.region, obj.pixels_before, list(scene.regions), others, in_place_in=params.pushed_in,

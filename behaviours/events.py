@@ -52,6 +52,8 @@ class Event(str, Enum):
     BEAM_BLOCKED = "beam_blocked", "a test's sonar beam would meet another object (neighbours' centroids): unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
     CHARGE = "charge", "the battery ran low: the robot drove to its dock and charged (levels, seconds), then resumed"
+    LOCALISED = "localised", ("the overhead camera saw the robot away from where its dead reckoning said (seen, "
+                              "was): its poses corrected by the offset from now on")
     DISTURBANCE = "disturbance", "the camera check before a sensing or grasp: the object moved, changed or gone"
     RELOCATE = "relocate", "the object was moved: followed to its new place, every value measured kept", True
     START_AFRESH = "start_afresh", "another object where ours was: started over on it, nothing kept", True

@@ -21,7 +21,7 @@ from py_trees.common import Access, Status
 from behaviours.actions import MoveTo, pose_json
 from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import other_end, overhead, relative_position, to_driver_pose
+from behaviours.bridge import other_end, relative_position, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
@@ -135,7 +135,7 @@ class AmbiguousGrasp(Choose):
         if not isinstance(decision, AmbiguousLeaf) or not decision.options:
             return Status.FAILURE
         self.obj.ledger.recoveries["ambiguous leaf"] += 1
-        return self.chose_grasp(decision.options[0], "ambiguous")
+        return self.chose_grasp(decision.options[0], "ambiguous", decision.object_ids)
 
 
 # -- a failed grasp -------------------------------------------------------------------
@@ -175,6 +175,8 @@ class CheckSideEffects(DriverAction):
     its region is lost). Succeeds when there were side effects.
     """
 
+    POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
+
     def __init__(self, robot: str, name: str = "SideEffects?") -> None:
         super().__init__(name, robot)
 
@@ -183,7 +185,7 @@ class CheckSideEffects(DriverAction):
 
     def finish(self, result: CameraImage) -> Status:
         obj, services, step = self.obj, self.services, self.step
-        scene = self.timed(lambda: services.navigator.observe(overhead(result)))
+        scene = self.look(result)
         old = obj.region
         near = [r for r in scene.regions
                 if math.hypot(r.centroid[0] - old.centroid[0], r.centroid[1] - old.centroid[1]) < 18.0]

@@ -48,6 +48,7 @@ class Params:
     wait_driver_s: float = 0.0  # a lost driver: wait this long for one under the same name; 0: stop at once
     overdue_wait_s: float = 900.0  # after a verb timed out: wait this long for the robot to take verbs again
     check_in_place: bool = True  # a camera look before each sensing and grasp (behaviours.disturbance)
+    localise: bool = True  # correct the driver's dead reckoning by the robot in each image (behaviours.localisation)
     beam_check: bool = True  # a test whose sonar beam meets another object is unusable there (behaviours.clutter)
     search_in: float = 24.0  # how far from its place a moved object is looked for before it counts as gone
     learned_grasp_costs: bool = True  # record each object's grasp costs and price grasps by them (method §5.7)

@@ -15,6 +15,7 @@ import py_trees
 from py_trees.common import Status
 
 from behaviours.base import DriverAction
+from behaviours.localisation import CameraLocalised
 from behaviours.overdue import OverdueRobot
 from behaviours.records import ObjectRecord, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
@@ -59,9 +60,12 @@ class Executive:
         self.on_tick = on_tick
         profile = profile or load_profile()
         knowledge = knowledge_of(profile)
-        self.services = Services(  # a verb refused busy after a timeout is sent again (behaviours.overdue)
-            driver=OverdueRobot(driver, params.overdue_wait_s),
-            navigator=navigator_for(profile.robot, driver, knowledge, params, camera=camera, board=board),
+        # a verb refused busy after a timeout is sent again (behaviours.overdue); poses are
+        # the overhead camera's, the driver's dead reckoning corrected (behaviours.localisation)
+        localised = CameraLocalised(driver) if params.localise else driver
+        self.services = Services(
+            driver=OverdueRobot(localised, params.overdue_wait_s),
+            navigator=navigator_for(profile.robot, localised, knowledge, params, camera=camera, board=board),
             learner=learner,
             knowledge=knowledge,
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,

@@ -77,6 +77,7 @@ class _Frame:
     unreliable: list[tuple[ScoredTest, float]] = field(default_factory=list)  # for nearest neighbour
     nearest_used: bool = False  # nearest neighbour is followed once per node, never in a loop
     awaiting_reselection: bool = False  # the latest value here was not trusted (or none could be had)
+    guessed: bool = False  # reached by following nearest neighbour: a guess, not a measurement
 
 
 class RecognitionSession:
@@ -181,7 +182,7 @@ class RecognitionSession:
         frame = self._frames[-1]
         leaf = leaf_at(frame.node, self.position, self.ctx)
         if leaf is not None:
-            return leaf
+            return self._unless_guessed(leaf)
         on_path = frozenset(f.test.test for f in self._frames[:-1] if f.test is not None)
         if len(frame.tried) >= self.max_alternatives:
             return Exhausted(len(frame.tried))
@@ -193,6 +194,26 @@ class RecognitionSession:
             return Exhausted(len(frame.tried))
         return AmbiguousLeaf(tuple(grasp_options(frame.node, self.position, self.ctx)),
                              object_ids(frame.node, self.ctx))
+
+    def _unless_guessed(self, leaf: GraspLeaf) -> GraspLeaf | AmbiguousLeaf:
+        """A leaf whose grasp the finger sensor cannot confirm (No-Grab), reached below a
+        nearest-neighbour guess, does not leave the object: the grasps of the node the guess
+        was made at become an ambiguous leaf, No-Grab last. Each that fails is dropped and
+        the tree rebuilt, so the object is left only when no confirmable grasp remains.
+
+        Leaving is the one act nothing corrects (the robot never learns it was wrong, and
+        the object stays on the floor: the walk rollout prices it at 1.5 h), while a wrong
+        confirmable grasp costs its move and time and is dropped. The guess is the branch
+        *nearest* a value that matched none, so the rows beside it are as likely.
+        """
+        if self.ctx.knowledge.grasp(leaf.grasp).verifiable:
+            return leaf
+        guess = next((i for i, f in enumerate(self._frames) if f.guessed), None)
+        if guess is None:
+            return leaf
+        # where the value matched no branch: not a leaf, so its rows have a confirmable grasp
+        node = self._frames[guess - 1].node
+        return AmbiguousLeaf(tuple(grasp_options(node, self.position, self.ctx)), object_ids(node, self.ctx))
 
     # -- measuring ------------------------------------------------------------------
     def observe(self, test: ScoredTest, values: Mapping[str, float | None], at: Position) -> Matched | Unreliable:
@@ -274,14 +295,14 @@ class RecognitionSession:
             raise ValueError("nearest neighbour needs an unreliable value measured at the current node")
         test, value = frame.unreliable[-1]
         frame.nearest_used = True
-        return self._push(frame, test, nearest(value, test.ranges), value)
+        return self._push(frame, test, nearest(value, test.ranges), value, guessed=True)
 
-    def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float) -> Matched:
+    def _push(self, frame: _Frame, test: ScoredTest, idx: int, value: float, guessed: bool = False) -> Matched:
         self._changed()
         frame.test, frame.value = test, value
         frame.awaiting_reselection = False
         child = split(frame.node, test, self.matrix)[idx]
-        self._frames.append(_Frame(child, self.position))
+        self._frames.append(_Frame(child, self.position, guessed=guessed))
         return Matched(idx, test.ranges[idx], value)
 
     def backtrack(self) -> bool:

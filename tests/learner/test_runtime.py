@@ -86,6 +86,38 @@ def test_nearest_neighbour_follows_the_closest_branch() -> None:
     assert s.candidates == ("cup", "tumbler")
 
 
+def test_a_guess_does_not_leave_the_object_while_a_confirmable_grasp_is_untried() -> None:
+    s = session()
+    sweep = s.decide()
+    # 25 is in neither [15,21] nor [27,33]: nearest is the closed box's 30 (5 away, 7 from 18)
+    assert s.observe(sweep, {"Width-Degree-1°": 25.0}, sweep.target) == Unreliable(25.0)
+    assert s.follow_nearest() == Matched(2, (30, 30), 25.0)
+    assert s.candidates == ("closed",)
+    offered = s.decide()  # not the closed box's No-Grab leaf: the guess's node's grasps, No-Grab last
+    assert isinstance(offered, AmbiguousLeaf)
+    assert set(offered.object_ids) == {"cup", "box", "tumbler", "closed"}
+    assert [o.grasp for o in offered.options][-1] == "No-Grab"
+    assert {o.grasp for o in offered.options[:-1]} == {"Front-Wrap", "Front-Pinch", "Top-Pinch"}
+
+
+def test_a_measured_no_grab_leaf_leaves_and_a_guessed_one_only_when_nothing_else_holds() -> None:
+    s = session()
+    sweep = s.decide()
+    s.observe(sweep, {"Width-Degree-1°": 31.0}, sweep.target)  # within [27,33]: measured, not guessed
+    assert isinstance(s.decide(), GraspLeaf) and s.decide().grasp == "No-Grab"
+    s = session()
+    for grasp in ("Front-Wrap", "Front-Pinch"):
+        s.grasp_failed(grasp, side_effects=False)
+    sweep = s.decide()  # the tumbler (9) against the closed box (30)
+    s.observe(sweep, {"Width-Degree-1°": 25.0}, sweep.target)
+    s.follow_nearest()  # 5 from 30, 16 from 9
+    offered = s.decide()
+    assert isinstance(offered, AmbiguousLeaf) and [o.grasp for o in offered.options] == ["Top-Pinch", "No-Grab"]
+    s.grasp_failed("Top-Pinch", side_effects=False)
+    leaf = s.decide()  # every confirmable grasp has failed: leaving is all that is left
+    assert isinstance(leaf, GraspLeaf) and leaf.grasp == "No-Grab"
+
+
 def test_an_ambiguous_leaf_offers_its_grasps_cheapest_first() -> None:
     lib = [desc("a", "Front-Wrap", ("Width", P(6, 0), 3)), desc("b", "Top-Pinch", ("Width", P(6, 0), 3.2))]
     k = hero()

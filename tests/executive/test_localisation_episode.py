@@ -1,0 +1,58 @@
+"""Dead reckoning corrected by the overhead camera, a whole episode in the simulator
+(docs/executive.md, "Where the robot is"): on a floor of the experiment's noisy
+execution episodes where the `paper` preset's drift grows past the 6 in procedures'
+range tolerance, the driver refuses procedures for range when the executive trusts its
+dead reckoning, and none when the camera corrects it."""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+from behaviours.services import Params
+from executive.executive import Executive
+from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.study_training import run_training
+from executive.experiment.episodes import play_and_judge
+from executive.experiment.worlds import write_floor
+from executive.report import rows
+from hero_driver.interface import OUT_OF_RANGE
+from hero_driver.sim_driver import SimulatedHero
+from learner.description import ObjectDescription
+from learner.service.local import LocalLearner
+from robot_profile import load_profile
+
+FLOOR_SEED = 20_000  # the experiment's floor of seed 20: drift past 1.5 in after four objects
+
+
+@cache
+def trained() -> tuple[ObjectDescription, ...]:
+    return tuple(run_training(load_profile()).descriptions)
+
+
+def episode(tmp_path: Path, localise: bool) -> tuple[list[dict[str, object]], list[bool]]:
+    """The floor's events and, per record, whether its object was handled right."""
+    folder = tmp_path / ("on" if localise else "off")
+    folder.mkdir()
+    world = write_floor(folder, "test", FLOOR_SEED)
+    hero = SimulatedHero("r1", world=world, seed=FLOOR_SEED, noise=noise_config(EXECUTION_NOISE))
+    learner = LocalLearner(folder / "library.sqlite", seed_library=list(trained()))
+    executive = Executive(hero, learner, params=Params(localise=localise))
+    try:
+        result, truths = play_and_judge(hero, executive)
+    finally:
+        learner.close()
+    return list(executive.log.events), [bool(r.correct) for r in rows(result.objects, truths)]
+
+
+def refused_for_range(events: list[dict[str, object]]) -> int:
+    return sum(e["event"] == "driver_error" and e.get("code") == OUT_OF_RANGE for e in events)
+
+
+def test_the_camera_keeps_the_robot_within_the_procedures_range(tmp_path: Path) -> None:
+    trusting, before = episode(tmp_path, localise=False)
+    corrected, after = episode(tmp_path, localise=True)
+    assert refused_for_range(trusting) == 15  # 4.2-4.5 in from the object where 6 in was meant
+    assert refused_for_range(corrected) == 0
+    assert any(e["event"] == "localised" for e in corrected)
+    assert sum(after) >= sum(before) == 7  # of 8 objects, with either
