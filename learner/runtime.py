@@ -196,24 +196,32 @@ class RecognitionSession:
                              object_ids(frame.node, self.ctx))
 
     def _unless_guessed(self, leaf: GraspLeaf) -> GraspLeaf | AmbiguousLeaf:
-        """A leaf whose grasp the finger sensor cannot confirm (No-Grab), reached below a
-        nearest-neighbour guess, does not leave the object: the grasps of the node the guess
-        was made at become an ambiguous leaf, No-Grab last. Each that fails is dropped and
-        the tree rebuilt, so the object is left only when no confirmable grasp remains.
+        """A leaf whose grasp the finger sensor cannot confirm (No-Grab) does not leave
+        the object when what led to it is a guess: the branch *nearest* a value that
+        matched none (the rows beside it are as likely), or descriptions the camera
+        rules out (``appearance_ignored``: the object looks like none of the candidates
+        left, so the leaf is only its nearest relative). The grasps of the node the guess
+        was made at (the root, for the appearance) become an ambiguous leaf instead,
+        No-Grab last; each that fails is dropped and the tree rebuilt, so the object is
+        left only when no confirmable grasp remains.
 
         Leaving is the one act nothing corrects (the robot never learns it was wrong, and
-        the object stays on the floor: the walk rollout prices it at 1.5 h), while a wrong
-        confirmable grasp costs its move and time and is dropped. The guess is the branch
-        *nearest* a value that matched none, so the rows beside it are as likely.
+        the object stays on the floor: the walk rollout prices it at 1.5 h), while a
+        wrong confirmable grasp costs its move and time and is dropped.
         """
         if self.ctx.knowledge.grasp(leaf.grasp).verifiable:
             return leaf
         guess = next((i for i, f in enumerate(self._frames) if f.guessed), None)
-        if guess is None:
+        if guess is not None:
+            node = self._frames[guess - 1].node  # where the value matched no branch
+        elif self.appearance_ignored:
+            node = self._frames[0].node
+        else:
             return leaf
-        # where the value matched no branch: not a leaf, so its rows have a confirmable grasp
-        node = self._frames[guess - 1].node
-        return AmbiguousLeaf(tuple(grasp_options(node, self.position, self.ctx)), object_ids(node, self.ctx))
+        options = grasp_options(node, self.position, self.ctx)
+        if not any(self.ctx.knowledge.grasp(o.grasp).verifiable for o in options):
+            return leaf  # nothing left that could hold it
+        return AmbiguousLeaf(tuple(options), object_ids(node, self.ctx))
 
     # -- measuring ------------------------------------------------------------------
     def observe(self, test: ScoredTest, values: Mapping[str, float | None], at: Position) -> Matched | Unreliable:

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
+from learner.appearance import Appearance
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable
@@ -116,6 +119,25 @@ def test_a_measured_no_grab_leaf_leaves_and_a_guessed_one_only_when_nothing_else
     s.grasp_failed("Top-Pinch", side_effects=False)
     leaf = s.decide()  # every confirmable grasp has failed: leaving is all that is left
     assert isinstance(leaf, GraspLeaf) and leaf.grasp == "No-Grab"
+
+
+def test_a_no_grab_leaf_the_camera_rules_out_does_not_leave_the_object() -> None:
+    looks = {"cup": Appearance(True, 7.0, 1.0), "box": Appearance(False, 45.0, 1.8),
+             "tumbler": Appearance(True, 10.0, 1.0), "closed": Appearance(False, 99.0, 1.2)}
+    lib = [replace(d, appearance=looks[d.object_id]) for d in four_objects()]
+    k = hero()
+    seen = Appearance(False, 22.4, 2.3)  # a lying bottle: like none of the four
+    s = RecognitionSession.for_library(lib, k, criterion("cs-id3"), ModelMoveCost(k.move), P(60, 0),
+                                       appearance=seen)
+    assert s.appearance_ignored and set(s.candidates) == {"cup", "box", "tumbler", "closed"}
+    sweep = s.decide()
+    s.observe(sweep, {"Width-Degree-1°": 31.0}, sweep.target)  # the closed box's branch, measured
+    offered = s.decide()
+    assert isinstance(offered, AmbiguousLeaf) and offered.options[-1].grasp == "No-Grab"
+    assert {o.grasp for o in offered.options[:-1]} == {"Front-Wrap", "Front-Pinch", "Top-Pinch"}
+    like = Appearance(False, 99.0, 1.2)  # looks like the closed box: its leaf is believed
+    s = RecognitionSession.for_library(lib, k, criterion("cs-id3"), ModelMoveCost(k.move), P(60, 0), appearance=like)
+    assert s.candidates == ("closed",) and s.decide().grasp == "No-Grab"
 
 
 def test_an_ambiguous_leaf_offers_its_grasps_cheapest_first() -> None:
