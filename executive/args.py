@@ -246,5 +246,5 @@ def add_learned_grasp_costs_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--learned-grasp-costs", action=argparse.BooleanOptionalAction, default=True,
                    help="record each object's grasp costs in the library store and price later choices by them, "
                         "the knowledge file's costs the prior (docs/method.md §5.7; default: on, since it saved "
-                        "0.48 ± 0.15 robot min per object where the file was wrong and cost nothing where it was "
+                        "0.45 ± 0.11 robot min per object where the file was wrong and cost nothing where it was "
                         "right; --no-learned-grasp-costs prices grasps by the file alone, as the paper did)")
