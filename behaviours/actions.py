@@ -76,7 +76,7 @@ class MoveTo(DriverAction):
     anywhere else, or with the branch off, it counts as a collision.
     """
 
-    POSE_ACCESS = Access.WRITE  # the one writer of where the robot stands
+    POSE_ACCESS = Access.WRITE  # a move changes where the robot stands
     ROLES = ("first", "around", "retry")
 
     def __init__(self, robot: str, target: str, name: str | None = None, role: str = "first") -> None:

@@ -40,7 +40,7 @@ def receive_services(behaviour: py_trees.behaviour.Behaviour, kwargs: dict[str, 
 class CslBehaviour(py_trees.behaviour.Behaviour):
     """A behaviour with the executive's services and the object and step at hand."""
 
-    POSE_ACCESS = Access.READ  # where the robot stands: written by the moves alone
+    POSE_ACCESS = Access.READ  # where the robot stands: written by the moves, and by the looks that correct it
 
     def __init__(self, name: str, robot: str) -> None:
         super().__init__(name)
