@@ -28,7 +28,7 @@ from py_trees.common import Access, Status
 
 from behaviours.actions import pose_json
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import relative_position, to_driver_pose, to_planner_pose
+from behaviours.bridge import to_driver_pose, to_planner_pose
 from behaviours.events import Event
 from hero_driver.interface import Charger, Driver, MoveResult, Pose, RobotState
 
@@ -126,8 +126,8 @@ class Charge(DriverAction):
                   moving_s=trip.get("moving_s"), came_from=trip.get("from"), dock=pose_json(result.pose))
         obj = self.bb.get("object")
         if obj is not None and not obj.done:  # resume from here: the session keeps what it measured
-            obj.session.position = relative_position(self.services.navigator, obj.region, self.robot_pose())
             obj.estimator.retarget(obj.region)  # forget prices made on the low charge (dock detours)
+            obj.session.position = obj.estimator.stand_at(self.robot_pose())
         self.feedback_message = f"charged to {result.battery:.2f}"
         return Status.SUCCESS
 

@@ -54,6 +54,14 @@ class PlannerMoveCost:
     or to sense a cluster at all, is priced ``inf``: the learner never picks such a test,
     instead of picking it and having ``BeamClear?`` refuse it. ``same_within_in`` is
     ``Params.pushed_in``: a region that near the object's centroid is the object itself.
+
+    A learner position names where the sonar stands, not which way the robot faces, so
+    the pose made from it faces the object. Where the robot really stands (the start of
+    an object, a resume) it need not: its base is up to twice the sonar's offset away
+    from that pose, which can lie inside an obstacle the real robot is clear of, and
+    every move from it would be priced ``inf``. :meth:`stand_at` records the real pose
+    for the position it returns, and moves from that position are priced from it (a
+    move *to* a position still ends facing the object).
     """
 
     def __init__(self, navigator: Navigator, region: Region, beam_check: bool = False,
@@ -62,18 +70,28 @@ class PlannerMoveCost:
         self.beam_check, self.same_within_in = beam_check, same_within_in
         self._cache: dict[tuple[Position, Position], float] = {}
         self._blocked: dict[Position, bool] = {}
+        self._stood: dict[Position, PlannerPose] = {}
 
     def retarget(self, region: Region) -> None:
         """The object moved (pushed, knocked over): price positions around where it is now."""
         self.region = region
         self._cache.clear()
         self._blocked.clear()
+        self._stood.clear()
+
+    def stand_at(self, pose: PlannerPose) -> Position:
+        """The learner position of the robot standing at ``pose``; moves from it are
+        priced from ``pose`` itself, whichever way the robot faces."""
+        here = relative_position(self.navigator, self.region, pose)
+        self._stood[here] = pose
+        self._cache = {key: cost for key, cost in self._cache.items() if key[0] != here}
+        return here
 
     def move_cost(self, start: Position, goal: Position) -> float:
         key = (start, goal)
         if key not in self._cache:
             self._cache[key] = 0.0 if start == goal else \
-                self.navigator.move_cost(self.pose(start), self.pose(goal)).seconds
+                self.navigator.move_cost(self._stood.get(start) or self.pose(start), self.pose(goal)).seconds
         return self._cache[key]
 
     def sensing_move_cost(self, start: Position, goal: Position) -> float:

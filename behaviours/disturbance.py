@@ -38,7 +38,6 @@ import py_trees
 from py_trees.common import Access, Status
 
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import relative_position
 from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
@@ -188,7 +187,7 @@ class Relocate(_Recovery):
         obj = self.obj
         assert finding.region is not None
         follow(obj, finding.region)
-        obj.session.position = relative_position(self.services.navigator, finding.region, self.robot_pose())
+        obj.session.position = obj.estimator.stand_at(self.robot_pose())
         self.note(Event.RELOCATE, at=[round(c, 1) for c in finding.region.centroid],
                   position=obj.session.position.to_json(), kept=len(obj.session.path))
 
@@ -206,7 +205,7 @@ class StartAfresh(_Recovery):
         obj = self.obj
         assert finding.region is not None
         follow(obj, finding.region)
-        start = relative_position(self.services.navigator, finding.region, self.robot_pose())
+        start = obj.estimator.stand_at(self.robot_pose())
         obj.session = open_session(self.services, finding.region, obj.estimator, start, obj.index)
         self.note(Event.START_AFRESH, at=[round(c, 1) for c in finding.region.centroid],
                   pixels=finding.region.pixel_count, start=obj.session.position.to_json())

@@ -16,7 +16,7 @@ from py_trees.common import Access, Status
 
 from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, receive_services
-from behaviours.bridge import PlannerMoveCost, relative_position
+from behaviours.bridge import PlannerMoveCost
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import Services, namespace
@@ -71,9 +71,9 @@ class StartObject(CslBehaviour):
         region: Region = self.bb.objects.pop(0)
         services = self.services
         began = services.clock()
-        start = relative_position(services.navigator, region, self.robot_pose())
         estimator = PlannerMoveCost(services.navigator, region, beam_check=services.params.beam_check,
                                     same_within_in=services.params.pushed_in)
+        start = estimator.stand_at(self.robot_pose())
         session = open_session(services, region, estimator, start, len(self.bb.results))
         appearance, use_appearance = session.appearance, services.params.use_appearance
         record = ObjectRecord(len(self.bb.results), region, region.pixel_count, session, estimator,

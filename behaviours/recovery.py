@@ -21,7 +21,7 @@ from py_trees.common import Access, Status
 from behaviours.actions import MoveTo, pose_json
 from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, DriverAction
-from behaviours.bridge import other_end, relative_position, to_driver_pose
+from behaviours.bridge import other_end, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
@@ -227,7 +227,7 @@ class StartOver(CslBehaviour):
     def update(self) -> Status:
         obj, step = self.obj, self.step
         assert step.attempt is not None and step.side_effect is not None
-        here = relative_position(self.services.navigator, obj.region, self.robot_pose())
+        here = obj.estimator.stand_at(self.robot_pose())
         changed = step.side_effect == "changed"
         try:  # a changed object keeps the appearance SideEffects? saw of it
             obj.session.grasp_failed(step.attempt.grasp, side_effects=True, changed=changed, position=here,

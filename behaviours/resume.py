@@ -18,7 +18,7 @@ from typing import Protocol, runtime_checkable
 import py_trees
 from py_trees.common import Access
 
-from behaviours.bridge import overhead, relative_position, to_planner_pose
+from behaviours.bridge import overhead, to_planner_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import Services, namespace
@@ -74,7 +74,7 @@ def relocate(services: Services, robot: str, image: CameraImage, reason: str) ->
         if found is not None:
             obj.region, obj.pixels_before = found, found.pixel_count
             obj.estimator.retarget(found)
-        obj.session.position = relative_position(services.navigator, obj.region, here)
+        obj.session.position = obj.estimator.stand_at(here)
         board.step = Step()  # the step under way when the driver went starts again
     queue = sorted(seen, key=lambda r: (_distance(r.centroid, here), r.centroid))
     board.objects = queue

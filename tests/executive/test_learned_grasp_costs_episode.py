@@ -5,7 +5,10 @@ learner's choices by them, as ``csl run`` does by default (``Params()``).
 The lab, seed 0, with the simulated Front-Wrap taking 4 x the knowledge file's 60 s (the
 study's slow wrap): on the first object the wrap is tried three times as a feature and
 fails each time, 240 s a try, two of them knocking the object over (each voids the 45 s
-sensed since the object's last change, which must be paid again).
+sensed since the object's last change, which must be paid again). Repriced at 180 s a
+failed try after that object, it holds object 2 (a soda bottle, 240 s) and is still the
+best test left twice on each of objects 3 and 4 at its learned price, failing there too:
+one hold and seven failures in all.
 """
 
 from __future__ import annotations
@@ -58,16 +61,22 @@ def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tm
     on = Params(use_appearance=False)  # the default (learned costs on); the grasps the arm-only story tries
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         first = episode(learner, "lab", 0, truth, on)
-        wraps = [a.seconds for a in attempt_costs(first.log.events) if a.grasp == "Front-Wrap"]
-        assert wraps == [285.0, 285.0, 240.0]  # 240 s each, two also voiding 45 s of sensing
-        assert GraspCostRecord("Front-Wrap", 0, 0.0, 3, 810.0) in learner.grasp_costs()
-        # repriced within the episode, after the object: (3 x 90 + 810) / (3 + 3) = 180 s a
-        # failed try against the file's 60 + 30; no hold yet, so a hold is still the file's 60 s
-        assert first.services.library.knowledge.grasp("Front-Wrap").feature_cost_s == pytest.approx(180.0)
+        wraps = [(a.object, a.success, a.seconds) for a in attempt_costs(first.log.events) if a.grasp == "Front-Wrap"]
+        # the first object: 240 s each, two also voiding 45 s of sensing; object 2 held by
+        # it; objects 3 and 4 try it twice each, nothing voided
+        assert wraps == [(0, False, 285.0), (0, False, 285.0), (0, False, 240.0), (2, True, 240.0),
+                         (3, False, 240.0), (3, False, 240.0), (4, False, 240.0), (4, False, 240.0)]
+        assert GraspCostRecord("Front-Wrap", 1, 240.0, 7, 1770.0) in learner.grasp_costs()
+        # repriced within the episode after each object: after the first (3 x 90 + 810) /
+        # (3 + 3) = 180 s a failed try against the file's 60 + 30 (what objects 3 and 4 were
+        # offered it at); after the episode (3 x 90 + 1770) / (3 + 7) = 204 s, and a hold
+        # (3 x 60 + 240) / (3 + 1) = 105 s against the file's 60
+        wrap = first.services.library.knowledge.grasp("Front-Wrap")
+        assert (wrap.time_s, wrap.feature_cost_s) == pytest.approx((105.0, 204.0))
 
         second = Executive(SimulatedHero("r1", world="lab", seed=1, profile=truth), learner, profile=FILE, params=on)
         try:
-            assert wrap_priced(second) == pytest.approx((60.0, 180.0))
+            assert wrap_priced(second) == pytest.approx((105.0, 204.0))
         finally:
             second.shutdown()
         off = Executive(SimulatedHero("r1", world="lab", seed=1, profile=truth), learner, profile=FILE,
