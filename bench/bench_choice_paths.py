@@ -15,7 +15,10 @@ Per size, medians of CPU time (``time.process_time``: the machine is shared) of:
   on each column's distinct values with their counts per class;
 - a leaf's grasp options (``decision_tree.grasp_options``) at that node, read as per-row
   arrays, against the row-by-row reading they replaced (the labels made once per
-  matrix, outside the timing, as a session finds them).
+  matrix, outside the timing, as a session finds them);
+- every grasp test's failure share at the root (``selection._failure_share``, what a
+  ``cs-id3-failure`` choice prices each grasp tried as a feature by), over numpy
+  arrays, against the Python sum row by row it replaced.
 
 Both paths must give equal results, or the bench stops.
 
@@ -47,9 +50,9 @@ from learner.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
 from learner.library import LibraryStore, read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.position import Position  # noqa: E402
-from learner.selection import Context, Node  # noqa: E402
+from learner.selection import Context, Node, _failure_share  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
-from tests.learner.reference_paths import entries, entry_partition, simple_grasp_options  # noqa: E402
+from tests.learner.reference_paths import entries, entry_partition, simple_failure_share, simple_grasp_options  # noqa: E402
 
 START = Position(60.0, 0.0)  # as bench_scaling.py
 SIZES = (10_000, 100_000)
@@ -175,6 +178,18 @@ def main() -> None:
             measures.append(("grasp options at a node of every other row, before: row by row",
                              lambda: simple_grasp_options(every_other, START, ctx),  # noqa: B023
                              lambda: grasp_options(every_other, START, ctx)))  # noqa: B023
+            grasps = [t for t in matrix.tests if t.is_grasp]
+            root = Node(tuple(range(n)), (False,) * n)
+
+            def shares() -> list[float]:
+                rows = np.fromiter(root.rows, dtype=np.int64, count=n)  # noqa: B023
+                return [_failure_share(root, rows, matrix, t) for t in grasps]  # noqa: B023
+
+            if not np.allclose(shares(), [simple_failure_share(root, matrix, t) for t in grasps], rtol=1e-12):
+                sys.exit(f"{n}: the failure shares over arrays differ from the row-by-row sums")
+            measures.append(("every grasp's failure share at the root, before: row by row",
+                             lambda: [simple_failure_share(root, matrix, t) for t in grasps],  # noqa: B023
+                             shares))
             for name, old, new in measures:
                 t_old, t_new = cpu(old, args.repeats), cpu(new, args.repeats)
                 print(f"| {n:,} | {name} | {t_old:.3f} | {t_new:.3f} | {t_old / t_new:.1f}x |", flush=True)

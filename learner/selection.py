@@ -172,7 +172,8 @@ def rank(
     ``cost_blind_choices``, are ordered at random from ``ctx.rng``.
     """
     matrix = ctx.matrix
-    several_classes = len(np.unique(matrix.class_of[list(node.rows)])) > 1
+    row_index = np.fromiter(node.rows, dtype=np.int64, count=len(node.rows))  # once: a list of 10,000 rows costs
+    several_classes = len(np.unique(matrix.class_of[row_index])) > 1
     columns = np.array([j for j, t in enumerate(matrix.tests)
                         if t not in exclude and (several_classes or not t.is_grasp)], dtype=np.int64)
     if len(columns) == 0 or not node.rows:
@@ -204,7 +205,7 @@ def rank(
         if joint is not None and move + sense > 0 and not test.is_grasp:
             scored_on = (joint.of(test, target), move + sense)
         elif test.is_grasp and ctx.criterion.grasp_paid_on_failure:
-            scored_on = (gain, _failure_share(node, matrix, test) * (move + sense))
+            scored_on = (gain, _failure_share(node, row_index, matrix, test) * (move + sense))
         score = ctx.criterion.score(*(scored_on or (gain, move + sense)))
         scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(found.ranges[j]),
                                  float(matrix.errors[columns[j]]), scored_on))
@@ -224,12 +225,17 @@ def rank(
     return ranked
 
 
-def _failure_share(node: Node, matrix: DescriptionMatrix, test: Test) -> float:
-    """The probability that a grasp tried as a feature fails at ``node``: the weight of
-    its rows whose grasp column is 0 (a grasp column is known for every description),
-    each row weighted by how likely it came this way (``Node.weights``)."""
-    values = matrix.values[list(node.rows), matrix.column[test]]
-    return float(sum(w for w, v in zip(node.weights(), values.tolist()) if v < 0.5))
+def _failure_share(node: Node, row_index: np.ndarray, matrix: DescriptionMatrix, test: Test) -> float:
+    """The probability that a grasp tried as a feature fails at ``node`` (``row_index``:
+    its rows as an array): the weight of its rows whose grasp column is 0 (a grasp column
+    is known for every description), each row weighted by how likely it came this way
+    (``Node.weights``)."""
+    failing = matrix.values[row_index, matrix.column[test]] < 0.5
+    if node.likelihood is None:  # every row alike: the share of rows (numpy, not a Python loop over them)
+        return float(np.count_nonzero(failing)) / len(node.rows) if node.rows else 0.0
+    raw = np.asarray(node.likelihood)
+    total = float(raw.sum())
+    return float(raw[failing].sum()) / total if total > 0 else float(raw[failing].sum())
 
 
 class _JointGains:

@@ -5,7 +5,9 @@ that compare them (tests/learner/test_fast_paths.py, bench/bench_choice_paths.py
   column's sorted from the matrix's order, which ``learner.gain.partition_columns``
   (over distinct values) must match bit for bit;
 - a leaf's grasp options read description by description, which
-  ``learner.decision_tree.grasp_options`` (per-row arrays) must equal.
+  ``learner.decision_tree.grasp_options`` (per-row arrays) must equal;
+- a grasp test's failure share summed row by row in Python, which
+  ``learner.selection._failure_share`` (numpy over the node's rows) must match.
 """
 
 from __future__ import annotations
@@ -118,3 +120,9 @@ def simple_grasp_options(node: Node, current: Position, ctx: Context) -> list[Gr
         options.append(best)
     return sorted(options, key=lambda o: (not ctx.knowledge.grasp(o.grasp).verifiable,
                                           o.move_cost + ctx.knowledge.grasp(o.grasp).feature_cost_s, o.grasp))
+
+
+def simple_failure_share(node: Node, matrix: DescriptionMatrix, test: Test) -> float:
+    """The weight of the node's rows whose grasp column is 0, row by row."""
+    values = matrix.values[list(node.rows), matrix.column[test]]
+    return float(sum(w for w, v in zip(node.weights(), values.tolist()) if v < 0.5))

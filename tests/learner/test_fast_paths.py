@@ -10,6 +10,7 @@ libraries perturbed from the shipped one.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -22,10 +23,10 @@ from learner.gain import partition_columns
 from learner.library import read_library_json
 from learner.matrix import NODE_SPLITS_KEPT, DescriptionMatrix, RowLabels
 from learner.position import Position
-from learner.selection import Context, Node
+from learner.selection import Context, Node, _failure_share
 from learner.synthetic import synthetic_library
 from tests.learner.fixtures import hero
-from tests.learner.reference_paths import entry_partition, simple_grasp_options
+from tests.learner.reference_paths import entry_partition, simple_failure_share, simple_grasp_options
 
 KNOWLEDGE = hero()
 SHIPPED = read_library_json(EXAMPLE_LIBRARY)
@@ -137,3 +138,18 @@ def test_the_node_memo_keeps_the_latest_partitions_only() -> None:
         matrix.remember_node_split(i.to_bytes(4, "little"), found)
     assert len(matrix.node_splits) == NODE_SPLITS_KEPT
     assert min(int.from_bytes(k, "little") for k in matrix.node_splits) == 10  # the oldest dropped first
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.data())
+def test_a_grasps_failure_share_over_arrays_equals_the_row_by_row_sum(data) -> None:
+    library = data.draw(libraries())
+    matrix = DescriptionMatrix(library, KNOWLEDGE)
+    node = data.draw(nodes(len(library)))
+    if data.draw(st.booleans()):  # a node below a fork some rows lacked: weights 1/k
+        node = Node(node.rows, node.carried, tuple(data.draw(st.sampled_from((1.0, 0.5, 1 / 3)))
+                                                   for _ in node.rows))
+    rows = np.asarray(node.rows, dtype=np.int64)
+    for test in (t for t in matrix.tests if t.is_grasp):
+        assert _failure_share(node, rows, matrix, test) == pytest.approx(simple_failure_share(node, matrix, test),
+                                                                          rel=1e-12, abs=1e-15)
