@@ -12,7 +12,9 @@ own grasp is executed.
 - The object is one of the library's descriptions, each with probability ``1/n``;
   sensing is noise-free.
 - A test costs the move from where the robot stands to the test's position (the
-  estimator) plus the procedure's ``time_s``. A procedure yields all its features: once
+  estimator's ``sensing_move_cost`` for a sensing test where it has one, as the learner's
+  ``rank`` prices it: ``inf`` where a reading there would not be the object's alone)
+  plus the procedure's ``time_s``. A procedure yields all its features: once
   it ran at a position, a test of any of its features at a position covering that one
   is free (``selection.measured_value``) and is made where the robot stands.
 - Concrete positions only: a ``*`` slot of a test's position may be filled by any value
@@ -56,7 +58,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from learner.costs import MoveCostEstimator
+from learner.costs import MoveCostEstimator, sensing_cost
 from learner.criteria import DEFAULT_CRITERION, Criterion, criterion
 from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options
 from learner.gain import partition_columns
@@ -137,7 +139,7 @@ class _Search:
         self._without: dict[tuple[int, str], tuple[int, tuple[bool, ...]]] = {}
         self.positions: list[Position] = []
         self._position_ids: dict[Position, int] = {}
-        self._moves: dict[tuple[int, int], float] = {}
+        self._moves: dict[tuple[int, int, bool], float] = {}
         self._targets: dict[tuple[int, int], tuple[int, ...]] = {}
         self._made_free: dict[tuple[str, str, int], int] = {}
         self._cheapest: dict[tuple[int, int], float] = {}
@@ -222,7 +224,7 @@ class _Search:
             # (its branches are 0 and 1, in that order)
             paid = sum(w * s for w, s in zip(weights, b.shares[0])) if test.is_grasp else 1.0
             for target in self._targets_for(c, at):
-                move = self._move(at, target)
+                move = self._move(at, target, sensing=not test.is_grasp)
                 if math.isfinite(move):
                     now_free = free if test.is_grasp else free | self._frees(test.procedure, "procedure", target)
                     yield paid * (move + self.price[c]), children, target, now_free, now_taken
@@ -267,7 +269,7 @@ class _Search:
         key = (node, at)
         if key not in self._cheapest:
             self._cheapest[key] = min(
-                (self._move(at, t) + self.price[b.column] for b in facts.branchings
+                (self._move(at, t, sensing=True) + self.price[b.column] for b in facts.branchings
                  if not self.matrix.tests[b.column].is_grasp for t in self._targets_for(b.column, at)),
                 default=math.inf)
         # a grasp tried as a feature is paid only when it fails: its failure share of the
@@ -337,10 +339,14 @@ class _Search:
                                                                      for o in orientations}))
         return self._targets[key]
 
-    def _move(self, start: int, goal: int) -> float:
-        key = (start, goal)
+    def _move(self, start: int, goal: int, sensing: bool = False) -> float:
+        """The move, to sense at ``goal`` (``sensing``: priced as ``rank`` prices a sensing
+        test) or to grasp there."""
+        key = (start, goal, sensing)
         if key not in self._moves:
-            self._moves[key] = self.estimator.move_cost(self.positions[start], self.positions[goal])
+            here, there = self.positions[start], self.positions[goal]
+            self._moves[key] = (sensing_cost(self.estimator, here, there) if sensing
+                                else self.estimator.move_cost(here, there))
         return self._moves[key]
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -60,6 +62,32 @@ def test_grasps_as_features_worked_by_hand() -> None:
     walk = policy_walk(m, criterion("cs-id3"), EST, P(20, 0))
     assert walk.expected_cost == pytest.approx(10 + 2 / 3 * 68)
     assert walk.right == 1.0
+
+
+class BeamBlockedAt:
+    """The model's moves, but a reading at ``blocked`` would meet a neighbour: the
+    planner's estimator prices sensing there ``inf`` (behaviours.bridge.PlannerMoveCost)."""
+
+    def __init__(self, blocked: Position) -> None:
+        self.blocked = blocked
+
+    def move_cost(self, start: Position, goal: Position) -> float:
+        return EST.move_cost(start, goal)
+
+    def sensing_move_cost(self, start: Position, goal: Position) -> float:
+        return math.inf if goal == self.blocked else EST.move_cost(start, goal)
+
+
+def test_a_test_whose_reading_a_neighbour_spoils_is_not_used_by_the_optimum() -> None:
+    # The library of the test above, the sweep's only position (20,0) blocked. Left: H at
+    # (6,0), 28 + 40 = 68, splits {a} | {b,c}; for {b,c} at (6,0) B tried as a feature, or
+    # executed, fails for c only: 1/2 * 90 = 45. 68 + 2/3 * 45 = 98. Starting with a grasp
+    # costs more: A first 2/3 * (28 + 90) = 78.67, then {b,c} 2/3 * 45: 108.67; B first
+    # 78.67, then a | c by H (40): 105.33. (With the sweep: 10 + 2/3 * 59 = 49.33.)
+    lib = [d("a", "A", ("W", P(20, 0), 10), ("H", P(6, 0), 3)),
+           d("b", "B", ("W", P(20, 0), 10), ("H", P(6, 0), 5)),
+           d("c", "C", ("W", P(20, 0), 30), ("H", P(6, 0), 5))]
+    assert optimal_cost(matrix(lib), BeamBlockedAt(P(20, 0)), P(20, 0)) == pytest.approx(68 + 2 / 3 * 45)
 
 
 def test_a_missing_value_spreads_its_description_over_the_branches() -> None:
