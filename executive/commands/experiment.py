@@ -34,7 +34,8 @@ class Situation:
 SITUATIONS = (
     Situation("disturbance", "objects moved, swapped or taken away while sensed: the camera check on and off",
               "Sweep the simulator's --disturb rate over floors of unseen test objects with the executive's "
-              "camera check before sensing and grasping on and off; print success, robot minutes per "
+              "camera check before sensing and grasping on and off (the camera's appearance off, so every "
+              "object is sensed and can be disturbed); print success, robot minutes per "
               "object, objects reported gone and descriptions saved from disturbed attempts as a "
               "Markdown section (BENCHMARKS.md, 'Disturbances').",
               "two rates and 2 seeds (about 20 s on 2 cores)", "floors per rate and setting (default 6, or 2 with --quick)"),
