@@ -5,7 +5,7 @@ library's, perturbed within its features' errors, so the structure (which featur
 which positions, what is missing, the few grasps) stays the robot's. Per size, medians of:
 
 - building the ``DescriptionMatrix`` (once per library change);
-- one test choice at the root (``rank`` on ``Node.root``, cs-id3, ``ModelMoveCost``):
+- one test choice at the root (``rank`` on ``Node.root``, the criterion, ``ModelMoveCost``):
   the first, worked out (the matrix's memo of the root's partition cleared each time),
   and a repeated one (memoised: what every object after the first pays);
 - one object's whole run-time tree: a ``RecognitionSession`` driven noise-free with a
@@ -25,7 +25,10 @@ curve's shape is the slope of a least-squares line through log(time) against
 log(descriptions) over the synthetic sizes, and over the sizes from 3,000 up (where
 fixed per-call overheads no longer dominate).
 
-    python bench/bench_scaling.py [--max 100000] [--objects 5] [--seed 0] [--cpu]
+    python bench/bench_scaling.py [--max 100000] [--objects 5] [--seed 0] [--cpu] [--criterion NAME]
+
+``--criterion`` (default: the executive's, ``cs-id3-failure``) measures another rule on the
+same libraries and objects: the cost of a slower but cheaper rule is read off here.
 """
 
 from __future__ import annotations
@@ -52,7 +55,7 @@ sys.path.insert(0, str(ROOT))
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import Criterion, criterion  # noqa: E402
+from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
 from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.description import ObjectDescription  # noqa: E402
 from learner.library import LibraryStore, read_library_json, write_library_json  # noqa: E402
@@ -258,6 +261,8 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0, help="seed of the synthetic libraries and of the objects")
     ap.add_argument("--cpu", action="store_true",
                     help="time in CPU seconds of this process (steadier on a shared machine) instead of wall time")
+    ap.add_argument("--criterion", default=DEFAULT_CRITERION, choices=sorted(CRITERIA), metavar="NAME",
+                    help=f"the learner's test-selection rule (default: {DEFAULT_CRITERION}, the executive's)")
     args = ap.parse_args()
     if args.cpu:
         global CLOCK
@@ -268,7 +273,7 @@ def main() -> None:
         ap.error(f"--objects must be at least 1, got {args.objects}")
     knowledge = load_knowledge(KNOWLEDGE)
     estimator = ModelMoveCost(knowledge.move)
-    crit = criterion("cs-id3")
+    crit = criterion(args.criterion)
     base = read_library_json(EXAMPLE_LIBRARY)
     picker = np.random.default_rng(args.seed)
     began = time.perf_counter()
@@ -286,6 +291,7 @@ def main() -> None:
     print(f"date: {datetime.date.today().isoformat()}")
     print(f"machine: {machine()}")
     print(f"command: python bench/bench_scaling.py {' '.join(sys.argv[1:])}".rstrip())
+    print(f"criterion: {args.criterion}")
     print(f"total wall time: {total:.0f} s; times below are {'CPU' if args.cpu else 'wall'} time")
     print()
     print("| descriptions | tests | build matrix ms | first root choice ms | root choice ms "

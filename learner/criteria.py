@@ -214,7 +214,11 @@ def _failure_priced(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
     return priced, rolled, searched, every_row
 
 
-DEFAULT_CRITERION = "cs-id3-failure"  # the data's choice: docs/optimum.md, "Under noise"
+DEFAULT_CRITERION = "cs-id3-failure"
+"""The executive's rule. Cheaper under noise than ``cs-id3`` (docs/optimum.md, "Under
+noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
+this takes milliseconds per object, beyond the learner's decision-time goals, so it is
+opt-in (docs/optimum.md, "The default stays")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
