@@ -186,6 +186,7 @@ def rank(
         usable = found.n_ranges >= 2
     joint = _JointGains(node, ctx, columns, found, measurements) if ctx.criterion.joint_gain else None
     move_costs: dict[tuple[Position, bool], float] = {}  # many tests share a position: price each once
+    weights = _row_weights(node) if ctx.criterion.grasp_paid_on_failure else None  # once, not per grasp test
     scored: list[ScoredTest] = []
     for j in np.flatnonzero(usable):
         test = matrix.tests[columns[j]]
@@ -205,7 +206,7 @@ def rank(
         if joint is not None and move + sense > 0 and not test.is_grasp:
             scored_on = (joint.of(test, target), move + sense)
         elif test.is_grasp and ctx.criterion.grasp_paid_on_failure:
-            scored_on = (gain, _failure_share(node, row_index, matrix, test) * (move + sense))
+            scored_on = (gain, _failure_share(weights, row_index, matrix, test) * (move + sense))
         score = ctx.criterion.score(*(scored_on or (gain, move + sense)))
         scored.append(ScoredTest(test, target, gain, move, sense, score, tuple(found.ranges[j]),
                                  float(matrix.errors[columns[j]]), scored_on))
@@ -225,17 +226,26 @@ def rank(
     return ranked
 
 
-def _failure_share(node: Node, row_index: np.ndarray, matrix: DescriptionMatrix, test: Test) -> float:
-    """The probability that a grasp tried as a feature fails at ``node`` (``row_index``:
-    its rows as an array): the weight of its rows whose grasp column is 0 (a grasp column
-    is known for every description), each row weighted by how likely it came this way
-    (``Node.weights``)."""
-    failing = matrix.values[row_index, matrix.column[test]] < 0.5
-    if node.likelihood is None:  # every row alike: the share of rows (numpy, not a Python loop over them)
-        return float(np.count_nonzero(failing)) / len(node.rows) if node.rows else 0.0
+def _row_weights(node: Node) -> np.ndarray | None:
+    """``Node.weights`` as an array, made once per choice (every grasp test reads it);
+    None when every row is alike."""
+    if node.likelihood is None:
+        return None
     raw = np.asarray(node.likelihood)
     total = float(raw.sum())
-    return float(raw[failing].sum()) / total if total > 0 else float(raw[failing].sum())
+    return raw / total if total > 0 else raw
+
+
+def _failure_share(weights: np.ndarray | None, row_index: np.ndarray, matrix: DescriptionMatrix,
+                   test: Test) -> float:
+    """The probability that a grasp tried as a feature fails at a node (``row_index``:
+    its rows as an array, ``weights``: :func:`_row_weights`): the weight of its rows whose
+    grasp column is 0 (a grasp column is known for every description), each row weighted
+    by how likely it came this way."""
+    failing = matrix.values[row_index, matrix.column[test]] < 0.5
+    if weights is None:  # every row alike: the share of rows
+        return float(np.count_nonzero(failing)) / len(row_index)
+    return float(weights[failing].sum())
 
 
 class _JointGains:
