@@ -13,6 +13,15 @@ two earlier regions became, and that covers about their joint area, is two objec
 that now touch: a cluster (``Region.cluster``: no sonar reading of it is the object's
 alone; docs/planner.md "Clutter").
 
+A long push can carry an object further than :data:`PUSHED_IN` into its neighbour (the
+simulator's default push is up to 4.2 in, and a pushed object shoves what it meets):
+its region then has no successor within a push, and the neighbour's region grows by
+its area. So a region that went counts as a part of the nearest new region within
+:data:`LONG_PUSH_IN` of its outline for the joint-area test (never for a cluster seen
+again), unless the robot now stands where it was (hidden, not moved). Objects do not
+vanish beside a neighbour that grows by their area: one grasped or taken away leaves
+the neighbour as it was.
+
 Two guards keep a lone object from being called a cluster:
 - the two earlier regions must have been apart for real, not only because the robot
   hid what lay between them (vision drops object pixels next to the robot's body, so
@@ -42,6 +51,7 @@ from planner.vision import Region, Scene
 
 JOINT_AREA_SHARE = 0.5  # a merged region covers the larger part and at least this share of the smaller
 PUSHED_IN = 3.0  # an earlier region's centroid this far outside a new region's outline may have been pushed into it
+LONG_PUSH_IN = 6.0  # a region with no successor within a push may have been pushed this far into a neighbour
 KEPT_AREA_SHARE = 0.85  # a cluster seen again keeps at least this share of its area
 HIDDEN_MARGIN_IN = 2.0  # beyond the base radius: the rim of object pixels vision drops next to the robot
 
@@ -53,26 +63,35 @@ def flag_merged(before: Scene | None, now: Scene, base_radius_in: float) -> Scen
     if before is None or not before.regions or not now.regions:
         return now
     parts: dict[int, list[Region]] = {}
+    went: list[Region] = []
     for earlier in before.regions:
         at = _successor(earlier, now.regions)
         if at is not None:
             parts.setdefault(at, []).append(earlier)
+        else:
+            went.append(earlier)
     newcomers = [r for i, r in enumerate(now.regions) if i not in parts]
+    pushed_far: dict[int, list[Region]] = {}
+    for earlier in went:
+        at = _successor(earlier, now.regions, LONG_PUSH_IN)
+        if at is not None and not _near(earlier.centroid, now.robot, base_radius_in + HIDDEN_MARGIN_IN):
+            pushed_far.setdefault(at, []).append(earlier)
     flagged = tuple(dataclasses.replace(r, cluster=True)
-                    if not r.cluster and _merged(r, parts.get(i, []), newcomers, before.robot, base_radius_in) else r
+                    if not r.cluster and _merged(r, parts.get(i, []), pushed_far.get(i, []), newcomers,
+                                                 before.robot, base_radius_in) else r
                     for i, r in enumerate(now.regions))
     if all(a is b for a, b in zip(flagged, now.regions)):
         return now
     return dataclasses.replace(now, regions=flagged)
 
 
-def _successor(earlier: Region, regions: tuple[Region, ...]) -> int | None:
+def _successor(earlier: Region, regions: tuple[Region, ...], push_in: float = PUSHED_IN) -> int | None:
     """The index of the region of the new image that an earlier region became: the one
-    its centroid lies in or nearest to, within :data:`PUSHED_IN` of its outline (a push
+    its centroid lies in or nearest to, within ``push_in`` of its outline (a push
     moves an object an inch or two); None when every one is further (the object went)."""
     reach = [_reach(r, earlier.centroid) for r in regions]
     best = max(range(len(regions)), key=reach.__getitem__)
-    return best if reach[best] >= -PUSHED_IN else None
+    return best if reach[best] >= -push_in else None
 
 
 def _reach(region: Region, point: tuple[float, float]) -> float:
@@ -85,16 +104,23 @@ def within_push(region: Region, point: tuple[float, float]) -> bool:
     return _reach(region, point) >= -PUSHED_IN
 
 
-def _merged(region: Region, parts: list[Region], newcomers: list[Region], robot: Pose | None,
-            base_radius_in: float) -> bool:
+def _merged(region: Region, parts: list[Region], pushed_far: list[Region], newcomers: list[Region],
+            robot: Pose | None, base_radius_in: float) -> bool:
     """Whether ``region`` is the earlier ``parts`` (the earlier regions it became) touching,
-    or a cluster seen again; ``newcomers`` are the new image's regions no earlier one became."""
+    or a cluster seen again; ``pushed_far``: earlier regions that went, perhaps pushed
+    into it from beyond a push; ``newcomers``: the new image's regions no earlier one became."""
     if any(p.cluster and region.pixel_count >= KEPT_AREA_SHARE * p.pixel_count
            and not any(within_push(p, r.centroid) for r in newcomers) for p in parts):
         return True
+    joined = parts + pushed_far
     return any(region.pixel_count >= max(a.pixel_count, b.pixel_count) + JOINT_AREA_SHARE * min(a.pixel_count, b.pixel_count)
                and not _hidden_between(a, b, robot, base_radius_in + HIDDEN_MARGIN_IN)
-               for i, a in enumerate(parts) for b in parts[i + 1:])
+               for i, a in enumerate(joined) for b in joined[i + 1:])
+
+
+def _near(point: tuple[float, float], robot: Pose | None, radius_in: float) -> bool:
+    """Whether ``point`` lies within ``radius_in`` of the robot (None: no robot seen)."""
+    return robot is not None and math.hypot(point[0] - robot.x_in, point[1] - robot.y_in) < radius_in
 
 
 def _hidden_between(a: Region, b: Region, robot: Pose | None, radius_in: float) -> bool:

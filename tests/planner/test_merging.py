@@ -8,14 +8,14 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from behaviours.bridge import overhead
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import SimWorld
 from planner import Navigator, Pose, Region, Scene, look
-from planner.merging import flag_merged
+from planner.merging import flag_merged, within_push
 from robot_profile import load_profile
 from tests.planner.test_vision_clutter import CATALOGUE, floor
 
@@ -73,6 +73,34 @@ def test_a_cluster_pushed_apart_is_two_objects_again(pair: str) -> None:
     assert [r.cluster for r in apart.regions] == [False, False]
 
 
+# Seen apart (the bottle pushed 3.3 in off the box), then the box pushed 4.1 in into
+# the bottle, where the clutter study's floor 1 at 1 in had them. The box's centroid
+# ends 4.6 in from the pair's (4 + 10 pixels, then 16), beyond a push of its outline,
+# so it has no successor.
+BOX_APART = [("closed-box-2x2x2/upright", 46.9, 40.4, 0.0), ("soda-bottle-16oz/upright", 52.3, 41.6, 0.0)]
+BOX_PUSHED_IN = [("closed-box-2x2x2/upright", 50.0, 43.1, 0.0), ("soda-bottle-16oz/upright", 52.3, 41.6, 0.0)]
+
+
+@pytest.mark.parametrize(("robot", "cluster"), [
+    (Pose(34.0, 28.7, 45.0), True),  # 17 in off, as in the study: the box went, the bottle's region grew by its area
+    (Pose(40.0, 34.0, 45.0), False),  # 9.4 in from where the box was, within 9 + 2 in: hidden, not pushed
+])
+def test_an_object_pushed_further_than_a_push_into_its_neighbour_makes_a_cluster(robot: Pose, cluster: bool) -> None:
+    before, after = scene(*BOX_APART), scene(*BOX_PUSHED_IN)
+    assert len(before.regions) == 2 and len(after.regions) == 1
+    box = min(before.regions, key=lambda r: r.pixel_count)
+    assert not within_push(after.regions[0], box.centroid)  # beyond the short reach: only the long push joins them
+    after = dataclasses.replace(after, robot=robot)
+    assert [r.cluster for r in flag_merged(before, after, BASE_RADIUS_IN).regions] == [cluster]
+
+
+def test_a_neighbour_left_alone_when_an_object_further_than_a_push_was_taken_is_not_a_cluster() -> None:
+    """The box taken away from beside the bottle (nothing within a push): the bottle's
+    region does not grow by the box's area, so it stays one object."""
+    before, after = scene(*BOX_APART), scene(BOX_APART[1])
+    assert [r.cluster for r in flag_merged(before, after, BASE_RADIUS_IN).regions] == [False]
+
+
 def test_an_object_beside_a_neighbour_taken_away_is_not_a_cluster() -> None:
     """The 2 in box 1.5 in from the 10 in box's side, then grasped: its centroid (2.5 in
     off the big box's outline) is within a push of the big box, which stays one object:
@@ -123,6 +151,9 @@ PAPER = NoiseConfig.preset("paper")
 @settings(max_examples=25, deadline=None)
 @given(entry=st.sampled_from(LONE), yaw=st.floats(0.0, 360.0), seed=st.integers(0, 1000),
        x=st.floats(20.0, 220.0), y=st.floats(60.0, 160.0))
+@example(entry="magazine-box-9x4x7/upright", yaw=35.0, seed=13, x=36.0, y=60.0).xfail(
+    raises=AssertionError, reason="known limit: the fish-eye's noise notches this box's outline to 0.715 of its hull "
+    "(2 of 30 seeds at this corner pose, none of 700 random poses): one image calls it a cluster")
 def test_a_lone_object_through_the_fish_eye_camera_is_not_a_cluster(entry: str, yaw: float, seed: int,
                                                                      x: float, y: float) -> None:
     """The `paper` preset's fish-eye undistortion roughens outlines (a 2 in box fills
