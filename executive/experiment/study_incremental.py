@@ -32,7 +32,7 @@ def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
     return [_spec(config, s) for s in config.chain_seeds]
 
 
-def _misclassified(row: EpisodeRow) -> bool:
+def misclassified(row: EpisodeRow) -> bool:
     """A wrong grasp at a leaf, or not handled at all."""
     return row.wrong_grasps > 0 or not row.success
 
@@ -68,9 +68,9 @@ def tumbler_story(chains: Iterable[Sequence[EpisodeRow]], grasps: frozenset[str]
     for chain in chains:
         encounters = sorted((r for r in chain if r.object == object_id), key=lambda r: r.episode)
         for now, after in zip(encounters, encounters[1:]):
-            if not _misclassified(now):
+            if not misclassified(now):
                 continue
-            right = not _misclassified(after)
+            right = not misclassified(after)
             any_end, any_right = any_end + 1, any_right + right
             if now.success and now.grasp in grasps:
                 learned, learned_right = learned + 1, learned_right + right
@@ -86,7 +86,7 @@ def _story_row(label: str, tally: Tally) -> ResultRow:
 def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyResult:
     chains = [results[_spec(config, s)] for s in config.chain_seeds]
     episodes = range(config.chain_length)
-    errors = [mean(float(_misclassified(r)) for c in chains for r in c if r.episode == e) for e in episodes]
+    errors = [mean(float(misclassified(r)) for c in chains for r in c if r.episode == e) for e in episodes]
     minutes = [mean(r.robot_s for c in chains for r in c if r.episode == e) / 60.0 for e in episodes]
     sizes = [mean(float(r.library_size) for c in chains for r in c if r.episode == e) for e in episodes]
     grasps = own_grasps(TUMBLER)
