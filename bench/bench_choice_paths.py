@@ -50,7 +50,7 @@ from learner.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
 from learner.library import LibraryStore, read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402
 from learner.position import Position  # noqa: E402
-from learner.selection import Context, Node, _failure_share, _row_weights  # noqa: E402
+from learner.selection import Context, Node, _failure_share  # noqa: E402
 from learner.synthetic import synthetic_library  # noqa: E402
 from tests.learner.reference_paths import entries, entry_partition, simple_failure_share, simple_grasp_options  # noqa: E402
 
@@ -183,7 +183,7 @@ def main() -> None:
 
             def shares() -> list[float]:
                 rows = np.fromiter(root.rows, dtype=np.int64, count=n)  # noqa: B023
-                return [_failure_share(_row_weights(root), rows, matrix, t) for t in grasps]  # noqa: B023
+                return [_failure_share(root.weight_array(), rows, matrix, t) for t in grasps]  # noqa: B023
 
             if not np.allclose(shares(), [simple_failure_share(root, matrix, t) for t in grasps], rtol=1e-12):
                 sys.exit(f"{n}: the failure shares over arrays differ from the row-by-row sums")

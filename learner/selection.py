@@ -55,6 +55,15 @@ class Node:
         total = sum(raw)
         return tuple(w / total for w in raw) if total > 0 else raw
 
+    def weight_array(self) -> np.ndarray | None:
+        """:meth:`weights` as an array, for numpy over the node's rows; None when every
+        row is alike (all equally likely)."""
+        if self.likelihood is None:
+            return None
+        raw = np.asarray(self.likelihood)
+        total = float(raw.sum())
+        return raw / total if total > 0 else raw
+
     @staticmethod
     def root(n: int, exclude: Sequence[int] = ()) -> Node:
         if not len(exclude):
@@ -186,7 +195,7 @@ def rank(
         usable = found.n_ranges >= 2
     joint = _JointGains(node, ctx, columns, found, measurements) if ctx.criterion.joint_gain else None
     move_costs: dict[tuple[Position, bool], float] = {}  # many tests share a position: price each once
-    weights = _row_weights(node) if ctx.criterion.grasp_paid_on_failure else None  # once, not per grasp test
+    weights = node.weight_array() if ctx.criterion.grasp_paid_on_failure else None  # once, not per grasp test
     scored: list[ScoredTest] = []
     for j in np.flatnonzero(usable):
         test = matrix.tests[columns[j]]
@@ -226,20 +235,10 @@ def rank(
     return ranked
 
 
-def _row_weights(node: Node) -> np.ndarray | None:
-    """``Node.weights`` as an array, made once per choice (every grasp test reads it);
-    None when every row is alike."""
-    if node.likelihood is None:
-        return None
-    raw = np.asarray(node.likelihood)
-    total = float(raw.sum())
-    return raw / total if total > 0 else raw
-
-
 def _failure_share(weights: np.ndarray | None, row_index: np.ndarray, matrix: DescriptionMatrix,
                    test: Test) -> float:
     """The probability that a grasp tried as a feature fails at a node (``row_index``:
-    its rows as an array, ``weights``: :func:`_row_weights`): the weight of its rows whose
+    its rows as an array, ``weights``: :meth:`Node.weight_array`): the weight of its rows whose
     grasp column is 0 (a grasp column is known for every description), each row weighted
     by how likely it came this way."""
     failing = matrix.values[row_index, matrix.column[test]] < 0.5

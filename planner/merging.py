@@ -63,19 +63,14 @@ def flag_merged(before: Scene | None, now: Scene, base_radius_in: float) -> Scen
     if before is None or not before.regions or not now.regions:
         return now
     parts: dict[int, list[Region]] = {}
-    went: list[Region] = []
-    for earlier in before.regions:
-        at = _successor(earlier, now.regions)
-        if at is not None:
-            parts.setdefault(at, []).append(earlier)
-        else:
-            went.append(earlier)
-    newcomers = [r for i, r in enumerate(now.regions) if i not in parts]
     pushed_far: dict[int, list[Region]] = {}
-    for earlier in went:
-        at = _successor(earlier, now.regions, LONG_PUSH_IN)
-        if at is not None and not _near(earlier.centroid, now.robot, base_radius_in + HIDDEN_MARGIN_IN):
+    for earlier in before.regions:
+        at, reach = _nearest(earlier, now.regions)
+        if reach >= -PUSHED_IN:
+            parts.setdefault(at, []).append(earlier)
+        elif reach >= -LONG_PUSH_IN and not _near(earlier.centroid, now.robot, base_radius_in + HIDDEN_MARGIN_IN):
             pushed_far.setdefault(at, []).append(earlier)
+    newcomers = [r for i, r in enumerate(now.regions) if i not in parts]
     flagged = tuple(dataclasses.replace(r, cluster=True)
                     if not r.cluster and _merged(r, parts.get(i, []), pushed_far.get(i, []), newcomers,
                                                  before.robot, base_radius_in) else r
@@ -85,13 +80,14 @@ def flag_merged(before: Scene | None, now: Scene, base_radius_in: float) -> Scen
     return dataclasses.replace(now, regions=flagged)
 
 
-def _successor(earlier: Region, regions: tuple[Region, ...], push_in: float = PUSHED_IN) -> int | None:
-    """The index of the region of the new image that an earlier region became: the one
-    its centroid lies in or nearest to, within ``push_in`` of its outline (a push
-    moves an object an inch or two); None when every one is further (the object went)."""
+def _nearest(earlier: Region, regions: tuple[Region, ...]) -> tuple[int, float]:
+    """The index of the new region an earlier one's centroid lies in or is nearest to,
+    and how far inside its outline the centroid lies (negative: outside). Within
+    :data:`PUSHED_IN` that region is what the earlier one became (a push moves an object
+    an inch or two); further, the object went, or a long push carried it there."""
     reach = [_reach(r, earlier.centroid) for r in regions]
     best = max(range(len(regions)), key=reach.__getitem__)
-    return best if reach[best] >= -push_in else None
+    return best, reach[best]
 
 
 def _reach(region: Region, point: tuple[float, float]) -> float:

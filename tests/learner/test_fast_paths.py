@@ -23,7 +23,7 @@ from learner.gain import partition_columns
 from learner.library import read_library_json
 from learner.matrix import NODE_SPLITS_KEPT, DescriptionMatrix, RowLabels
 from learner.position import Position
-from learner.selection import Context, Node, _failure_share, _row_weights
+from learner.selection import Context, Node, _failure_share
 from learner.synthetic import synthetic_library
 from tests.learner.fixtures import hero
 from tests.learner.reference_paths import entry_partition, simple_failure_share, simple_grasp_options
@@ -151,5 +151,5 @@ def test_a_grasps_failure_share_over_arrays_equals_the_row_by_row_sum(data) -> N
                                                    for _ in node.rows))
     rows = np.asarray(node.rows, dtype=np.int64)
     for test in (t for t in matrix.tests if t.is_grasp):
-        assert _failure_share(_row_weights(node), rows, matrix, test) == pytest.approx(simple_failure_share(node, matrix, test),
+        assert _failure_share(node.weight_array(), rows, matrix, test) == pytest.approx(simple_failure_share(node, matrix, test),
                                                                           rel=1e-12, abs=1e-15)
