@@ -67,7 +67,10 @@ class MoveTo(DriverAction):
     move ends facing the object, where the driver centres on it with the sonar. A test
     position with no path (or a move that collided) is unusable: the session reselects.
     A grasp position with no path fails here and the "other end" recovery takes over; a
-    grasp move that collided or was refused counts as a failed grasp.
+    grasp move that collided or was refused counts as a failed grasp. After a procedure
+    was refused for range there (``ObjectRecord.off_position``), the robot is not where
+    the session says, so the move is driven even to the position it believes it stands
+    at (``DriverAction.refused_out_of_range``).
 
     A move a moving obstacle stopped short (the driver's ``blocked_moves`` feature)
     fails with the obstacle on the blackboard (``BLOCKED``) for the blocked-move branch
@@ -102,7 +105,7 @@ class MoveTo(DriverAction):
         goal = self._goal = self.goal()
         if goal is None:
             return Status.FAILURE
-        if goal == self.obj.session.position:
+        if goal == self.obj.session.position and not self.obj.off_position:
             return Status.SUCCESS  # already there: the paper's "move-to (0s)"
         plan = self.plan(goal)
         if not plan.found:
@@ -143,6 +146,7 @@ class MoveTo(DriverAction):
             return self._unusable()
         assert self._goal is not None
         obj.session.position = self._goal
+        obj.off_position = False
         return Status.SUCCESS
 
 
@@ -205,6 +209,8 @@ class ApplyTest(DriverAction):
     def failed(self, exc: DriverError) -> Status:
         step = self.step
         assert step.test is not None
+        if self.refused_out_of_range(exc, step.test.test.procedure):
+            return Status.FAILURE  # nothing tried: the next step re-approaches and tries it again
         if step.test.test.is_grasp:
             assert step.attempt is not None
             step.attempt = replace(step.attempt, success=False)
@@ -248,8 +254,9 @@ class Grasp(DriverAction):
         return Status.FAILURE
 
     def failed(self, exc: DriverError) -> Status:
-        if self.step.attempt is not None:
-            self.step.attempt = replace(self.step.attempt, success=False)
+        attempt = self.step.attempt
+        if attempt is not None and not self.refused_out_of_range(exc, attempt.grasp):
+            self.step.attempt = replace(attempt, success=False)
         return Status.FAILURE
 
 

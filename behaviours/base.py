@@ -23,7 +23,7 @@ from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.resume import Reconnecting, relocate, same_robot
 from behaviours.services import Services, namespace
-from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, DriverError
+from hero_driver.interface import OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, CameraImage, DriverError
 from planner import Pose as PlannerPose, Scene
 
 T = TypeVar("T")
@@ -178,6 +178,27 @@ class DriverAction(CslBehaviour):
     def failed(self, exc: DriverError) -> Status:
         """The driver refused or failed; by default the behaviour fails."""
         return Status.FAILURE
+
+    def refused_out_of_range(self, exc: DriverError, procedure: str) -> bool:
+        """True when the driver refused ``procedure`` as out of range and the robot is to
+        re-approach and try it again: the step then fails without the verb counting as
+        failed, and the next step's move drives to the same position, planned from where
+        the camera last placed the robot. A refusal means nothing was tried: the robot
+        stands off the position its dead reckoning claims (drift the look before the verb
+        corrected, docs/simulator.md "Drift"), so counting it as a failed grasp would drop
+        the right grasp, and counting it as an unusable test would lose every test at that
+        position. Bounded by ``Params.reapproach_tries`` per procedure and object; after
+        that the refusal counts as the verb failing, as it always did."""
+        obj = self._object_at_hand()
+        if exc.code != OUT_OF_RANGE or obj is None:
+            return False
+        if obj.reapproaches[procedure] >= self.services.params.reapproach_tries:
+            return False
+        obj.reapproaches[procedure] += 1
+        obj.off_position = True
+        obj.ledger.recoveries["re-approach"] += 1
+        self.note(Event.REAPPROACH, procedure=procedure, tries=obj.reapproaches[procedure], message=exc.message)
+        return True
 
     def _object_at_hand(self) -> ObjectRecord | None:
         return self.bb.get("object") if self.bb.exists("object") else None

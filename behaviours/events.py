@@ -48,6 +48,8 @@ class Event(str, Enum):
     REST_OF_CLUSTER = "rest_of_cluster", "a cluster's grasped object put away: what the camera sees left of it, queued next", True
     GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
+    REAPPROACH = "reapproach", ("the driver refused a procedure as out of range: nothing was tried; the robot "
+                                "re-approaches its position and tries again (procedure, tries)"), True
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True
     BEAM_BLOCKED = "beam_blocked", "a test's sonar beam would meet another object (neighbours' centroids): unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True

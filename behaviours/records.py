@@ -86,6 +86,10 @@ class ObjectRecord:
     grasp_position: Position | None = None
     learned_id: str | None = None  # Learn
     steps: int = 0  # UntilHandled
+    off_position: bool = False  # a verb refused as out of range: the robot is not where the session
+    #   says, so the next move drives even to the position it believes it stands at (set by
+    #   DriverAction.refused_out_of_range, cleared by MoveTo)
+    reapproaches: Counter[str] = field(default_factory=Counter)  # re-approaches per procedure refused
 
     @property
     def done(self) -> bool:
