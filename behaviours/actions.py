@@ -146,7 +146,7 @@ class MoveTo(DriverAction):
             return self._unusable()
         assert self._goal is not None
         obj.session.position = self._goal
-        obj.off_position = False
+        obj.off_position, obj.arrived = False, result.pose
         return Status.SUCCESS
 
 
@@ -263,7 +263,14 @@ class Grasp(DriverAction):
 class Learn(DriverAction):
     """Save the new object description after a successful grasp (with every feature
     measured, discriminating ones included) and put the object away. Nothing is saved
-    for a cluster: its grasps were tried on touching objects, not on the one held."""
+    for a cluster: its grasps were tried on touching objects, not on the one held.
+
+    An object held with nothing sensed is saved by its appearance and grasp when the
+    library was wrong about it (a grasp failed first): that is a lesson, and without it
+    the next object like it fails the same grasps (docs/method.md §5.8). One the camera's
+    appearance alone got right first time teaches nothing new and is not saved: with no
+    sensed value it would be unknown on every test, follow every branch of every later
+    tree, and leave an ambiguous leaf for every later object that looks alike."""
 
     def __init__(self, robot: str, name: str = "Learn") -> None:
         super().__init__(name, robot)
@@ -277,12 +284,13 @@ class Learn(DriverAction):
         description = obj.session.description(f"learned/{obj.grasp}", obj.grasp, obj.grasp_position)
         if obj.clustered:  # what was tried on touching objects is no one object's
             self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0, reason="a cluster of touching objects")
-        elif description.observations:  # a description with no features would match anything
+        elif description.observations or (description.appearance is not None and obj.session.wrong_predictions):
             obj.learned_id = self.timed(lambda: self.services.learner.learn(description))
             self.note(Event.LEARN, id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
                       wrong=list(obj.session.wrong_predictions))
         else:
-            self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0, reason="nothing was measured")
+            self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0,
+                      reason="nothing was measured and no grasp failed: nothing to learn")
         return self.services.driver.release()
 
     def finish(self, result: RobotState) -> Status:

@@ -187,13 +187,17 @@ class DriverAction(CslBehaviour):
         stands off the position its dead reckoning claims (drift the look before the verb
         corrected, docs/simulator.md "Drift"), so counting it as a failed grasp would drop
         the right grasp, and counting it as an unusable test would lose every test at that
-        position. Bounded by ``Params.reapproach_tries`` per procedure and object; after
-        that the refusal counts as the verb failing, as it always did."""
+        position. Only when a look has corrected the pose since the robot arrived: else
+        the same plan from the same pose would end where it stands, and the refusal counts
+        as the verb failing, as it always did. Bounded by ``Params.reapproach_tries`` per
+        procedure and object, after which it counts so too."""
         obj = self._object_at_hand()
         if exc.code != OUT_OF_RANGE or obj is None:
             return False
         if obj.reapproaches[procedure] >= self.services.params.reapproach_tries:
             return False
+        if obj.arrived is not None and self.bb.pose == obj.arrived:
+            return False  # nothing has corrected where the robot stands since it arrived
         obj.reapproaches[procedure] += 1
         obj.off_position = True
         obj.ledger.recoveries["re-approach"] += 1

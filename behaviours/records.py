@@ -19,6 +19,7 @@ import py_trees
 
 from behaviours.bridge import PlannerMoveCost
 from behaviours.services import namespace
+from hero_driver.interface import Pose as DriverPose
 from learner.position import Position
 from learner.runtime import RecognitionSession
 from learner.selection import ScoredTest
@@ -89,6 +90,7 @@ class ObjectRecord:
     off_position: bool = False  # a verb refused as out of range: the robot is not where the session
     #   says, so the next move drives even to the position it believes it stands at (set by
     #   DriverAction.refused_out_of_range, cleared by MoveTo)
+    arrived: DriverPose | None = None  # MoveTo: where its last move ended, before any look corrected it
     reapproaches: Counter[str] = field(default_factory=Counter)  # re-approaches per procedure refused
 
     @property

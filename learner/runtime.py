@@ -356,6 +356,7 @@ class RecognitionSession:
             self.wrong_predictions.append(grasp)
         if side_effects and changed:
             self.unreliable_count = 0  # a new object as far as sensing goes
+            self.wrong_predictions.clear()  # and as far as lessons go: those were about the object before it fell
             self.appearance = appearance  # it no longer looks as the camera saw it first
             self.dropped_grasps.clear()
             self.measurements.clear()

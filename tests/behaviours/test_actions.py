@@ -418,6 +418,19 @@ def test_grasp_refused_out_of_range_is_tried_again_after_a_re_approach(services,
     assert log.kinds() == ["driver_error", "reapproach"] * 2 + ["driver_error"]
 
 
+@pytest.mark.parametrize(("seen", "again"), [(DriverPose(105.5, 50.0, 180.0), True),  # the camera moved it
+                                              (DriverPose(106.0, 50.0, 180.0), False)])  # nothing moved it
+def test_a_grasp_refused_out_of_range_is_re_approached_only_after_a_correction(services, driver, seen,  # noqa: ANN001
+                                                                                again) -> None:
+    record, step = _at_grasp(services, "Top-Vert-Grip")
+    record.arrived = DriverPose(106.0, 50.0, 180.0)  # where the move to (6,0) ended, by dead reckoning
+    put("pose", seen)  # where the look before the grasp placed the robot
+    driver.script("grasp", refused(OUT_OF_RANGE, "Top-Vert-Grip: object at 4.5 in, range is 6-6 in"))
+    assert run(Grasp(ROBOT), services) == Status.FAILURE
+    # planned from an uncorrected pose, the same move would end where the robot stands
+    assert record.off_position is again and step.attempt.failed is not again
+
+
 def test_move_to_a_position_the_robot_was_refused_at_drives_there_again(services, driver, nav, log) -> None:  # noqa: ANN001
     record, step = _at_sixty(services, nav)
     record.session.position, record.off_position = P(24, 0), True  # believed there; a refusal said otherwise
@@ -428,6 +441,7 @@ def test_move_to_a_position_the_robot_was_refused_at_drives_there_again(services
     start, goal = nav.plans[0]
     assert (start.x_in, goal.x_in) == (126.5, 124.0) and driver.verbs() == ["move"]
     assert not record.off_position and record.session.position == P(24, 0) and record.ledger.moving_s == 7.5
+    assert record.arrived == there  # a later refusal re-approaches only if a look corrects this
 
 
 # -- Learn -----------------------------------------------------------------------------------
@@ -481,14 +495,43 @@ def test_learn_saves_nothing_from_a_cluster_but_puts_the_object_away(services, d
                            "features": 0, "reason": "a cluster of touching objects"}]
 
 
-def test_learn_saves_nothing_when_nothing_was_measured(services, driver, log) -> None:  # noqa: ANN001
+@pytest.mark.parametrize("appearance", [None, Appearance(True, 8.96, 1.0)])
+def test_learn_saves_nothing_when_nothing_was_measured_and_nothing_was_wrong(services, driver, log,  # noqa: ANN001
+                                                                               appearance) -> None:
     record, step = start_object(services)
+    record.session.appearance = appearance  # the camera's appearance alone picked the grasp, and it held
     record.finish("grasped", "Front-Pinch", P(6, 0))
     driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 0.0, 1.0))
     assert run(Learn(ROBOT), services) == Status.SUCCESS
     assert services.learner.learned == [] and driver.verbs() == ["release"] and record.learned_id is None
     assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": None, "grasp": "Front-Pinch",
-                           "features": 0, "reason": "nothing was measured"}]
+                           "features": 0, "reason": "nothing was measured and no grasp failed: nothing to learn"}]
+
+
+def test_learn_saves_a_lesson_with_nothing_sensed_by_its_appearance(services, driver, log) -> None:  # noqa: ANN001
+    # three grasps tried as features failed cleanly, then Top-Vert-Grip held: nothing was
+    # sensed, but the library was wrong three times, and the camera's footprint says
+    # which objects the lesson is about
+    record, step = start_object(services)
+    record.session.appearance = Appearance(True, 8.96, 1.239)
+    record.session.wrong_predictions.extend(["Front-Wrap", "Top-Pinch", "Front-Pinch"])
+    record.finish("grasped", "Top-Vert-Grip", P(6, 0))
+    driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 0.0, 1.0))
+    assert run(Learn(ROBOT), services) == Status.SUCCESS
+    assert services.learner.learned == [ObjectDescription("learned/Top-Vert-Grip", "Top-Vert-Grip", P(6, 0), (),
+                                                          Appearance(True, 8.96, 1.239))]
+    assert record.learned_id == "learned/Top-Vert-Grip#1"
+    assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": "learned/Top-Vert-Grip#1",
+                           "grasp": "Top-Vert-Grip", "features": 0, "wrong": ["Front-Wrap", "Top-Pinch", "Front-Pinch"]}]
+
+
+def test_learn_saves_nothing_without_an_appearance_even_after_a_wrong_grasp(services, driver, log) -> None:  # noqa: ANN001
+    record, step = start_object(services)  # no camera appearance: a description of nothing would match anything
+    record.session.wrong_predictions.append("Front-Wrap")
+    record.finish("grasped", "Front-Pinch", P(6, 0))
+    driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 0.0, 1.0))
+    assert run(Learn(ROBOT), services) == Status.SUCCESS
+    assert services.learner.learned == [] and log.events[0]["id"] is None
 
 
 def test_fake_driver_refuses_unscripted_calls() -> None:

@@ -104,7 +104,7 @@ def test_the_knocked_over_tumbler_is_known_by_its_new_footprint(tmp_path: Path, 
     assert [e for e in events if e["event"] == "side_effect"][1]["pixels"] == 29
     assert sum(e["seconds"] for e in events if e["event"] == "grasp") == 60.0 + 60.0 + 45.0  # and no sensing
     learn = events[-1]
-    assert learn["id"] is None and learn["reason"] == "nothing was measured"
+    assert learn["id"] is None and learn["reason"] == "nothing was measured and no grasp failed: nothing to learn"
     assert len(learner.library().descriptions) == 14  # nothing saved without its appearance
 
 

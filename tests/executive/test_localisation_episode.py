@@ -3,9 +3,9 @@
 execution episodes where the `paper` preset's drift grows past the 6 in procedures'
 range tolerance, the driver refuses procedures for range when the executive trusts its
 dead reckoning, and none when the camera corrects it: all eight objects are then
-handled right, one fewer without when a refusal counts as a failed grasp (the camera
-alone, with re-approaching off). Re-approaching after a refusal rescues that object
-too, but not the refusals: without the camera they go on."""
+handled right, one fewer without. Without the camera a refused procedure is not
+re-approached (the same plan from the same believed pose would end where the robot
+stands): the refusal counts as the verb failing."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
 
-FLOOR_SEED = 20_000  # the experiment's floor of seed 20: drift past 1.5 in after four objects
+FLOOR_SEED = 24_000  # the experiment's floor of seed 24: drift past 1.5 in, one object lost trusting it
 
 
 @cache
@@ -33,15 +33,14 @@ def trained() -> tuple[ObjectDescription, ...]:
     return tuple(run_training(load_profile()).descriptions)
 
 
-def episode(tmp_path: Path, localise: bool, tries: int = 0) -> tuple[list[dict[str, object]], list[bool]]:
-    """The floor's events and, per record, whether its object was handled right
-    (``tries``: ``Params.reapproach_tries``)."""
-    folder = tmp_path / f"{'on' if localise else 'off'}-{tries}"
+def episode(tmp_path: Path, localise: bool) -> tuple[list[dict[str, object]], list[bool]]:
+    """The floor's events and, per record, whether its object was handled right."""
+    folder = tmp_path / ("on" if localise else "off")
     folder.mkdir()
     world = write_floor(folder, "test", FLOOR_SEED)
     hero = SimulatedHero("r1", world=world, seed=FLOOR_SEED, noise=noise_config(EXECUTION_NOISE))
     learner = LocalLearner(folder / "library.sqlite", seed_library=list(trained()))
-    executive = Executive(hero, learner, params=Params(localise=localise, reapproach_tries=tries))
+    executive = Executive(hero, learner, params=Params(localise=localise))
     try:
         result, truths = play_and_judge(hero, executive)
     finally:
@@ -56,17 +55,11 @@ def refused_for_range(events: list[dict[str, object]]) -> int:
 def test_the_camera_keeps_the_robot_within_the_procedures_range(tmp_path: Path) -> None:
     trusting, before = episode(tmp_path, localise=False)
     corrected, after = episode(tmp_path, localise=True)
-    # measured 22 (the robot 4.2-4.5 in from the object where 6 in was meant); the count
+    # measured 9 (the robot more than 1.5 in off the 6 in it meant to stand at); the count
     # moves with the recoveries, which try more or fewer grasps there
-    assert refused_for_range(trusting) >= 10
+    assert refused_for_range(trusting) >= 5
     assert refused_for_range(corrected) == 0
     assert any(e["event"] == "localised" for e in corrected)
     assert sum(after) == len(after) == 8 and sum(before) < 8  # measured: 7 of 8 handled right trusting it
+    assert not any(e["event"] == "reapproach" for e in trusting)  # nothing corrected the pose it would plan from
 
-
-def test_re_approaching_rescues_the_object_but_not_the_refusals(tmp_path: Path) -> None:
-    trusting, handled = episode(tmp_path, localise=False, tries=2)
-    # measured: 21 refusals, 12 re-approaches (10 more moves than with the camera), 8 of 8
-    assert refused_for_range(trusting) >= 10
-    assert sum(e["event"] == "reapproach" for e in trusting) >= 1
-    assert sum(handled) == len(handled) == 8

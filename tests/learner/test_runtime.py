@@ -188,9 +188,11 @@ def test_a_push_keeps_what_is_known_and_a_change_restores_everything() -> None:
     assert s.measurements and s.position == P(30, 10)
     s.grasp_failed("Top-Pinch", side_effects=True)  # pushed again by the same grasp: now it is dropped
     assert set(s.candidates) == {"box", "closed"}
+    assert s.wrong_predictions == ["Front-Wrap"]  # the clean failure only: a push says nothing of the class
     s.grasp_failed("Front-Pinch", side_effects=True, changed=True)  # knocked over: a new object
     assert set(s.candidates) == {"cup", "box", "tumbler", "closed"}
     assert not s.measurements
+    assert s.wrong_predictions == []  # Front-Wrap failed on the object before it fell: no lesson about this one
 
 
 def test_discriminating_test_for_a_wrong_prediction_is_the_cheapest_the_other_class_has() -> None:

@@ -60,9 +60,10 @@ def wait_for_line(stream: object, text: str, timeout_s: float) -> bool:
 
 
 def learned(log: Path) -> list[dict[str, object]]:
-    """The episode log's learn events that sent a description (features measured)."""
+    """The episode log's learn events that sent a description (features measured, or a
+    lesson saved by its appearance: an id either way)."""
     events = [json.loads(line) for line in log.read_text(encoding="utf-8").splitlines()]
-    return [e for e in events if e.get("event") == "learn" and e.get("features")]
+    return [e for e in events if e.get("event") == "learn" and e.get("id") is not None]
 
 
 def test_killing_the_service_during_episodes_loses_and_duplicates_nothing(tmp_path: Path) -> None:

@@ -3,6 +3,7 @@ concurrent robots, on a real SQLite file."""
 
 from __future__ import annotations
 
+import dataclasses
 import sqlite3
 import threading
 from contextlib import closing
@@ -10,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+from learner.appearance import Appearance
 from learner.library import LibraryStore, load_library
 from learner.service import LearnerService, LibrarySnapshot, LocalLearner
 from learner.service.local import VERSION_KEY
@@ -143,6 +145,18 @@ def test_a_description_the_robot_cannot_use_is_refused_and_nothing_is_stored(
         assert learner.library() == LibrarySnapshot(2, (*four_objects(), MUG))
     with LibraryStore(path) as store:
         assert store.descriptions() == [*four_objects(), MUG]
+
+
+def test_a_lesson_known_only_by_its_appearance_is_admitted_and_kept(tmp_path: Path) -> None:
+    # what Learn saves when grasps failed cleanly and the one that held needed no sensing
+    lesson = dataclasses.replace(desc("learned/Top-Vert-Grip", "Top-Vert-Grip", at=P(6, 0)),
+                                 appearance=Appearance(True, 8.96, 1.239))
+    path = tmp_path / "lib.sqlite"
+    with LocalLearner(path, seed_library=four_objects(), knowledge=hero()) as learner:
+        assert learner.learn(lesson) == "learned/Top-Vert-Grip"
+    with LocalLearner(path, knowledge=hero()) as reopened:
+        kept = reopened.library().descriptions[-1]
+    assert kept == lesson and kept.observations == () and kept.appearance == Appearance(True, 8.96, 1.239)
 
 
 def test_without_knowledge_only_the_format_is_checked(tmp_path: Path) -> None:
