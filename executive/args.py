@@ -236,7 +236,7 @@ def add_recording_options(p: argparse.ArgumentParser) -> None:
 def add_learned_grasp_costs_option(p: argparse.ArgumentParser) -> None:
     """Add ``--learned-grasp-costs`` / ``--no-learned-grasp-costs``. On by default: a
     default changes only for a gain beyond twice its standard error, and the study of
-    docs/method.md §5.7 (docs/results.md §9) measured 0.29 ± 0.13 robot min saved per
+    docs/method.md §5.7 (docs/results.md §9) measured 0.48 ± 0.11 robot min saved per
     object after the first episode where the knowledge file's Front-Wrap is 4 x too
     cheap (20 paired chains, 99% grasped right both ways; 1.33 ± 0.20 in its first run), while with the file right
     learning costs nothing beyond noise (-0.02 ± 0.06 min saved, 20 paired chains, 96.4%
@@ -246,5 +246,5 @@ def add_learned_grasp_costs_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--learned-grasp-costs", action=argparse.BooleanOptionalAction, default=True,
                    help="record each object's grasp costs in the library store and price later choices by them, "
                         "the knowledge file's costs the prior (docs/method.md §5.7; default: on, since it saved "
-                        "0.29 ± 0.13 robot min per object where the file was wrong and cost nothing where it was "
+                        "0.48 ± 0.11 robot min per object where the file was wrong and cost nothing where it was "
                         "right; --no-learned-grasp-costs prices grasps by the file alone, as the paper did)")
