@@ -27,6 +27,8 @@ def run_all(jobs: Sequence[J], work: Callable[[J], R], *, workers: int, group: C
             console: Console | None = None) -> dict[J, R]:
     """``work(job)`` for every distinct job, on ``workers`` processes (1: in this process).
 
+    The results come in the jobs' order however the workers finished, so every page and
+    table made from them reads the same from one run to the next.
     ``group`` names a job's study for its progress bar. A job that raises stops the run
     with that error: a broken episode is a bug to see, not a row to average over.
     """
@@ -58,4 +60,4 @@ def run_all(jobs: Sequence[J], work: Callable[[J], R], *, workers: int, group: C
                 for future in pending:
                     future.cancel()
                 raise
-    return results
+    return {job: results[job] for job in unique}  # the jobs' order, not their finishing order
