@@ -4,10 +4,10 @@ A wheeled base's odometry drifts: wheel slip it cannot sense moves the base whil
 pose it reports stays put (docs/simulator.md, "Drift": about 1 in per axis over an
 episode under the ``paper`` preset). The 6 in procedures accept the object within
 1.5 in of their range, so a drift of that size makes the driver refuse every procedure
-at a test position the executive believes it stands at (a refused procedure is then
-re-approached, :meth:`behaviours.base.DriverAction.refused_out_of_range`, but planned
-from the believed pose the refusals go on). The overhead camera sees where the robot
-really is; that is the correction.
+at a test position the executive believes it stands at (a refused procedure is
+re-approached only once a look has corrected that belief,
+:meth:`behaviours.base.DriverAction.refused_out_of_range`). The overhead camera sees
+where the robot really is; that is the correction.
 
 The executive drives its driver through :class:`CameraLocalised`, which keeps an
 *offset*, the camera's robot position less the driver's reported one. Every pose the
