@@ -42,7 +42,6 @@ from behaviours.services import Params
 from executive.executive import Executive
 from executive.experiment.conditions import noise_config
 from executive.experiment.episodes import play_and_judge
-from executive.experiment.study_training import run_training
 from hero_driver.sim_driver import SimulatedHero
 from learner.appearance import Appearance
 from learner.criteria import DEFAULT_CRITERION, criterion
@@ -50,6 +49,7 @@ from learner.service.local import LocalLearner
 from planner import Region
 from robot_profile.reader import load_profile
 from tests.behaviours.conftest import ROBOT, P, image, make_services, region, run, start_object
+from tests.executive.floors import trained
 
 FLOOR = {"name": "one upright tumbler", "room": {"width_in": 120, "depth_in": 120}, "furniture": [],
          "robot": {"x_in": 60.0, "y_in": 30.0, "heading_deg": 90.0},
@@ -86,8 +86,7 @@ def _what(events: list[dict[str, object]]) -> list[tuple[object, ...]]:
 
 @pytest.fixture
 def learner(tmp_path: Path):  # noqa: ANN201
-    trained = run_training(load_profile())
-    service = LocalLearner(tmp_path / "library.sqlite", seed_library=list(trained.descriptions))
+    service = LocalLearner(tmp_path / "library.sqlite", seed_library=list(trained()))
     yield service
     service.close()
 
