@@ -53,7 +53,7 @@ class PlannerMoveCost:
     another region of the latest image (``BeamClear?``'s own test, behaviours/clutter.py),
     or to sense a cluster at all, is priced ``inf``: the learner never picks such a test,
     instead of picking it and having ``BeamClear?`` refuse it. ``same_within_in`` is
-    ``Params.pushed_in``: a region that near the object's centroid is the object itself.
+    :data:`~behaviours.sameness.PUSHED_IN`: a region that near the object's centroid is the object itself.
 
     A learner position names where the sonar stands, not which way the robot faces, so
     the pose made from it faces the object. Where the robot really stands (the start of

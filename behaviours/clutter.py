@@ -31,6 +31,7 @@ from py_trees.common import Access, Status
 
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
+from behaviours.sameness import PUSHED_IN
 from hero_driver.interface import CameraImage
 from planner import Region
 from planner.merging import within_push
@@ -73,8 +74,8 @@ class BeamClear(CslBehaviour):
 
     def others(self) -> list[Region]:
         """Every region of the latest image but the object's own (the one within
-        ``Params.pushed_in`` of its centroid: the same object seen anew)."""
-        return neighbours(self.obj.region, self.services.navigator.scene.regions, self.services.params.pushed_in)
+        :data:`~behaviours.sameness.PUSHED_IN` of its centroid: the same object seen anew)."""
+        return neighbours(self.obj.region, self.services.navigator.scene.regions, PUSHED_IN)
 
 
 class LookForTheRest(DriverAction):
@@ -105,7 +106,7 @@ class LookForTheRest(DriverAction):
     def finish(self, result: CameraImage) -> Status:
         scene = self.look(result)
         queued = list(self.bb.objects)
-        near = self.services.params.pushed_in
+        near = PUSHED_IN
         rest = [r for r in scene.regions if within_push(self.obj.region, r.centroid)
                 and not any(math.dist(r.centroid, q.centroid) <= near for q in queued)]
         self.bb.objects = rest + queued

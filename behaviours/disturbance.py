@@ -3,15 +3,16 @@
 The paper's CSL "assumes that objects are ... stationary" and "can not handle ... the
 disappearance of an object during sensing" (docs/method.md). Here, right before each
 sensing verb and each grasp, the overhead camera (cheap: one image) checks that the
-object is still where the session believes: a region within ``Params.pushed_in`` of
-the expected centroid whose pixel count is within ``Params.changed_ratio`` of the
+object is still where the session believes: a region within
+:data:`~behaviours.sameness.PUSHED_IN` of
+the expected centroid whose pixel count is within :data:`~behaviours.sameness.CHANGED_RATIO` of the
 expected one. Right before the verb, not before the move to its position, because a
 measurement is only worth keeping if the object was in place when it was taken: the
 move there may be the moment someone walks by.
 
 ``Disturbed?`` succeeds when the check fails, and one of three recoveries acts:
 
-- **moved** (``Relocate``): a region of about the same size within ``Params.search_in``
+- **moved** (``Relocate``): a region of about the same size within :data:`~behaviours.sameness.SEARCH_IN`
   of where the object was is the same object, moved. Its region is replaced, moves are
   priced and planned around the new pose, and the session is told where the robot now
   stands relative to it. Every value measured stays: readings are relative to the
@@ -41,6 +42,7 @@ from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
+from behaviours.sameness import CHANGED_RATIO, PUSHED_IN, SEARCH_IN
 from hero_driver.interface import CameraImage
 from planner import Region
 from planner.merging import within_push
@@ -141,8 +143,8 @@ class Disturbed(DriverAction):
         scene = self.look(result)
         others = [r.centroid for r in self.bb.objects] + [
             r.region.centroid for r in self.bb.results if r is not obj and r.outcome not in ("grasped", GONE)]
-        finding = judge(obj.region, obj.pixels_before, list(scene.regions), others, in_place_in=params.pushed_in,
-                        search_in=params.search_in, changed_ratio=params.changed_ratio)
+        finding = judge(obj.region, obj.pixels_before, list(scene.regions), others, in_place_in=PUSHED_IN,
+                        search_in=SEARCH_IN, changed_ratio=CHANGED_RATIO)
         self.bb.set(FINDING, finding)
         if finding is None:
             self.feedback_message = "in place"

@@ -19,6 +19,7 @@ from behaviours.base import CslBehaviour, receive_services
 from behaviours.bridge import PlannerMoveCost
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
+from behaviours.sameness import PUSHED_IN
 from behaviours.services import Services, namespace
 from learner.position import Position
 from learner.runtime import RecognitionSession
@@ -72,7 +73,7 @@ class StartObject(CslBehaviour):
         services = self.services
         began = services.clock()
         estimator = PlannerMoveCost(services.navigator, region, beam_check=services.params.beam_check,
-                                    same_within_in=services.params.pushed_in)
+                                    same_within_in=PUSHED_IN)
         start = estimator.stand_at(self.robot_pose())
         session = open_session(services, region, estimator, start, len(self.bb.results))
         appearance, use_appearance = session.appearance, services.params.use_appearance

@@ -25,6 +25,7 @@ from behaviours.bridge import other_end, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
+from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
 from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.matrix import Test
@@ -197,9 +198,9 @@ class CheckSideEffects(DriverAction):
         new = min(near, key=lambda r: math.hypot(r.centroid[0] - old.centroid[0], r.centroid[1] - old.centroid[1]))
         shift = math.hypot(new.centroid[0] - old.centroid[0], new.centroid[1] - old.centroid[1])
         change = abs(new.pixel_count - obj.pixels_before) / max(obj.pixels_before, 1)
-        if change > services.params.changed_ratio:
+        if change > CHANGED_RATIO:
             effect: str | None = "changed"
-        elif shift > services.params.pushed_in:
+        elif shift > PUSHED_IN:
             effect = "pushed"
         else:
             effect = None

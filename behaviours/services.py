@@ -34,23 +34,21 @@ def namespace(robot: str) -> str:
 
 @dataclass(frozen=True)
 class Params:
-    """The control strategies' knobs (docs/method.md §5)."""
+    """The control strategies' knobs (docs/method.md §5): what a run may set. Thresholds
+    no run changes are constants where they are used (:mod:`behaviours.sameness`,
+    :data:`executive.executive.OVERDUE_WAIT_S`)."""
 
     max_alternatives: int = 3  # N: alternatives tried at a node before backtracking
     nearest_after: int | None = None  # unreliable values before nearest neighbour; None: last resort
     max_steps: int = 40  # recognition steps per object before giving up
-    changed_ratio: float = 0.25  # pixel-count change after a failed grasp meaning "changed"
-    pushed_in: float = 1.0  # centroid shift meaning "pushed"
     seed: int = 0  # for choices the criterion leaves to chance; object i draws from seed + i
     use_appearance: bool = True  # rule candidates out by the camera's area and elongation, free (results §7)
     battery_low: float = 0.2  # below this charge the guard sends the robot to its dock; 0: guard off
     price_detours: bool = False  # price the dock detour into moves that would cross battery_low (battery_cost.py)
     wait_driver_s: float = 0.0  # a lost driver: wait this long for one under the same name; 0: stop at once
-    overdue_wait_s: float = 900.0  # after a verb timed out: wait this long for the robot to take verbs again
     check_in_place: bool = True  # a camera look before each sensing and grasp (behaviours.disturbance)
     localise: bool = True  # correct the driver's dead reckoning by the robot in each image (behaviours.localisation)
     beam_check: bool = True  # a test whose sonar beam meets another object is unusable there (behaviours.clutter)
-    search_in: float = 24.0  # how far from its place a moved object is looked for before it counts as gone
     learned_grasp_costs: bool = True  # record each object's grasp costs and price grasps by them (method §5.7)
     blocked_tries: int = 8  # a move a moving obstacle blocked: re-planned or retried this often; 0: branch off
     blocked_wait_s: float = 20.0  # and before a retry, the robot waits this long for the obstacle to pass

@@ -156,7 +156,7 @@ def add_criterion_options(p: argparse.ArgumentParser) -> None:
     """Add ``--criterion`` (each entry's formula and help in the help text) and one
     option per criterion parameter, all from the registry."""
     listing = "; ".join(f"{s.name} = {s.formula} ({s.help})" for s in CRITERIA.values())
-    p.add_argument("--criterion", choices=CRITERIA, default=DEFAULT_CRITERION,
+    p.add_argument("--criterion", choices=CRITERIA, default=DEFAULT_CRITERION, metavar="NAME",
                    help=f"evaluation function of a test's gain I (bits) and cost C (s): {listing}; "
                         f"default {DEFAULT_CRITERION}")
     for spec in CRITERIA.values():
@@ -236,15 +236,11 @@ def add_recording_options(p: argparse.ArgumentParser) -> None:
 def add_learned_grasp_costs_option(p: argparse.ArgumentParser) -> None:
     """Add ``--learned-grasp-costs`` / ``--no-learned-grasp-costs``. On by default: a
     default changes only for a gain beyond twice its standard error, and the study of
-    docs/method.md §5.7 (docs/results.md §9) measured 0.48 ± 0.11 robot min saved per
-    object after the first episode where the knowledge file's Front-Wrap is 4 x too
-    cheap (20 paired chains, 99% grasped right both ways; 1.33 ± 0.20 in its first run), while with the file right
-    learning costs nothing beyond noise (-0.02 ± 0.06 min saved, 20 paired chains, 96.4%
-    against 96.7% grasped right). So a robot prices its grasps by what they cost, the
-    file's prices the prior; ``--no-learned-grasp-costs`` keeps the file's prices for ever
-    (the paper's behaviour)."""
+    docs/method.md §5.7 measures one where the knowledge file's grasp prices are wrong
+    and none lost where they are right (docs/results.md has the figures). So a robot
+    prices its grasps by what they cost, the file's prices the prior;
+    ``--no-learned-grasp-costs`` keeps the file's prices for ever (the paper's behaviour)."""
     p.add_argument("--learned-grasp-costs", action=argparse.BooleanOptionalAction, default=True,
                    help="record each object's grasp costs in the library store and price later choices by them, "
-                        "the knowledge file's costs the prior (docs/method.md §5.7; default: on, since it saved "
-                        "0.48 ± 0.11 robot min per object where the file was wrong and cost nothing where it was "
-                        "right; --no-learned-grasp-costs prices grasps by the file alone, as the paper did)")
+                        "the knowledge file's costs the prior (docs/method.md §5.7; default: on, for what it saved in "
+                        "docs/results.md; --no-learned-grasp-costs prices grasps by the file alone, as the paper did)")

@@ -31,6 +31,12 @@ from planner.calibration import MarkerBoard
 from planner.segmentation import Camera
 from robot_profile import ProfileStamp, RobotProfile, load_profile
 
+OVERDUE_WAIT_S = 900.0
+"""After a verb went unanswered, how long the executive waits for the robot to take
+verbs again (:mod:`behaviours.overdue`): longer than a move's, sensing's or grasp's
+bound on the driver's side (docs/driver-protocol.md, "Bounds"), so the robot finishing
+what it was told never fails the next object."""
+
 
 @dataclass
 class EpisodeResult:
@@ -64,7 +70,7 @@ class Executive:
         # the overhead camera's, the driver's dead reckoning corrected (behaviours.localisation)
         localised = CameraLocalised(driver) if params.localise else driver
         self.services = Services(
-            driver=OverdueRobot(localised, params.overdue_wait_s),
+            driver=OverdueRobot(localised, OVERDUE_WAIT_S),
             navigator=navigator_for(profile.robot, localised, knowledge, params, camera=camera, board=board),
             learner=learner,
             knowledge=knowledge,

@@ -35,13 +35,13 @@ def disturb_preset(text: str) -> object:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--disturb: ")) from None
 
 
-def add_disturb_option(p: argparse.ArgumentParser, when: str) -> None:
+def add_disturb_option(p: argparse.ArgumentParser) -> None:
     """``--disturb`` on the simulator's commands (``driver sim``; ``demo`` and ``run
-    --driver sim``, whose simulator runs in-process); ``when`` says when it applies."""
+    --driver sim``, whose simulator runs in-process)."""
     p.add_argument("--disturb", type=disturb_preset, default=None, metavar="KIND:P[,KIND:P]",
                    help="someone disturbs objects while the robot senses them: each object, when first "
                         "sensed, is nudged, removed or replaced with probability P (e.g. nudge:0.2; "
-                        f"docs/simulator.md, Disturbances; {when}default: only the world file's events)")
+                        "docs/simulator.md, Disturbances; default: only the world file's events)")
 
 
 def movers_preset(text: str) -> object:
@@ -55,14 +55,14 @@ def movers_preset(text: str) -> object:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--movers: ")) from None
 
 
-def add_movers_option(p: argparse.ArgumentParser, when: str) -> None:
+def add_movers_option(p: argparse.ArgumentParser) -> None:
     """``--movers`` on the simulator's commands (``driver sim``; ``demo`` and ``run
     --driver sim``, whose simulator runs in-process): people and carts crossing the
-    floor; ``when`` says when it applies."""
+    floor."""
     p.add_argument("--movers", type=movers_preset, default=None, metavar="N[:SPEED]",
                    help="N people and carts cross the room on lines drawn from the seed, at SPEED in/s "
                         "(default 12); moves stop short of them (the blocked_moves feature; docs/simulator.md, "
-                        f"Moving obstacles; {when}default: only the world file's movers)")
+                        "Moving obstacles; default: only the world file's movers)")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -105,8 +105,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple)")
-    add_disturb_option(sim, "")
-    add_movers_option(sim, "")
+    add_disturb_option(sim)
+    add_movers_option(sim)
     sim.add_argument("--profile", default=None, metavar="FILE",
                      help="robot profile TOML of the robot to simulate; its name and fingerprint are "
                           "sent in the hello reply so 'csl run' refuses another robot's profile "

@@ -189,9 +189,9 @@ def _regions(image: OverheadImage, objects: np.ndarray,
 
     A blob is 4-connected: pixels meeting only at a corner are apart. The fish-eye
     camera's undistortion resamples to the nearest pixel and so can repeat a pixel
-    that bridges a one-pixel gap diagonally; over 40 test floors of the `paper` preset
-    cluttered 1 in apart, 10 of 320 regions were two objects joined so with 8-connected
-    blobs, 4 with 4-connected ones, and no lone object of 400 falls apart either way."""
+    that bridges a one-pixel gap diagonally, joining two objects cluttered 1 in apart far
+    more often with 8-connected blobs than with 4-connected ones, while a lone object
+    falls apart with neither (BENCHMARKS.md, "Clutter")."""
     on = np.asarray(objects, dtype=bool)
     count, labels, stats, _ = cv2.connectedComponentsWithStats(on.astype(np.uint8), connectivity=4)
     kept = np.zeros(on.shape, dtype=bool)

@@ -75,7 +75,6 @@ def _setup(args: argparse.Namespace) -> Setup:
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=args.seed or 0,
                         use_appearance=args.appearance, battery_low=args.battery_low,
-                        price_detours=args.price_detours,
                         wait_driver_s=getattr(args, "wait_driver", 0.0),  # csl run only
                         learned_grasp_costs=args.learned_grasp_costs),
                  criterion_from_args(args), *_camera(args))
@@ -152,13 +151,6 @@ def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Name
                          "(another camera, or the simulator without --camera realistic)")
 
 
-def _only_with(args: argparse.Namespace, mode: str, value: str, options: tuple[str, ...]) -> None:
-    """An option for the other mode is a mistake worth a line, not something to ignore."""
-    for option in options:
-        if getattr(args, option.lstrip("-").replace("-", "_")) is not None:
-            raise ValueError(f"{option} goes with {mode} {value}")
-
-
 def run_demo(args: argparse.Namespace) -> int:
     console = Console(stderr=True, soft_wrap=True)
     setup = _setup(args)
@@ -181,19 +173,10 @@ def run_demo(args: argparse.Namespace) -> int:
 
 
 def run_run(args: argparse.Namespace) -> int:
+    """``csl run``; its options out of their mode were refused before it (commands/modes.py)."""
     console = Console(stderr=True, soft_wrap=True)
     setup = _setup(args)
-    if args.driver == "sim":  # the simulator-only options with --driver zenoh: refused first (sim_only.py)
-        _only_with(args, "--driver", "zenoh", ("--connect",))
     timeouts = _verb_timeouts(args)  # a bad verb name fails before anything connects
-    if args.wait_driver > 0 and args.driver != "zenoh":
-        raise ValueError("--wait-driver goes with --driver zenoh (the in-process simulator cannot be lost)")
-    if args.learner == "local":
-        _only_with(args, "--learner", "zenoh", ("--learner-name", "--learner-connect", "--outbox"))
-    else:
-        _only_with(args, "--learner", "local", ("--library",))
-    if args.driver == "sim" and args.learner == "local":
-        _only_with(args, "--driver or --learner", "zenoh", ("--zenoh-config",))
     zenoh_config = user_config(args.zenoh_config) if "zenoh" in (args.driver, args.learner) else None
     output_folder(args.out, "--out")
     learner = _learner(args, zenoh_config, setup)
@@ -269,8 +252,6 @@ def _verb_timeouts(args: argparse.Namespace) -> VerbTimeouts | None:
     given = args.verb_timeout
     if not given:
         return None
-    if args.driver != "zenoh":
-        raise ValueError("--verb-timeout goes with --driver zenoh")
     from hero_driver.zenoh_link.client import VerbTimeouts
 
     try:

@@ -54,8 +54,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                  description="Write the whole library as library JSON (docs/library-format.md).")
     exp.add_argument("file", type=Path, help="output JSON file")
     exp.add_argument("--columnar", action="store_true",
-                     help=("write the columnar layout (version 3) for big libraries: it loads about 15x "
-                           "faster and is about 18x smaller; the default is the readable version 2"))
+                     help=("write the columnar layout (version 3) for big libraries: faster to load and smaller "
+                           "(BENCHMARKS.md, 'Loading a library'); the default is the readable version 2"))
     exp.set_defaults(handler=run_export)
     stats = action("stats", help="counts by grasp, feature and position",
                    description="Summarise the library: descriptions per grasp, features per position.")

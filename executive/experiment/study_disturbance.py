@@ -7,10 +7,9 @@ preset at rate r: every object, when first sensed, is nudged with probability r/
 swapped for another object with r/4 and taken away with r/4 (docs/simulator.md,
 "Disturbances"). The same floors and seeds run with the check on and off, the
 camera's appearance off: with it most objects are grasped without the sonar ever
-measuring them (0.6 tests per test object, docs/results.md), so a disturbance, which
-happens at an object's first sensing, would come to few of them and the sweep would
-hardly exercise the check (at rate 0.8, 1 of 48 objects taken away, where about 10 would
-be were every object sensed).
+measuring them (tests per object: docs/results.md), so a disturbance, which happens at
+an object's first sensing, would come to few of them and the sweep would hardly
+exercise the check (BENCHMARKS.md, "Disturbances").
 
 Measured per rate and setting: the success rate over the objects still on the floor
 at the end (a removed object cannot be retrieved by anyone; with the check off the

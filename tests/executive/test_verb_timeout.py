@@ -58,7 +58,6 @@ def run_args(*argv: str, timeouts: list[tuple[str, float]] | None) -> argparse.N
 @pytest.mark.parametrize(("argv", "timeouts", "says"), [
     (("--driver", "zenoh"), [("fly", 1.0)], "--verb-timeout: 'fly' is not a verb"),
     (("--driver", "zenoh"), [("sense", 1.0), ("sense", 2.0)], "--verb-timeout: sense is given twice"),
-    ((), [("sense", 1.0)], "--verb-timeout goes with --driver zenoh"),
 ])
 def test_bad_verbs_are_refused_before_anything_connects(argv: tuple[str, ...], timeouts: list[tuple[str, float]],
                                                         says: str) -> None:

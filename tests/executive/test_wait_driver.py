@@ -18,7 +18,6 @@ from pathlib import Path
 import pytest
 
 from executive.cli import build_parser
-from executive.commands.episode import run_run
 from executive.exit_status import ALL_HANDLED, BAD_INPUT, LOST
 from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
 from tests.zenoh_rpc.support import free_endpoint, wait_until
@@ -109,7 +108,7 @@ def run_args(*argv: str) -> object:
 def test_the_flag_goes_with_a_driver_that_can_be_lost(tmp_path: Path) -> None:
     args = run_args("--wait-driver", "5", "--out", str(tmp_path / "out"))
     with pytest.raises(ValueError, match=r"^--wait-driver goes with --driver zenoh"):
-        run_run(args)  # type: ignore[arg-type]
+        args.handler(args)  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize("text", ["-1", "nan", "inf", "soon"])
