@@ -5,6 +5,8 @@ One module, one idea:
 
 - :mod:`~executive.experiment.figures`: the paper's numbers we compare against;
 - :mod:`~executive.experiment.worlds`: floors with objects at random poses;
+- :mod:`~executive.experiment.floor`: one floor played to its end in the simulator,
+  with the ground truth before and after (what every study's job does);
 - :mod:`~executive.experiment.episodes`: one episode (or a chain of them) in a worker
   process, and the per-object rows it yields;
 - :mod:`~executive.experiment.runner`: independent jobs in parallel processes, with

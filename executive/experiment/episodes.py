@@ -15,8 +15,9 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
-from executive.executive import EpisodeResult, Executive
+from executive.executive import Executive
 from executive.experiment.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
+from executive.experiment.floor import play
 from executive.experiment.table import mean
 from executive.experiment.worlds import write_floor
 from executive.exit_status import HANDLED_OUTCOMES
@@ -148,18 +149,6 @@ def run_job(spec: EpisodeSpec) -> list[EpisodeRow]:
 
 
 
-def play_and_judge(hero: SimulatedHero, executive: Executive) -> tuple[EpisodeResult, list[Truth]]:
-    """Run the executive on the simulated floor to its end, close both, and give every
-    object's truth: named by what the object was, judged by what it is now (a tumbler
-    knocked over and grasped as a lying one was handled right)."""
-    start = hero.truth()
-    try:
-        result = executive.run()
-    finally:
-        executive.shutdown()
-    now = hero.truth()
-    hero.close()
-    return result, [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
 
 def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: LocalLearner,
              folder: Path) -> list[EpisodeRow]:
@@ -171,7 +160,8 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
     size = len(learner.library().descriptions)
     executive = Executive(hero, learner, profile=profile, params=spec.control.params(),
                           criterion=criterion(spec.criterion))
-    result, truths = play_and_judge(hero, executive)
+    played = play(hero, executive)
+    result, truths = played.result, played.truths()
     stats = _object_stats(executive.log.events)
 
     def row(name: str, outcome: str, grasp: str, success: bool, robot: tuple[float, float, float],

@@ -27,21 +27,15 @@ Run: ``csl experiment battery [--quick] [--seeds N] [--jobs J]``.
 from __future__ import annotations
 
 import json
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from behaviours.services import Params
-from executive.executive import Executive
 from executive.experiment import situation
-from executive.experiment.situation import installed
-from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.floor import play_floor
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 from executive.experiment.worlds import random_floor
-from executive.report import Truth, rows
-from hero_driver.sim_driver import SimulatedHero
-from learner.service.local import LocalLearner
 
 TITLE = "Low battery: success and cost vs the start level and the drain rate, guard and detour pricing on and off"
 THRESHOLD = Params().battery_low
@@ -106,28 +100,14 @@ class ObjectRow:
 
 def run_job(job: BatteryJob) -> list[ObjectRow]:
     """Run one floor here (in a worker process) and report it object by object."""
-    library, profile = installed()
-    with tempfile.TemporaryDirectory(prefix="csl-battery-") as tmp:
-        folder = Path(tmp)
-        world = write_docked_floor(folder, job.seed, job.level, job.drain)
-        hero = SimulatedHero("experiment", world=world, seed=job.seed,
-                             profile=profile, noise=noise_config(EXECUTION_NOISE))
-        learner = LocalLearner(folder / "library.sqlite", seed_library=list(library))
-        executive = Executive(hero, learner, profile=profile, params=params_for(job.setting))
-        start = hero.truth()
-        try:
-            result = executive.run()
-        finally:
-            executive.shutdown()
-            learner.close()
-        hero.close()
-    events = executive.log.events
+    played = play_floor(lambda folder: write_docked_floor(folder, job.seed, job.level, job.drain), job.seed,
+                        params_for(job.setting))
+    events = played.events
     charges = [e.get("object") for e in events if e["event"] == "charge"]
     flat = {e.get("object") for e in events if e["event"] == "driver_error" and e.get("code") == "battery_empty"}
     cut_short = learned_after_flat(events)
-    truths = [Truth(s.entry_id, tuple(g.procedure for g in s.grasps), s.x_in, s.y_in) for s in start]
     out = []
-    for record, row in zip(result.objects, rows(result.objects, truths)):
+    for record, row in played.rows(judged_now=False):
         n = charges.count(record.index)
         out.append(ObjectRow(job.level, job.setting, job.seed, row.object, row.outcome, bool(row.correct),
                              round(row.robot_s, 1), n, n > 0 and row.outcome != "failed",

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import json
 import math
-import tempfile
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass, field
@@ -31,18 +30,14 @@ from typing import Any
 from py_trees.blackboard import Blackboard
 
 from behaviours.services import Params, namespace
-from executive.executive import Executive
 from executive.experiment import situation
-from executive.experiment.situation import installed
-from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.floor import play_floor
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 from executive.experiment.worlds import random_floor
-from executive.report import Truth, rows
 from hero_driver.interface import SenseResult
 from hero_driver.sim.clutter import Clutter, cluttered, contaminated
 from hero_driver.sim.world import profile_and_catalogue
 from hero_driver.sim_driver import SimulatedHero
-from learner.service.local import LocalLearner
 
 TITLE = "Clutter: success, cost and contaminated readings vs the neighbour's gap, beam check on and off"
 APART = math.inf  # the uncluttered floor
@@ -111,29 +106,21 @@ def floor(folder: Path, gap: float, seed: int) -> Path:
 
 def run_job(job: ClutterJob) -> list[ObjectRow]:
     """Run one floor here (in a worker process) and report it object by object."""
-    library, profile = installed()
-    with tempfile.TemporaryDirectory(prefix="csl-clutter-") as tmp:
-        folder = Path(tmp)
-        hero = SimulatedHero("experiment", world=floor(folder, job.gap, job.seed), seed=job.seed, profile=profile,
-                             noise=noise_config(EXECUTION_NOISE))
-        watched = WatchedHero(hero)
-        learner = LocalLearner(folder / "library.sqlite", seed_library=list(library))
-        executive = Executive(watched, learner, profile=profile,  # type: ignore[arg-type]
-                              params=Params(beam_check=job.check))
-        start = hero.truth()
-        try:
-            result = executive.run()
-            blocked = [e["object"] for e in executive.log.events if e["event"] == "beam_blocked"]
-        finally:
-            executive.shutdown()
-            learner.close()
-        hero.close()
-    truths = [Truth(s.entry_id, tuple(g.procedure for g in s.grasps), s.x_in, s.y_in) for s in start]
+    watched: list[WatchedHero] = []
+
+    def watch(hero: SimulatedHero) -> WatchedHero:
+        watched.append(WatchedHero(hero))
+        return watched[0]
+
+    played = play_floor(lambda folder: floor(folder, job.gap, job.seed), job.seed, Params(beam_check=job.check),
+                        watch=watch)  # type: ignore[arg-type]
+    blocked = [e["object"] for e in played.events if e["event"] == "beam_blocked"]
+    start = played.start
     out = []
-    for record, row in zip(result.objects, rows(result.objects, truths)):
+    for record, row in played.rows(judged_now=False):
         seen = (record.first_region or record.region).centroid
         index = min(start, key=lambda t: math.hypot(t.x_in - seen[0], t.y_in - seen[1])).index
-        taken = watched.readings.get(index, [])
+        taken = watched[0].readings.get(index, [])
         out.append(ObjectRow(job.gap, job.check, job.seed, row.object, row.outcome, bool(row.correct),
                              round(row.robot_s, 1), len(taken), sum(taken), blocked.count(record.index)))
     return out

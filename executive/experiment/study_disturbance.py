@@ -22,23 +22,16 @@ Run: ``csl experiment disturbance [--quick] [--seeds N] [--jobs J]``.
 
 from __future__ import annotations
 
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from behaviours.services import Params
-from executive.executive import Executive
 from executive.experiment import situation
-from executive.experiment.situation import installed
-from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.floor import play_floor
 from executive.experiment.disturbed import saved_from_disturbed, sim_index
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 from executive.experiment.worlds import write_floor
-from executive.report import Truth, rows
 from hero_driver.sim.events import DisturbPreset
-from hero_driver.sim_driver import SimulatedHero
-from learner.service.local import LocalLearner
 
 TITLE = "Disturbances: success and cost vs the disturbance rate, camera check on and off"
 QUICK_RATES = (0.0, 0.3, 0.6)
@@ -80,28 +73,14 @@ class ObjectRow:
 
 def run_job(job: DisturbanceJob) -> list[ObjectRow]:
     """Run one floor here (in a worker process) and report it object by object."""
-    library, profile = installed()
-    with tempfile.TemporaryDirectory(prefix="csl-disturbance-") as tmp:
-        folder = Path(tmp)
-        world = write_floor(folder, "test", job.seed)
-        hero = SimulatedHero("experiment", world=world, seed=job.seed, profile=profile,
-                             noise=noise_config(EXECUTION_NOISE), disturb=preset(job.rate))
-        learner = LocalLearner(folder / "library.sqlite", seed_library=list(library))
-        executive = Executive(hero, learner, profile=profile, params=Params(check_in_place=job.check, use_appearance=False))
-        start = hero.truth()
-        try:
-            result = executive.run()
-        finally:
-            executive.shutdown()
-            learner.close()
-        now, happened = hero.truth(), hero.disturbances()
-        hero.close()
-    truths = [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
+    played = play_floor(lambda folder: write_floor(folder, "test", job.seed), job.seed,
+                        Params(check_in_place=job.check, use_appearance=False), disturb=preset(job.rate))
+    start, happened = played.start, played.disturbances
     removed = {h.object for h in happened if h.do == "remove"}
     disturbed = {h.object for h in happened}
-    saved = {r.index for r in result.objects if saved_from_disturbed([r], executive.log.events, happened, start)}
+    saved = {r.index for r in played.result.objects if saved_from_disturbed([r], played.events, happened, start)}
     out = []
-    for record, row in zip(result.objects, rows(result.objects, truths)):
+    for record, row in played.rows():
         index = sim_index(record, start)
         out.append(ObjectRow(job.rate, job.check, job.seed, row.object, row.outcome, bool(row.correct),
                              index in removed, index in disturbed, round(row.robot_s, 1), record.index in saved))

@@ -25,10 +25,10 @@ from executive import defaults
 from executive.executive import Executive
 from executive.experiment.conditions import EXECUTION_NOISE, noise_config
 from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import installed_profile, play_and_judge
+from executive.experiment.episodes import installed_profile
+from executive.experiment.floor import play
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 from executive.experiment.worlds import write_floor
-from executive.report import rows
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import load_library
 from learner.service.local import LocalLearner
@@ -82,12 +82,11 @@ class GraspCostJob:
         # the executive records each object's attempts and prices grasps by them, as csl run does
         executive = Executive(hero, learner, profile=installed_profile(),
                               params=Params(learned_grasp_costs=self.learned))
-        result, truths = play_and_judge(hero, executive)
-        failed = [e.get("object") for e in executive.log.events
-                  if e.get("event") == "grasp_feature_failed"]
+        played = play(hero, executive)
+        failed = [e.get("object") for e in played.events if e.get("event") == "grasp_feature_failed"]
         return [GraspCostRow(self.learned, self.seed, episode, r.object, bool(r.correct), r.robot_s,
                              failed.count(record.index))
-                for record, r in zip(result.objects, rows(result.objects, truths))]
+                for record, r in played.rows()]
 
 
 def slowed(profile: RobotProfile, grasp: str, factor: float) -> RobotProfile:

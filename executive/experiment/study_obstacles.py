@@ -23,22 +23,15 @@ Run: ``csl experiment obstacles [--quick] [--seeds N] [--jobs J]``.
 
 from __future__ import annotations
 
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from behaviours.services import Params
-from executive.executive import Executive
 from executive.experiment import situation
-from executive.experiment.situation import installed
-from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from executive.experiment.floor import play_floor
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
 from executive.experiment.worlds import write_floor
-from executive.report import Truth, rows
 from hero_driver.sim.movers import MoverPreset
-from hero_driver.sim_driver import SimulatedHero
-from learner.service.local import LocalLearner
 
 TITLE = "Moving obstacles: success, cost and contacts vs movers, safety stop and branch on and off"
 QUICK_SWEEP = ((0, 12.0), (3, 12.0))
@@ -71,28 +64,12 @@ class Floor:
 
 def run_job(job: ObstaclesJob) -> Floor:
     """Run one floor here (in a worker process)."""
-    library, profile = installed()
-    with tempfile.TemporaryDirectory(prefix="csl-obstacles-") as tmp:
-        folder = Path(tmp)
-        world = write_floor(folder, "test", job.seed)
-        hero = SimulatedHero("experiment", world=world, seed=job.seed, profile=profile,
-                             noise=noise_config(EXECUTION_NOISE), movers=MoverPreset(job.movers, job.speed),
-                             stop_for_movers=job.on)
-        learner = LocalLearner(folder / "library.sqlite", seed_library=list(library))
-        params = Params() if job.on else Params(blocked_tries=0)
-        executive = Executive(hero, learner, profile=profile, params=params)
-        start = hero.truth()
-        try:
-            result = executive.run()
-        finally:
-            executive.shutdown()
-            learner.close()
-        now, contacts = hero.truth(), hero.contacts
-        hero.close()
-    truths = [Truth(s.entry_id, tuple(g.procedure for g in n.grasps), s.x_in, s.y_in) for s, n in zip(start, now)]
-    found = rows(result.objects, truths)
-    events = executive.log.events
-    return Floor(tuple(bool(r.correct) for r in found), tuple(round(r.robot_s, 1) for r in found), contacts,
+    played = play_floor(lambda folder: write_floor(folder, "test", job.seed), job.seed,
+                        Params() if job.on else Params(blocked_tries=0),
+                        movers=MoverPreset(job.movers, job.speed), stop_for_movers=job.on)
+    found = [row for _, row in played.rows()]
+    events = played.events
+    return Floor(tuple(bool(r.correct) for r in found), tuple(round(r.robot_s, 1) for r in found), played.contacts,
                  sum(1 for e in events if e["event"] == "move" and "blocked" in e),
                  sum(1 for e in events if e["event"] == "gave_up" and e.get("behaviour") == "Blocked?"))
 

@@ -9,10 +9,9 @@ from pathlib import Path
 
 from behaviours.services import Params
 from executive.executive import Executive
-from executive.experiment.episodes import play_and_judge
+from executive.experiment.floor import play
 from executive.experiment.study_training import run_training
 from executive.experiment.worlds import write_floor
-from executive.report import rows
 from hero_driver.interface import OUT_OF_RANGE
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
@@ -37,11 +36,8 @@ def play_floor(folder: Path, floor_seed: int, noise: NoiseConfig,
     hero = SimulatedHero("r1", world=world, seed=floor_seed, noise=noise)
     learner = LocalLearner(folder / "library.sqlite", seed_library=list(trained()))
     executive = Executive(hero, learner, params=params)
-    try:
-        result, truths = play_and_judge(hero, executive)
-    finally:
-        learner.close()
-    return list(executive.log.events), [bool(r.correct) for r in rows(result.objects, truths)]
+    played = play(hero, executive, closing=(learner,))
+    return list(played.events), [bool(r.correct) for _, r in played.rows()]
 
 
 def refused_for_range(events: list[dict[str, object]]) -> list[int]:

@@ -21,7 +21,7 @@ from pathlib import Path
 from behaviours.services import Params
 from executive.executive import Executive
 from executive.experiment.conditions import noise_config
-from executive.experiment.episodes import play_and_judge
+from executive.experiment.floor import play
 from hero_driver.sim_driver import SimulatedHero
 from learner.appearance import Appearance
 from learner.criteria import DEFAULT_CRITERION, criterion
@@ -49,7 +49,7 @@ def _encounter(tmp_path: Path, learner: LocalLearner, episode: int) -> list[tupl
     hero = SimulatedHero("appearance", world=world, seed=episode, profile=profile, noise=noise_config("off"))
     executive = Executive(hero, learner, profile=profile, params=Params(use_appearance=True),
                           criterion=criterion(DEFAULT_CRITERION))
-    play_and_judge(hero, executive)
+    play(hero, executive)
     return [(e["event"], e.get("grasp") or e.get("procedure") or e.get("to") or e.get("test"))
             for e in executive.log.events if e["event"] in KEPT]
 

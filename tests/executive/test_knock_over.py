@@ -41,7 +41,7 @@ from behaviours.recovery import CheckSideEffects, StartOver
 from behaviours.services import Params
 from executive.executive import Executive
 from executive.experiment.conditions import noise_config
-from executive.experiment.episodes import play_and_judge
+from executive.experiment.floor import play
 from hero_driver.sim_driver import SimulatedHero
 from learner.appearance import Appearance
 from learner.criteria import DEFAULT_CRITERION, criterion
@@ -63,7 +63,7 @@ def _encounter(tmp_path: Path, learner: LocalLearner, seed: int) -> list[dict[st
     profile = load_profile()
     hero = SimulatedHero("knock-over", world=world, seed=seed, profile=profile, noise=noise_config("off"))
     executive = Executive(hero, learner, profile=profile, params=Params(), criterion=criterion(DEFAULT_CRITERION))
-    play_and_judge(hero, executive)
+    play(hero, executive)
     return [e for e in executive.log.events if e["event"] in KEPT]
 
 

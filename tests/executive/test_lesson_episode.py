@@ -27,20 +27,21 @@ def chain() -> Iterator[tuple[list[EpisodeRow], list[list[dict[str, object]]]]]:
     """The chain's rows and, per floor, its learn events tagged with the true object."""
     install_worker({"trained": trained()}, load_profile())
     learns: list[list[dict[str, object]]] = []
-    play = episodes.play_and_judge
+    play = episodes.play
 
     def watched(hero, executive):  # noqa: ANN001, ANN202
-        result, truths = play(hero, executive)
-        names = {r.index: getattr(match_truth(r, truths), "name", None) for r in result.objects}
+        played = play(hero, executive)
+        truths = played.truths()
+        names = {r.index: getattr(match_truth(r, truths), "name", None) for r in played.result.objects}
         learns.append([{**e, "truth": names.get(e.get("object"))}
-                       for e in executive.log.events if e["event"] == "learn"])
-        return result, truths
+                       for e in played.events if e["event"] == "learn"])
+        return played
 
-    episodes.play_and_judge = watched
+    episodes.play = watched
     try:
         rows = episodes.run_job(EpisodeSpec("incremental", "chain", 3, noise="off", episodes=6))
     finally:
-        episodes.play_and_judge = play
+        episodes.play = play
     yield rows, learns
 
 
