@@ -65,15 +65,19 @@ def _json_safe(value: object) -> object:
     return value
 
 
+class IsRecording(ValueError):
+    """The file is a ``--record`` MCAP recording, not an ``episode.jsonl``: the recording
+    package reads it (:func:`executive.recording.reader.read_events`), which the
+    executive, below it, does not import."""
+
+
 def read_log(path: str | Path) -> list[dict[str, object]]:
-    """Read an episode log back (for replay and analysis): an ``episode.jsonl``, or the
-    events channel of a ``--record`` MCAP file."""
+    """Read an ``episode.jsonl`` back (for replay and analysis); :class:`IsRecording`
+    for an MCAP recording."""
     path = Path(path)
     data = _read_log_file(path)
     if data is None:
-        from executive.recording.reader import read_recorded_events  # the mcap library: only for a recording
-
-        return read_recorded_events(path)
+        raise IsRecording(f"{path}: an MCAP recording, not an episode.jsonl")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:

@@ -6,7 +6,6 @@ import argparse
 from pathlib import Path
 
 from behaviours.events import Event
-from executive.episode_log import read_log
 
 EVENT_KINDS = tuple(e.value for e in Event)
 
@@ -28,7 +27,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_log(args: argparse.Namespace) -> int:
-    events = read_log(args.file)
+    from executive.recording.reader import read_events  # the mcap library: loaded by csl log alone
+
+    events = read_events(args.file)
     if not events:
         raise ValueError(f"{args.file}: the episode log is empty")
     for n, e in enumerate(events, 1):

@@ -1,5 +1,6 @@
 """The episode log inside a recording: the ``/csl/events`` channel read back with the
-``mcap`` library's own reader, for ``csl log``. No Foxglove import."""
+``mcap`` library's own reader, for ``csl log`` (which reads an ``episode.jsonl`` too,
+through :func:`read_events`). No Foxglove import."""
 
 from __future__ import annotations
 
@@ -10,8 +11,18 @@ from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from zstandard import ZstdError
 
+from executive.episode_log import IsRecording, read_log
 from executive.recording.topics import EVENTS
 from learner.json_text import NotJson, parse_json
+
+
+def read_events(path: Path) -> list[dict[str, object]]:
+    """An episode's events, from its ``episode.jsonl`` or its ``--record`` MCAP file."""
+    try:
+        return read_log(path)
+    except IsRecording:
+        return read_recorded_events(path)
+
 
 def read_recorded_events(path: Path) -> list[dict[str, object]]:
     """The events of a recording in the order they were logged; a file that is not a

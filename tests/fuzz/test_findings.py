@@ -308,8 +308,8 @@ def test_log_recording_damaged_at_every_byte(tmp_path: Path) -> None:
     byte set to 0x00 (even offsets) or 0xFF (odd), or cut at any 16th byte, is read or refused in one line
     naming it, never another exception. Before the fix the mcap reader's own errors
     escaped: zstd's "data corruption", a KeyError for a damaged channel id, OverflowError,
-    MemoryError, struct.error (``read_recorded_events``)."""
-    from executive.episode_log import read_log
+    MemoryError, struct.error (``read_recorded_events``, through ``read_events``)."""
+    from executive.recording.reader import read_events
     from tests.fuzz.surfaces import _recording
 
     bench = Workbench(tmp_path)
@@ -320,7 +320,7 @@ def test_log_recording_damaged_at_every_byte(tmp_path: Path) -> None:
     for n, data in enumerate(damaged):
         path = bench.file(f"r{n % 2}.mcap", data)
         try:
-            read_log(path)
+            read_events(path)
             outcomes["read"] += 1
         except ValueError as refused:
             assert str(refused).startswith(str(path)) and "\n" not in str(refused), str(refused)
