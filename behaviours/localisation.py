@@ -6,7 +6,7 @@ episode under the ``paper`` preset). The 6 in procedures accept the object withi
 1.5 in of their range, so a drift of that size makes the driver refuse every procedure
 at a test position the executive believes it stands at (a refused procedure is
 re-approached only once a look has corrected that belief,
-:meth:`behaviours.base.DriverAction.refused_out_of_range`). The overhead camera sees
+the re-approach branch, :mod:`behaviours.reapproach`). The overhead camera sees
 where the robot really is; that is the correction.
 
 The executive drives its driver through :class:`CameraLocalised`, which keeps an

@@ -14,7 +14,8 @@ PROTOCOLS = {None: Driver, "battery": Charger, "blocked_moves": BlockedMoves}
 
 
 def _methods(protocol: type) -> dict[str, tuple[str, ...]]:
-    own = {name: value for name, value in vars(protocol).items() if inspect.isfunction(value) and not name.startswith("_")}
+    own = {name: value for name, value in vars(protocol).items()
+           if inspect.isfunction(value) and not name.startswith("_")}
     return {name: tuple(inspect.signature(fn).parameters)[1:] for name, fn in own.items()}
 
 
