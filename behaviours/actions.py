@@ -70,7 +70,7 @@ class MoveTo(DriverAction):
     grasp move that collided or was refused counts as a failed grasp. After a procedure
     was refused for range there (``ObjectRecord.off_position``), the robot is not where
     the session says, so the move is driven even to the position it believes it stands
-    at (``DriverAction.refused_out_of_range``).
+    at (``behaviours.reapproach``).
 
     A move a moving obstacle stopped short (the driver's ``blocked_moves`` feature)
     fails with the obstacle on the blackboard (``BLOCKED``) for the blocked-move branch
@@ -209,8 +209,8 @@ class ApplyTest(DriverAction):
     def failed(self, exc: DriverError) -> Status:
         step = self.step
         assert step.test is not None
-        if self.refused_out_of_range(exc, step.test.test.procedure):
-            return Status.FAILURE  # nothing tried: the next step re-approaches and tries it again
+        if self.refused_for_range(exc, step.test.test.procedure, step.test.test.is_grasp):
+            return Status.FAILURE  # nothing tried: the re-approach branch judges (behaviours.reapproach)
         if step.test.test.is_grasp:
             assert step.attempt is not None
             step.attempt = replace(step.attempt, success=False)
@@ -255,7 +255,7 @@ class Grasp(DriverAction):
 
     def failed(self, exc: DriverError) -> Status:
         attempt = self.step.attempt
-        if attempt is not None and not self.refused_out_of_range(exc, attempt.grasp):
+        if attempt is not None and not self.refused_for_range(exc, attempt.grasp, True):
             self.step.attempt = replace(attempt, success=False)
         return Status.FAILURE
 

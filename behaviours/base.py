@@ -12,7 +12,6 @@ from __future__ import annotations
 import abc
 from collections.abc import Callable
 from concurrent.futures import Future
-from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import py_trees
@@ -20,8 +19,8 @@ from py_trees.common import Access, Status
 
 from behaviours.bridge import overhead, to_planner_pose
 from behaviours.events import Event
-from behaviours.records import ObjectRecord, Step
-from behaviours.resume import Reconnecting, relocate, same_robot
+from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb, ObjectRecord, Refusal, Step
+from behaviours.resume import Reconnecting
 from behaviours.services import Services, namespace
 from hero_driver.interface import OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, CameraImage, DriverError
 from planner import Pose as PlannerPose, Scene
@@ -107,24 +106,33 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
 
 
 class DriverAction(CslBehaviour):
-    """Starts one driver verb and reports RUNNING until its future completes.
+    """Starts one driver verb and reports RUNNING until its future completes; then maps
+    the reply, or the driver's error, to a status, as Nav2's ``BtActionNode`` does.
+    Why a verb failed is recorded where a recovery branch's condition reads it; the
+    recoveries themselves are branches of the tree (docs/executive.md, "Recoveries").
 
     How a verb that did not come back ends (docs/reliability.md): one the robot left
     unanswered (``timeout``) gives up the object at hand, which then sends no further
     verb; the next object goes on once the robot takes verbs again
     (:mod:`behaviours.overdue`). A driver that went away (``unavailable``) stops the
-    episode, unless ``Params.wait_driver_s`` lets the behaviour wait for a driver under
-    the same robot name: it then stays RUNNING while none serves, has the objects
-    located again once one does (:func:`behaviours.resume.relocate`), and fails, so
-    the step under way starts over from where the robot now stands.
+    episode, unless ``Params.wait_driver_s`` and a driver that can come back
+    (:class:`~behaviours.resume.Reconnecting`) let the reconnect branch wait for one:
+    the loss is then recorded (``DRIVER_LOST``) and the behaviour stays RUNNING, paused
+    by that branch, until it says a driver is back and the objects are located again
+    (``DRIVER_BACK``). Then it fails, so the step under way starts over from where the
+    robot now stands; or, with nothing located yet (the first image), it sends its verb
+    again. A procedure refused as out of range is recorded on the step for the
+    re-approach branch (:meth:`refused_for_range`, ``behaviours.reapproach``).
     """
 
     def __init__(self, name: str, robot: str) -> None:
         super().__init__(name, robot)
         self._robot = robot
+        self.bb.register_key(DRIVER_LOST, access=Access.WRITE)
+        self.bb.register_key(DRIVER_BACK, access=Access.READ)
         self._future: Future[Any] | None = None
         self._skip: Status | None = None
-        self._lost: _Lost | None = None
+        self._lost: LostVerb | None = None
 
     def initialise(self) -> None:
         self._future, self._skip, self._lost = None, None, None
@@ -143,7 +151,7 @@ class DriverAction(CslBehaviour):
         if self._skip is not None:
             return self._skip
         if self._lost is not None:
-            return self._await_driver(self._lost)
+            return self._resumed(self._lost)
         assert self._future is not None
         if not self._future.done():
             self.feedback_message = "waiting for the robot"
@@ -161,10 +169,8 @@ class DriverAction(CslBehaviour):
         return self.finish(result)
 
     def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:  # pre-empted: the results are no longer wanted
-            for pending in (self._future, None if self._lost is None else self._lost.image):
-                if pending is not None and not pending.done():
-                    pending.cancel()
+        if new_status == Status.INVALID and self._future is not None and not self._future.done():
+            self._future.cancel()  # pre-empted: the result is no longer wanted
         self._future = None
 
     @abc.abstractmethod
@@ -179,29 +185,14 @@ class DriverAction(CslBehaviour):
         """The driver refused or failed; by default the behaviour fails."""
         return Status.FAILURE
 
-    def refused_out_of_range(self, exc: DriverError, procedure: str) -> bool:
-        """True when the driver refused ``procedure`` as out of range and the robot is to
-        re-approach and try it again: the step then fails without the verb counting as
-        failed, and the next step's move drives to the same position, planned from where
-        the camera last placed the robot. A refusal means nothing was tried: the robot
-        stands off the position its dead reckoning claims (drift the look before the verb
-        corrected, docs/simulator.md "Drift"), so counting it as a failed grasp would drop
-        the right grasp, and counting it as an unusable test would lose every test at that
-        position. Only when a look has corrected the pose since the robot arrived: else
-        the same plan from the same pose would end where it stands, and the refusal counts
-        as the verb failing, as it always did. Bounded by ``Params.reapproach_tries`` per
-        procedure and object, after which it counts so too."""
-        obj = self._object_at_hand()
-        if exc.code != OUT_OF_RANGE or obj is None:
+    def refused_for_range(self, exc: DriverError, procedure: str, grasp: bool) -> bool:
+        """True when the driver refused ``procedure`` (a grasp when ``grasp``) as out of
+        range for the object at hand: nothing was tried, and the refusal is recorded on
+        the step (``Step.refusal``) for ``RefusedForRange?`` to judge; the behaviour then
+        fails without counting the verb as failed (``behaviours.reapproach``)."""
+        if exc.code != OUT_OF_RANGE or self._object_at_hand() is None:
             return False
-        if obj.reapproaches[procedure] >= self.services.params.reapproach_tries:
-            return False
-        if obj.arrived is not None and self.bb.pose == obj.arrived:
-            return False  # nothing has corrected where the robot stands since it arrived
-        obj.reapproaches[procedure] += 1
-        obj.off_position = True
-        obj.ledger.recoveries["re-approach"] += 1
-        self.note(Event.REAPPROACH, procedure=procedure, tries=obj.reapproaches[procedure], message=exc.message)
+        self.step.refusal = Refusal(procedure, grasp, exc.message, self.name)
         return True
 
     def _object_at_hand(self) -> ObjectRecord | None:
@@ -223,46 +214,20 @@ class DriverAction(CslBehaviour):
         wait_s = self.services.params.wait_driver_s
         if wait_s <= 0 or not isinstance(self.services.driver, Reconnecting):
             raise exc  # the robot is gone: no recovery branch can help, the episode stops
-        self._lost = _Lost(self.services.clock())
+        self._lost = LostVerb(self.name, self.services.clock())
+        self.bb.set(DRIVER_LOST, self._lost)
         self.feedback_message = f"driver for {self._robot} lost: waiting up to {wait_s:g} s for one to come back"
         return Status.RUNNING
 
-    def _await_driver(self, lost: _Lost) -> Status:
-        """Paused: wait for a driver, then look again (module docstring of :mod:`behaviours.resume`)."""
-        services, wait_s = self.services, self.services.params.wait_driver_s
-        driver = services.driver
-        if lost.image is None:
-            assert isinstance(driver, Reconnecting)
-            if not driver.wait_ready(0.0):
-                waited = services.clock() - lost.since
-                if waited > wait_s:
-                    raise DriverError(UNAVAILABLE, f"no driver for robot {self._robot} came back within {wait_s:g} s")
-                return Status.RUNNING
-            same_robot(services, self._robot)
-            if self._object_at_hand() is None:  # nothing located yet: this verb (the first image) again
-                self.initialise()
-                return Status.RUNNING if self._skip is None else self._skip
-            lost.image = driver.camera()
-            self.feedback_message = "driver back: locating the objects again"
-        if not lost.image.done():
+    def _resumed(self, lost: LostVerb) -> Status:
+        """Ticked again after the verb was lost: paused until the reconnect branch says a
+        driver is back, then the step starts over (or the first image is asked again)."""
+        back = self.bb.get(DRIVER_BACK) if self.bb.exists(DRIVER_BACK) else None
+        if back is not lost:
             return Status.RUNNING
-        try:
-            image = lost.image.result()
-        except DriverError as exc:
-            if exc.code == UNAVAILABLE:  # gone again before it answered: wait again
-                self._lost = _Lost(services.clock())
-                return Status.RUNNING
-            raise DriverError(UNAVAILABLE, f"driver for robot {self._robot} came back, but its camera failed: "
-                              f"{exc}") from None
-        waited = services.clock() - lost.since
-        relocate(services, self._robot, image, f"driver for {self._robot} came back after {waited:.1f} s")
+        self.bb.set(DRIVER_LOST, None)
+        if self._object_at_hand() is None:  # nothing located yet: this verb (the first image) again
+            self.initialise()
+            return Status.RUNNING if self._skip is None else self._skip
         self.feedback_message = "driver back, objects located again: the step starts over"
         return Status.FAILURE
-
-
-@dataclass
-class _Lost:
-    """A verb lost with its driver: since when, and the image asked of the driver that came back."""
-
-    since: float
-    image: Future[CameraImage] | None = None

@@ -4,7 +4,7 @@ The paper's CSL "can not handle ... low battery" (docs/method.md). Here a Select
 without memory puts a ``recharge`` branch before the work: every tick ``BatteryLow?``
 looks at the level the driver reports, and when it is below ``Params.battery_low`` the
 robot plans a path to the dock on the vision map, drives there and charges. The work
-branch is not restarted afterwards: :class:`KeepPlace` pauses it while the robot
+branch is not restarted afterwards: :class:`~behaviours.guard.KeepPlace` pauses it while the robot
 charges, so the object in hand resumes where it left off with every measurement its
 recognition session holds (only where the robot stands relative to the object is new).
 
@@ -30,6 +30,7 @@ from behaviours.actions import pose_json
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import to_driver_pose, to_planner_pose
 from behaviours.events import Event
+from behaviours.guard import KeepPlace
 from hero_driver.interface import Charger, Driver, MoveResult, Pose, RobotState
 
 DOCK_TRIP = "dock_trip"  # blackboard: what the drive to the dock cost, for the charge event
@@ -47,7 +48,7 @@ class BatteryLow(CslBehaviour):
     def __init__(self, robot: str, protects: py_trees.behaviour.Behaviour, name: str = "BatteryLow?") -> None:
         super().__init__(name, robot)
         self.protects = protects
-        self.fired = False  # read by KeepPlace: the work is being paused, not abandoned
+        self.fired = False  # read by KeepPlace (behaviours.guard): the work is being paused, not abandoned
 
     def update(self) -> Status:
         self.fired = self._low()
@@ -130,27 +131,6 @@ class Charge(DriverAction):
             obj.session.position = obj.estimator.stand_at(self.robot_pose())
         self.feedback_message = f"charged to {result.battery:.2f}"
         return Status.SUCCESS
-
-
-class KeepPlace(py_trees.decorators.Decorator):
-    """The work under the guard: when ``guard`` pre-empts it, the work is paused with
-    its place kept (its composites remember their running child) instead of being
-    reset, so the next tick after charging continues the same step of the same object.
-    Any other stop (the episode ending) stops the work as usual."""
-
-    def __init__(self, child: py_trees.behaviour.Behaviour, guard: BatteryLow, name: str = "keep place") -> None:
-        super().__init__(name=name, child=child)
-        self.guard = guard
-
-    def update(self) -> Status:
-        return self.decorated.status
-
-    def stop(self, new_status: Status) -> None:
-        if new_status == Status.INVALID and self.guard.fired and self.decorated.status == Status.RUNNING:
-            self.terminate(new_status)  # paused: the child keeps its status and memory
-            self.status = new_status
-            return
-        super().stop(new_status)
 
 
 def guarded(work: py_trees.behaviour.Behaviour, robot: str) -> py_trees.behaviour.Behaviour:

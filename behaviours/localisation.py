@@ -6,7 +6,7 @@ episode under the ``paper`` preset). The 6 in procedures accept the object withi
 1.5 in of their range, so a drift of that size makes the driver refuse every procedure
 at a test position the executive believes it stands at (a refused procedure is
 re-approached only once a look has corrected that belief,
-:meth:`behaviours.base.DriverAction.refused_out_of_range`). The overhead camera sees
+the re-approach branch, :mod:`behaviours.reapproach`). The overhead camera sees
 where the robot really is; that is the correction.
 
 The executive drives its driver through :class:`CameraLocalised`, which keeps an
@@ -26,63 +26,43 @@ and the sonar centring faces the object).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from concurrent.futures import Future
-from dataclasses import replace
-from typing import Any, TypeVar
+from collections.abc import Callable
+from typing import Any
 
-from hero_driver.interface import Driver, MoveResult, Obstacle, Pose, RobotState
+from hero_driver.decorator import DriverDecorator, mapped, poses_in, poses_out
+from hero_driver.interface import Driver, DriverVerb, Pose
 
 DEADBAND_IN = 0.5
 """A camera position nearer than this to the corrected pose leaves the offset alone."""
 
-A = TypeVar("A")
-B = TypeVar("B")
 
-
-def mapped(future: Future[A], fn: Callable[[A], B]) -> Future[B]:
-    """A future settled with ``fn`` of ``future``'s result, or with its exception."""
-    out: Future[B] = Future()
-
-    def done(f: Future[A]) -> None:
-        try:
-            out.set_result(fn(f.result()))
-        except BaseException as exc:  # noqa: BLE001 (the driver's error, handed on as it came)
-            out.set_exception(exc)
-
-    future.add_done_callback(done)
-    return out
-
-
-class CameraLocalised:
+class CameraLocalised(DriverDecorator):
     """``inner`` with its poses in the overhead camera's frame (the module docstring
-    says how). The optional features' verbs (``dock``, ``charge``, ``wait``) and
-    everything else a driver offers are ``inner``'s, shifted where they carry a pose."""
+    says how): every argument and result the verb table
+    (:data:`~hero_driver.interface.DRIVER_VERBS`) names as a pose is shifted, whatever
+    the verb. Everything else a driver offers is ``inner``'s."""
 
     def __init__(self, inner: Driver, deadband_in: float = DEADBAND_IN) -> None:
-        self.inner = inner
-        self.robot = inner.robot
+        super().__init__(inner)
         self.deadband_in = deadband_in
         self.offset: tuple[float, float] = (0.0, 0.0)
 
-    def __getattr__(self, name: str) -> Any:
-        if name == "inner":  # not set yet (copying, unpickling): no recursion through inner
-            raise AttributeError(name)
-        verb = getattr(self.inner, name)
-        if name == "dock":
-            return lambda: None if (at := verb()) is None else self.to_camera(at)
-        if name in ("charge", "wait"):
-            return lambda *args: mapped(verb(*args), self._state)
-        return verb
+    def call(self, verb: DriverVerb, method: Callable[..., Any], args: tuple[Any, ...],
+             kwargs: dict[str, Any]) -> Any:
+        if verb.name == "reset":
+            self.offset = (0.0, 0.0)  # a restored world starts with the robot where it says
+        dx, dy = self.offset
+        args, kwargs = poses_in(verb, args, kwargs, -dx, -dy)
+        answer = method(*args, **kwargs)
+        if not verb.poses_out:
+            return answer
+        if verb.robot_time:
+            return mapped(answer, lambda result: poses_out(verb, result, dx, dy))
+        return poses_out(verb, answer, dx, dy)
 
-    # -- the two frames ------------------------------------------------------------------
     def to_camera(self, pose: Pose) -> Pose:
         """A pose the driver reported, in the camera's frame."""
         return Pose(pose.x_in + self.offset[0], pose.y_in + self.offset[1], pose.heading_deg)
-
-    def to_driver(self, pose: Pose) -> Pose:
-        """A pose in the camera's frame, as the driver reckons it."""
-        return Pose(pose.x_in - self.offset[0], pose.y_in - self.offset[1], pose.heading_deg)
 
     def localise(self, seen_x_in: float, seen_y_in: float) -> bool:
         """The camera saw the robot's centre at (``seen_x_in``, ``seen_y_in``): take it
@@ -94,41 +74,3 @@ class CameraLocalised:
             return False
         self.offset = (seen_x_in - reported.x_in, seen_y_in - reported.y_in)
         return True
-
-    def _state(self, state: RobotState) -> RobotState:
-        return replace(state, pose=self.to_camera(state.pose))
-
-    # -- the verbs -----------------------------------------------------------------------
-    def state(self) -> RobotState:
-        return self._state(self.inner.state())
-
-    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
-        dx, dy = self.offset
-        sent = [Pose(w.x_in - dx, w.y_in - dy, w.heading_deg) for w in waypoints]
-        toward = None if face is None else (face[0] - dx, face[1] - dy)
-
-        def back(result: MoveResult) -> MoveResult:
-            b = result.blocked
-            return replace(result, pose=Pose(result.pose.x_in + dx, result.pose.y_in + dy, result.pose.heading_deg),
-                           blocked=None if b is None else Obstacle(b.x_in + dx, b.y_in + dy, b.radius_in))
-
-        return mapped(self.inner.move(sent, toward), back)
-
-    def sense(self, procedure: str) -> Future[Any]:
-        return self.inner.sense(procedure)
-
-    def grasp(self, procedure: str) -> Future[Any]:
-        return self.inner.grasp(procedure)
-
-    def release(self) -> Future[RobotState]:
-        return mapped(self.inner.release(), self._state)
-
-    def camera(self) -> Future[Any]:
-        return self.inner.camera()
-
-    def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
-        self.offset = (0.0, 0.0)  # a restored world starts with the robot where it says
-        return mapped(self.inner.reset(world, seed), self._state)
-
-    def close(self) -> None:
-        self.inner.close()

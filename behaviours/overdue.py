@@ -19,25 +19,26 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from concurrent.futures import Future, InvalidStateError
 from typing import Any
 
-from hero_driver.interface import (BUSY, TIMEOUT, CameraImage, Driver, DriverError, GraspResult, MoveResult, Pose,
-                                   RobotState, SenseResult)
+from hero_driver.decorator import DriverDecorator
+from hero_driver.interface import BUSY, TIMEOUT, Driver, DriverError, DriverVerb
 
 RETRY_S = 0.25  # between two tries of a verb the robot refused as busy
 
 
-class OverdueRobot:
-    """``inner`` with the verbs it refuses as ``busy`` after a timeout sent again (the
-    module docstring says when). Everything else a driver offers (its ``dock``,
-    ``alive``, the simulator's ``truth``) is ``inner``'s."""
+class OverdueRobot(DriverDecorator):
+    """``inner`` with every verb that takes the robot's time sent again while it is
+    refused as ``busy`` after a timeout (the module docstring says when); the verb
+    table (:data:`~hero_driver.interface.DRIVER_VERBS`) says which verbs those are.
+    Everything else a driver offers (its ``dock``, ``alive``, the simulator's
+    ``truth``) is ``inner``'s."""
 
     def __init__(self, inner: Driver, wait_s: float, *, clock: Callable[[], float] = time.monotonic,
                  retry_s: float = RETRY_S) -> None:
-        self.inner = inner
-        self.robot = inner.robot
+        super().__init__(inner)
         self.wait_s = wait_s
         self.retry_s = retry_s
         self._clock = clock
@@ -50,38 +51,12 @@ class OverdueRobot:
         with self._lock:
             return None if self._overdue is None else self._overdue[0]
 
-    def __getattr__(self, name: str) -> Any:
-        if name == "inner":  # not set yet (copying, unpickling): no recursion through inner
-            raise AttributeError(name)
-        if name == "charge":  # the battery feature's verb, when ``inner`` has it
-            charge = getattr(self.inner, "charge")
-            return lambda: self._send("charge", charge)
-        return getattr(self.inner, name)
-
-    def state(self) -> RobotState:
-        return self.inner.state()
-
-    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
-        sent = list(waypoints)
-        return self._send("move", lambda: self.inner.move(sent, face))
-
-    def sense(self, procedure: str) -> Future[SenseResult]:
-        return self._send("sense", lambda: self.inner.sense(procedure))
-
-    def grasp(self, procedure: str) -> Future[GraspResult]:
-        return self._send("grasp", lambda: self.inner.grasp(procedure))
-
-    def release(self) -> Future[RobotState]:
-        return self._send("release", self.inner.release)
-
-    def camera(self) -> Future[CameraImage]:
-        return self._send("camera", self.inner.camera)
-
-    def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
-        return self._send("reset", lambda: self.inner.reset(world, seed))
-
-    def close(self) -> None:
-        self.inner.close()
+    def call(self, verb: DriverVerb, method: Callable[..., Any], args: tuple[Any, ...],
+             kwargs: dict[str, Any]) -> Any:
+        if not verb.robot_time:
+            return method(*args, **kwargs)
+        sent = tuple(list(a) if isinstance(a, list) else a for a in args)  # the caller's list may change
+        return self._send(verb.name, lambda: method(*sent, **kwargs))
 
     def _send(self, verb: str, call: Callable[[], Future[Any]]) -> Future[Any]:
         """``call`` once; its future, or one that follows its tries while the robot is

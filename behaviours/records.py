@@ -59,6 +59,17 @@ class GraspAttempt:
         return self.success is False
 
 
+@dataclass(frozen=True)
+class Refusal:
+    """A procedure the driver refused as out of range (nothing was tried): which, whether
+    it is a grasp, the driver's words, and the behaviour that sent it."""
+
+    procedure: str
+    grasp: bool
+    message: str
+    by: str
+
+
 @dataclass
 class Step:
     """What one recognition step decided; replaced by the loop before every step."""
@@ -69,6 +80,7 @@ class Step:
     attempt: GraspAttempt | None = None  # chosen by ChooseGrasp/AmbiguousLeaf/the choosers; its
     #   success set by whoever executed or gave up on it (Grasp, ApplyTest, MoveTo, OtherEnd)
     side_effect: str | None = None  # SideEffects?: pushed | changed | None
+    refusal: Refusal | None = None  # DriverAction.refused_for_range (ApplyTest, Grasp): read by RefusedForRange?
 
 
 @dataclass
@@ -89,7 +101,7 @@ class ObjectRecord:
     steps: int = 0  # UntilHandled
     off_position: bool = False  # a verb refused as out of range: the robot is not where the session
     #   says, so the next move drives even to the position it believes it stands at (set by
-    #   DriverAction.refused_out_of_range, cleared by MoveTo)
+    #   Reapproach, behaviours.reapproach; cleared by MoveTo)
     arrived: DriverPose | None = None  # MoveTo: where its last move ended, before any look corrected it
     reapproaches: Counter[str] = field(default_factory=Counter)  # re-approaches per procedure refused
 
@@ -108,8 +120,27 @@ class ObjectRecord:
         self.outcome, self.grasp, self.grasp_position = outcome, grasp, position
 
 
+DRIVER_LOST = "driver_lost"
+"""Blackboard: the verb under way lost with its driver (a :class:`LostVerb`; None: none).
+Written by ``behaviours.base.DriverAction``, read by the reconnect branch (``behaviours.reconnect``)."""
+DRIVER_BACK = "driver_back"
+"""Blackboard: the :class:`LostVerb` for which a driver came back and the objects were
+located again. Written by ``LocateAgain`` (``behaviours.reconnect``), read by the
+action whose verb was lost, which then ends."""
+
+
+@dataclass(frozen=True, eq=False)
+class LostVerb:
+    """A verb lost with its driver: which behaviour sent it, and since when (by the
+    services' clock). Compared by identity: each loss is its own."""
+
+    behaviour: str
+    since: float
+
+
 def reset_blackboard(robot: str) -> None:
     """The robot's blackboard keys as an episode starts: no objects located yet, no
-    results, no object or step under way, no pose known."""
-    for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None)):
+    results, no object or step under way, no pose known, no driver lost."""
+    for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None),
+                       (DRIVER_LOST, None), (DRIVER_BACK, None)):
         py_trees.blackboard.Blackboard.set(f"{namespace(robot)}/{key}", value)

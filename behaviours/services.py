@@ -53,7 +53,7 @@ class Params:
     blocked_tries: int = 8  # a move a moving obstacle blocked: re-planned or retried this often; 0: branch off
     blocked_wait_s: float = 20.0  # and before a retry, the robot waits this long for the obstacle to pass
     reapproach_tries: int = 2  # a procedure refused as out of range: re-approached and tried again this
-    #   often per object, then the refusal counts as the verb failing; 0: at once (behaviours.base)
+    #   often per object, then the refusal counts as the verb failing; 0: at once (behaviours.reapproach)
 
 
 class GivenUp:

@@ -9,11 +9,14 @@ failed grasp under "recover". Before each sensing and each grasp, ``Disturbed?``
 with the camera and, when the object moved, changed or is gone, relocates it, starts
 afresh or reports it gone (``behaviours.disturbance``). Above it all, the low-battery
 guard ("battery check", ``behaviours.battery``) sends the robot to its dock and lets the
-work resume where it was. Each move to a test or grasp position can be blocked by a
-moving obstacle: "until past" looks again, re-plans around it or waits, and gives the
-object up after a bound (``behaviours.blocked``). Between a test's choice and the move to
-it, ``BeamClear?`` makes a test whose sonar beam another object would meet unusable
-there (``behaviours.clutter``).
+work resume where it was; above that, gated by ``DriverLost?``, the lost-driver guard
+("driver check", ``behaviours.reconnect``) waits for a driver that went away to come
+back and has the objects located again. Each move to a test or grasp position can be
+blocked by a moving obstacle: "until past" looks again, re-plans around it or waits,
+and gives the object up after a bound (``behaviours.blocked``). Between a test's choice
+and the move to it, ``BeamClear?`` makes a test whose sonar beam another object would
+meet unusable there (``behaviours.clutter``). A sensing or grasp the driver refuses as
+out of range is re-approached, gated by ``RefusedForRange?`` (``behaviours.reapproach``).
 """
 
 from __future__ import annotations
@@ -28,6 +31,8 @@ from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.clutter import BeamClear, LookForTheRest
 from behaviours.disturbance import look_before
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
+from behaviours.reapproach import reapproached
+from behaviours.reconnect import reconnecting
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
                                  GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
 
@@ -41,11 +46,12 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         Backtrack(robot)])
     follow = Sequence("follow the tree", memory=True, children=[
         choose, BeamClear(robot), _move(robot, "test"),
-        look_before(robot, "test", Sequence("measure", memory=True, children=[ApplyTest(robot), FollowBranch(robot)]))])
+        look_before(robot, "test", Sequence("measure", memory=True, children=[
+            reapproached(robot, ApplyTest(robot)), FollowBranch(robot)]))])
     grasp = Sequence("grasp", memory=True, children=[
         Selector("choose a grasp", memory=True, children=[ChooseGrasp(robot), AmbiguousGrasp(robot)]),
         Selector("reach the grasp", memory=True, children=[_move(robot, "grasp"), OtherEnd(robot)]),
-        look_before(robot, "grasp", Grasp(robot))])
+        look_before(robot, "grasp", reapproached(robot, Grasp(robot)))])
     recover = Sequence("recover", memory=True, children=[
         GraspFailed(robot),
         Selector("how it failed", memory=True, children=[
@@ -59,10 +65,10 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         Learn(robot),
         LookForTheRest(robot),
     ])
-    return guarded(Sequence("retrieve objects", memory=True, children=[
+    return reconnecting(guarded(Sequence("retrieve objects", memory=True, children=[
         LocateObjects(robot),
         ForEachObject(per_object, robot, name="each object"),
-    ]), robot)
+    ]), robot), robot)
 
 
 def _move(robot: str, target: str) -> py_trees.behaviour.Behaviour:

@@ -18,6 +18,7 @@ from behaviours.base import DriverAction
 from behaviours.localisation import CameraLocalised
 from behaviours.overdue import OverdueRobot
 from behaviours.records import ObjectRecord, reset_blackboard
+from behaviours.reconnect import LocateAgain, WaitForDriver
 from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.battery_cost import navigator_for
 from executive.episode_log import EpisodeLog
@@ -135,8 +136,8 @@ class Executive:
         if self.root.status != Status.RUNNING:
             return True
         tip = self.root.tip()
-        if isinstance(tip, DriverAction) and tip.status == Status.RUNNING:
-            time.sleep(0.001)  # a real robot is busy: do not spin the CPU
+        if isinstance(tip, (DriverAction, WaitForDriver, LocateAgain)) and tip.status == Status.RUNNING:
+            time.sleep(0.001)  # a real robot is busy, or a driver is awaited: do not spin the CPU
         return False
 
     def _trace_line(self, tick: int) -> str:

@@ -225,3 +225,52 @@ class BlockedMoves(Protocol):
     def wait(self, seconds: float) -> Future[RobotState]:
         """Stand still for ``seconds`` of robot time and answer the state after it."""
         ...
+
+
+# -- the verb table ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class DriverVerb:
+    """One method a driver offers, as every driver decorator needs to know it
+    (:class:`hero_driver.decorator.DriverDecorator`): busy-retry, the camera's frame and
+    recording each read this row instead of listing the verbs by hand.
+
+    ``args`` names the method's arguments in order; ``poses_in`` those that carry world
+    positions (a :class:`Pose`, an ``(x, y)`` point, or a sequence of them) and
+    ``poses_out`` the result's fields that do (``""``: the result itself is one).
+    ``robot_time``: the verb takes the robot's time and answers with a future that may
+    fail as ``busy`` (every one of them is a zenoh verb, ``hero_driver.zenoh_link.verbs``);
+    else it is answered at once from what the driver knows (``state``, ``dock``), or is
+    the driver's own housekeeping (``close``). ``feature`` is the optional feature that
+    brings it (None: the :class:`Driver` protocol's own).
+    """
+
+    name: str
+    result: type | None
+    args: tuple[str, ...] = ()
+    poses_in: tuple[str, ...] = ()
+    poses_out: tuple[str, ...] = ()
+    robot_time: bool = True
+    feature: str | None = None
+
+
+DRIVER_VERBS: tuple[DriverVerb, ...] = (
+    DriverVerb("state", RobotState, poses_out=("pose",), robot_time=False),
+    DriverVerb("move", MoveResult, ("waypoints", "face"), poses_in=("waypoints", "face"),
+               poses_out=("pose", "blocked")),
+    DriverVerb("sense", SenseResult, ("procedure",)),
+    DriverVerb("grasp", GraspResult, ("procedure",)),
+    DriverVerb("release", RobotState, poses_out=("pose",)),
+    DriverVerb("camera", CameraImage),
+    DriverVerb("reset", RobotState, ("world", "seed"), poses_out=("pose",)),
+    DriverVerb("close", None, robot_time=False),
+    DriverVerb("dock", Pose, poses_out=("",), robot_time=False, feature="battery"),
+    DriverVerb("charge", RobotState, poses_out=("pose",), feature="battery"),
+    DriverVerb("safety_in", float, robot_time=False, feature="blocked_moves"),
+    DriverVerb("wait", RobotState, ("seconds",), poses_out=("pose",), feature="blocked_moves"),
+)
+"""Every method of :class:`Driver`, :class:`Charger` and :class:`BlockedMoves`, one row
+each (``tests/hero_driver/test_driver_verbs.py`` holds the protocols to it)."""
+
+VERB_BY_NAME: dict[str, DriverVerb] = {verb.name: verb for verb in DRIVER_VERBS}

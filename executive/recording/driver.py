@@ -4,24 +4,25 @@ other ``Driver``, and each verb's result reaches the recorder when its future se
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from concurrent.futures import Future
-from typing import TypeVar
+from typing import Any
 
 from executive.recording.recorder import Recorder
-from hero_driver.interface import (CameraImage, Driver, DriverError, GraspResult, MoveResult, Pose, RobotState,
-                                   SenseResult)
-
-T = TypeVar("T")
+from hero_driver.decorator import DriverDecorator, argument
+from hero_driver.interface import CameraImage, Driver, DriverError, DriverVerb, MoveResult, RobotState, SenseResult
 
 
-class RecordingDriver:
-    """Forwards every verb to ``inner`` and records its result (the verbs that fail are
-    in the episode log, not drawn)."""
+class RecordingDriver(DriverDecorator):
+    """Forwards every verb to ``inner`` and records its result, whatever the verb (the
+    verb table, :data:`~hero_driver.interface.DRIVER_VERBS`, says which take the robot's
+    time and what they answer): a move as its planned and driven path, a sensing
+    procedure as its sonar ray, an image as the camera, any state as where the robot
+    stands; what nothing draws (a grasp's verdict) is seen and left. The verbs that
+    fail are in the episode log, not drawn."""
 
     def __init__(self, inner: Driver, recorder: Recorder) -> None:
-        self.inner = inner
-        self.robot = inner.robot
+        super().__init__(inner)
         self.recorder = recorder
         self._known: RobotState | None = None
 
@@ -35,48 +36,28 @@ class RecordingDriver:
             pass
         return self._known
 
-    def __getattr__(self, name: str) -> object:
-        """What a particular driver offers beyond the protocol (the simulator's
-        ``truth``, the zenoh client's ``profile``) stays reachable."""
-        return getattr(self.inner, name)
-
-    def _then(self, future: Future[T], record: Callable[[T], None]) -> Future[T]:
-        def done(settled: Future[T]) -> None:
-            if not settled.cancelled() and settled.exception() is None:
-                record(settled.result())
-
-        future.add_done_callback(done)
+    def call(self, verb: DriverVerb, method: Callable[..., Any], args: tuple[Any, ...],
+             kwargs: dict[str, Any]) -> Any:
+        if not verb.robot_time:
+            return method(*args, **kwargs)
+        from_where = verb.result in (MoveResult, SenseResult)  # drawn from where the robot stood
+        before = self.known_state() if from_where else None
+        planned = tuple(argument(verb, args, kwargs, "waypoints") or ()) if verb.result is MoveResult else ()
+        future: Future[Any] = method(*args, **kwargs)
+        if from_where and before is None:
+            return future
+        future.add_done_callback(lambda settled: self._record(settled, before, planned))
         return future
 
-    def state(self) -> RobotState:
-        return self.inner.state()
-
-    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
-        before = self.known_state()
-        planned = tuple(waypoints)
-        future = self.inner.move(waypoints, face)
-        if before is None:
-            return future
-        return self._then(future, lambda result: self.recorder.move(before.pose, planned, result, before.clock_s))
-
-    def sense(self, procedure: str) -> Future[SenseResult]:
-        before = self.known_state()
-        future = self.inner.sense(procedure)
-        if before is None:
-            return future
-        return self._then(future, lambda result: self.recorder.sense(before.pose, result, before.clock_s))
-
-    def grasp(self, procedure: str) -> Future[GraspResult]:
-        return self.inner.grasp(procedure)
-
-    def release(self) -> Future[RobotState]:
-        return self._then(self.inner.release(), self.recorder.state)
-
-    def camera(self) -> Future[CameraImage]:
-        return self._then(self.inner.camera(), lambda image: self.recorder.camera(image, image.clock_s))
-
-    def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
-        return self._then(self.inner.reset(world, seed), self.recorder.state)
-
-    def close(self) -> None:
-        self.inner.close()
+    def _record(self, settled: Future[Any], before: RobotState | None, planned: tuple[Any, ...]) -> None:
+        if settled.cancelled() or settled.exception() is not None:
+            return
+        result = settled.result()
+        if isinstance(result, MoveResult) and before is not None:
+            self.recorder.move(before.pose, planned, result, before.clock_s)
+        elif isinstance(result, SenseResult) and before is not None:
+            self.recorder.sense(before.pose, result, before.clock_s)
+        elif isinstance(result, CameraImage):
+            self.recorder.camera(result, result.clock_s)
+        elif isinstance(result, RobotState):
+            self.recorder.state(result)

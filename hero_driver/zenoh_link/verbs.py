@@ -5,9 +5,11 @@ client's timeouts and the node's driver call, and adding one meant finding all f
 Here a row holds its name, its request type, the codecs of its request and reply,
 its default timeout and how the node calls the driver; the node, the client and the
 conformance suite read the table, and ``tests/hero_driver/test_zenoh_verbs.py``
-holds ``docs/driver-protocol.md`` to it. A new verb is a row here plus its method on
-the ``Driver`` protocol (and on ``ZenohDriver``, which is one); a verb the node
-answers itself (``noop``, ``hello``) has no ``Driver`` method.
+holds ``docs/driver-protocol.md`` to it. A new verb is a row here plus its method and
+its row on the ``Driver`` side (``hero_driver.interface``: the protocol and
+``DRIVER_VERBS``, which ``tests/hero_driver/test_driver_verbs.py`` holds this table
+to) and its ``ZenohDriver`` method (docs/conventions.md, "Adding a driver verb"); a
+verb the node answers itself (``noop``, ``hello``) has no ``Driver`` method.
 """
 
 from __future__ import annotations

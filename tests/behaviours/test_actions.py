@@ -14,8 +14,7 @@ from py_trees.common import Status
 
 from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects, MoveTo
 from behaviours.records import GraspAttempt
-from behaviours.services import Params
-from hero_driver.interface import (BUSY, NO_TARGET, OUT_OF_RANGE, UNAVAILABLE, Driver, DriverError, GraspResult,
+from hero_driver.interface import (BUSY, NO_TARGET, UNAVAILABLE, Driver, DriverError, GraspResult,
                                    Pose as DriverPose, RobotState, SenseResult)
 from learner.appearance import Appearance
 from learner.description import ObjectDescription, Observation
@@ -279,31 +278,6 @@ def test_apply_test_refused_by_the_driver_makes_the_test_unusable(services, driv
     assert not record.off_position
 
 
-def test_apply_test_refused_out_of_range_is_tried_again_after_a_re_approach(services, driver, log) -> None:  # noqa: ANN001
-    record, step = start_object(services)
-    chosen = step.test = record.session.decide()
-    driver.script("sense", refused(OUT_OF_RANGE, "H-Sweep-1°: object at 21.9 in, range is 24-24 in"))
-    assert run(ApplyTest(ROBOT), services) == Status.FAILURE
-    # nothing was measured and nothing tried: the same test comes back, from a move
-    assert not record.session.awaiting_reselection and record.session.decide() == chosen
-    assert record.off_position and record.reapproaches == {"H-Sweep-1°": 1}
-    assert record.ledger.recoveries["re-approach"] == 1 and record.ledger.sensing_s == 0.0
-    assert log.events[1] == {"event": "reapproach", "object": 0, "behaviour": "ApplyTest", "procedure": "H-Sweep-1°",
-                             "tries": 1, "message": "H-Sweep-1°: object at 21.9 in, range is 24-24 in"}
-
-
-@pytest.mark.parametrize(("tries", "before"), [(2, 2), (0, 0)])
-def test_apply_test_refused_out_of_range_past_its_tries_is_unusable(services, driver, log, tries, before) -> None:  # noqa: ANN001
-    services = dataclasses.replace(services, params=Params(reapproach_tries=tries))
-    record, step = start_object(services)
-    step.test = record.session.decide()
-    record.reapproaches["H-Sweep-1°"] = before
-    driver.script("sense", refused(OUT_OF_RANGE, "object at 21.9 in"))
-    assert run(ApplyTest(ROBOT), services) == Status.FAILURE
-    assert record.session.awaiting_reselection and str(record.session.decide().test) == HEIGHT
-    assert not record.off_position and log.kinds() == ["driver_error"]
-
-
 def test_apply_test_raises_when_the_driver_is_gone(services, driver) -> None:  # noqa: ANN001
     record, step = start_object(services)
     step.test = record.session.decide()
@@ -338,14 +312,6 @@ def test_apply_test_of_a_refused_grasp_feature_is_a_failed_grasp(services, drive
     driver.script("grasp", refused(NO_TARGET, "nothing in front of the hand"))
     assert run(ApplyTest(ROBOT), services) == Status.SUCCESS  # FollowBranch fails on it
     assert step.attempt.failed and record.session.decide() == step.test  # not made unusable
-
-
-def test_apply_test_of_a_grasp_feature_refused_out_of_range_is_not_a_failed_grasp(services, driver) -> None:  # noqa: ANN001
-    record, step = _grasp_feature(services)
-    driver.script("grasp", refused(OUT_OF_RANGE, "Front-Wrap: object at 4.3 in, range is 6-6 in"))
-    assert run(ApplyTest(ROBOT), services) == Status.FAILURE  # the step ends; the recovery sees no failed grasp
-    assert step.attempt.success is None and record.session.wrong_predictions == []
-    assert record.session.decide() == step.test and record.off_position
 
 
 # -- Grasp -----------------------------------------------------------------------------------
@@ -403,32 +369,6 @@ def test_grasp_refused_by_the_driver_is_a_failed_grasp(services, driver, log) ->
     driver.script("grasp", refused(NO_TARGET, "nothing in front of the hand"))
     assert run(Grasp(ROBOT), services) == Status.FAILURE
     assert step.attempt.failed and log.of("driver_error")[0]["code"] == NO_TARGET
-
-
-def test_grasp_refused_out_of_range_is_tried_again_after_a_re_approach(services, driver, log) -> None:  # noqa: ANN001
-    record, step = _at_grasp(services, "Top-Vert-Grip")
-    for tries in (1, 2):  # refused twice: re-approached twice, the grasp never counted as failed
-        driver.script("grasp", refused(OUT_OF_RANGE, "Top-Vert-Grip: object at 4.5 in, range is 6-6 in"))
-        assert run(Grasp(ROBOT), services) == Status.FAILURE
-        assert step.attempt == GraspAttempt("Top-Vert-Grip", P(6, 0)) and record.off_position
-        assert record.reapproaches["Top-Vert-Grip"] == tries
-    driver.script("grasp", refused(OUT_OF_RANGE, "Top-Vert-Grip: object at 4.5 in, range is 6-6 in"))
-    assert run(Grasp(ROBOT), services) == Status.FAILURE
-    assert step.attempt.failed  # the third refusal of the same grasp counts, as every refusal did before
-    assert log.kinds() == ["driver_error", "reapproach"] * 2 + ["driver_error"]
-
-
-@pytest.mark.parametrize(("seen", "again"), [(DriverPose(105.5, 50.0, 180.0), True),  # the camera moved it
-                                              (DriverPose(106.0, 50.0, 180.0), False)])  # nothing moved it
-def test_a_grasp_refused_out_of_range_is_re_approached_only_after_a_correction(services, driver, seen,  # noqa: ANN001
-                                                                                again) -> None:
-    record, step = _at_grasp(services, "Top-Vert-Grip")
-    record.arrived = DriverPose(106.0, 50.0, 180.0)  # where the move to (6,0) ended, by dead reckoning
-    put("pose", seen)  # where the look before the grasp placed the robot
-    driver.script("grasp", refused(OUT_OF_RANGE, "Top-Vert-Grip: object at 4.5 in, range is 6-6 in"))
-    assert run(Grasp(ROBOT), services) == Status.FAILURE
-    # planned from an uncorrected pose, the same move would end where the robot stands
-    assert record.off_position is again and step.attempt.failed is not again
 
 
 def test_move_to_a_position_the_robot_was_refused_at_drives_there_again(services, driver, nav, log) -> None:  # noqa: ANN001

@@ -16,7 +16,8 @@ import pytest
 from py_trees.common import Status
 
 from behaviours.actions import LocateObjects
-from behaviours.battery import BatteryLow, Charge, DriveToDock, KeepPlace, dock_of, guarded
+from behaviours.battery import BatteryLow, Charge, DriveToDock, dock_of, guarded
+from behaviours.guard import KeepPlace
 from behaviours.services import Params
 from hero_driver.interface import Charger, Pose as DriverPose, RobotState
 from learner.position import Position

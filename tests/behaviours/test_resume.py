@@ -1,7 +1,9 @@
-"""How a verb that did not come back ends (behaviours.base.DriverAction, behaviours.resume):
-a timeout gives up the object in hand and nothing more is sent for it; a lost driver
-stops the episode, or with ``Params.wait_driver_s`` pauses until a driver is back, then
-the objects are located again and the step starts over.
+"""How a verb that did not come back ends (behaviours.base.DriverAction,
+behaviours.reconnect, behaviours.resume): a timeout gives up the object in hand and
+nothing more is sent for it; a lost driver stops the episode, or with
+``Params.wait_driver_s`` the lost-driver guard (``driver check``, ticked here alone over
+one action) pauses the work until a driver is back, then the objects are located again
+and the step starts over.
 
 The FakeNavigator's geometry (conftest): a position (d, o) around an object is the
 point d inches from its centroid along bearing o; the fake driver stands at (0, 0).
@@ -15,6 +17,7 @@ import pytest
 from py_trees.common import Status
 
 from behaviours.actions import ApplyTest, Grasp, Learn, LocateObjects
+from behaviours.reconnect import DriverLost, reconnecting
 from behaviours.records import GraspAttempt, Step
 from behaviours.services import Params
 from hero_driver.interface import TIMEOUT, UNAVAILABLE, DriverError
@@ -99,9 +102,10 @@ def test_a_driver_that_comes_back_has_the_objects_located_again() -> None:
     put("results", [handled, record])
     step.test = record.session.decide()
     driver.script("sense", refused(UNAVAILABLE, "sense: driver for r1 went away"))
-    behaviour = setup(ApplyTest(ROBOT), services)
+    action = ApplyTest(ROBOT)
+    behaviour = setup(reconnecting(action, ROBOT), services)
     assert tick(behaviour, max_ticks=3) == Status.RUNNING  # paused: no driver yet
-    assert behaviour.feedback_message == "driver for r1 lost: waiting up to 10 s for one to come back"
+    assert action.feedback_message == "driver for r1 lost: waiting up to 10 s for one to come back"
     driver.back = True
     # The world was put back: the handled object lies where it was, the one in hand a
     # little off; two others.
@@ -125,7 +129,7 @@ def test_no_driver_within_the_wait_stops_the_episode_in_one_line() -> None:
     record, step = start_object(services)
     step.test = record.session.decide()
     driver.script("sense", refused(UNAVAILABLE, "sense: driver for r1 went away"))
-    behaviour = setup(ApplyTest(ROBOT), services)
+    behaviour = setup(reconnecting(ApplyTest(ROBOT), ROBOT), services)
     with pytest.raises(DriverError, match=r"^unavailable: no driver for robot r1 came back within 1 s$"):
         tick(behaviour, max_ticks=20)
 
@@ -147,7 +151,7 @@ def test_a_first_image_lost_with_its_driver_is_asked_again() -> None:
     fresh_board()
     driver.script("camera", refused(UNAVAILABLE, "camera: driver for r1 went away"), image())
     services.navigator.see(REGION)  # type: ignore[attr-defined]
-    behaviour = setup(LocateObjects(ROBOT), services)
+    behaviour = setup(reconnecting(LocateObjects(ROBOT), ROBOT), services)
     assert tick(behaviour, max_ticks=3) == Status.RUNNING
     driver.back = True
     assert tick(behaviour) == Status.SUCCESS
@@ -162,7 +166,7 @@ def test_a_driver_that_comes_back_as_another_robot_stops_the_episode() -> None:
     record, step = start_object(services)
     step.test = record.session.decide()
     driver.script("sense", refused(UNAVAILABLE, "sense: driver for r1 went away"))
-    behaviour = setup(ApplyTest(ROBOT), services)
+    behaviour = setup(reconnecting(ApplyTest(ROBOT), ROBOT), services)
     assert tick(behaviour, max_ticks=2) == Status.RUNNING
     driver.back = True
     said = (r"^unavailable: the driver that came back for robot r1 serves robot profile rover "
@@ -182,7 +186,32 @@ def test_a_driver_that_comes_back_as_the_same_robot_is_used() -> None:
     driver.script("sense", refused(UNAVAILABLE, "sense: driver for r1 went away"))
     driver.script("camera", image())
     services.navigator.see(REGION)  # type: ignore[attr-defined]
-    behaviour = setup(ApplyTest(ROBOT), services)
+    behaviour = setup(reconnecting(ApplyTest(ROBOT), ROBOT), services)
     assert tick(behaviour, max_ticks=2) == Status.RUNNING
     driver.back = True
     assert tick(behaviour) == Status.FAILURE and driver.verbs() == ["sense", "camera"]
+
+
+def test_a_driver_gone_again_before_its_image_came_is_waited_for_again() -> None:
+    services, driver = waiting()
+    fresh_board()
+    record, step = start_object(services)
+    step.test = record.session.decide()
+    driver.script("sense", refused(UNAVAILABLE, "sense: driver for r1 went away"))
+    driver.script("camera", refused(UNAVAILABLE, "camera: driver for r1 went away"), image())
+    services.navigator.see(REGION)  # type: ignore[attr-defined]
+    driver.back = True
+    behaviour = setup(reconnecting(ApplyTest(ROBOT), ROBOT), services)
+    assert tick(behaviour) == Status.FAILURE  # the second image came: located again, the step starts over
+    assert driver.verbs() == ["sense", "camera", "camera"] and get("step") == Step()
+    assert [e["behaviour"] for e in services.log.of("located")] == ["relocate"]  # type: ignore[attr-defined]
+
+
+def test_with_no_verb_lost_the_guard_lets_the_work_run(services, driver) -> None:  # noqa: ANN001
+    fresh_board()
+    condition = DriverLost(ROBOT)
+    assert run(condition, services) == Status.FAILURE and not condition.fired
+    services.navigator.see(REGION)  # type: ignore[attr-defined]
+    driver.script("camera", image())
+    assert run(reconnecting(LocateObjects(ROBOT), ROBOT), services) == Status.SUCCESS
+    assert get("objects") == [REGION] and driver.verbs() == ["camera"]

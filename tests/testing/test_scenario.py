@@ -90,6 +90,6 @@ def test_tree_display_is_py_trees_unicode_tree_without_colours(monkeypatch: pyte
         py_trees.behaviours.Success("a"),
         py_trees.composites.Selector("b", memory=False, children=[py_trees.behaviours.Failure("c")])])
     assert tree_display(root) == "{-} s\n    --> a\n    [o] b\n        --> c\n"
-    assert tree_display().splitlines()[0] == "[o] battery check"  # the executive's own tree
+    assert tree_display().splitlines()[0] == "[o] driver check"  # the executive's own tree
     monkeypatch.setattr(py_trees.display, "unicode_tree", lambda _root: "\x1b[1m{-} s\x1b[0m\n    \x1b[32m--> a\n")
     assert tree_display(root) == "{-} s\n    --> a\n"
