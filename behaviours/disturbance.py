@@ -138,8 +138,7 @@ class Disturbed(DriverAction):
         return self.services.driver.camera()
 
     def finish(self, result: CameraImage) -> Status:
-        obj, services = self.obj, self.services
-        params = services.params
+        obj = self.obj
         scene = self.look(result)
         others = [r.centroid for r in self.bb.objects] + [
             r.region.centroid for r in self.bb.results if r is not obj and r.outcome not in ("grasped", GONE)]

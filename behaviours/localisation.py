@@ -16,10 +16,9 @@ shifted by the offset, and every waypoint and face point sent goes in shifted ba
 plans, regions and poses share the camera's frame. Behaviours call :meth:`localise`
 with the robot's position in each new image (:meth:`CslBehaviour.look`); the offset
 changes only when the image places the robot more than ``deadband_in`` from where the
-corrected pose says, since smaller differences are the camera's own error (measured in
-the simulator under the ``paper`` preset: 0.07 in median, 0.25 in at most, against a
-drift of 0.54 in median and 1.55 in at most), and a robot that does not drift must
-never be moved by camera noise. Heading is left to the driver (the drift model has none,
+corrected pose says, since smaller differences are the camera's own error (well under
+the drift in the simulator under the ``paper`` preset: BENCHMARKS.md, "Dead
+reckoning"), and a robot that does not drift must never be moved by camera noise. Heading is left to the driver (the drift model has none,
 and the sonar centring faces the object).
 """
 

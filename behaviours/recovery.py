@@ -185,7 +185,7 @@ class CheckSideEffects(DriverAction):
         return self.services.driver.camera()
 
     def finish(self, result: CameraImage) -> Status:
-        obj, services, step = self.obj, self.services, self.step
+        obj, step = self.obj, self.step
         scene = self.look(result)
         old = obj.region
         near = [r for r in scene.regions
