@@ -18,7 +18,8 @@ from behaviours.appearance import appearance_of
 from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
 from hero_driver.sim.probe import approach_pose, probe, probe_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
 from learner.training_grasps import GraspOutcome

@@ -17,7 +17,8 @@ from typing import TypeVar
 from hero_driver.interface import (
     BAD_REQUEST, UNAVAILABLE, CameraImage, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
-from hero_driver.sim.events import DisturbPreset, Happened
+from hero_driver.sim.disturber import Happened
+from hero_driver.sim.events import DisturbPreset
 from hero_driver.sim.movers import MoverPreset, MoverTruth
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld

@@ -40,7 +40,7 @@ from executive.experiment.worlds import random_floor
 from executive.report import Truth, rows
 from hero_driver.interface import SenseResult
 from hero_driver.sim.clutter import Clutter, cluttered, contaminated
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim_driver import SimulatedHero
 from learner.service.local import LocalLearner
 

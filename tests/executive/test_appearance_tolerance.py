@@ -18,7 +18,8 @@ from executive.defaults import EXAMPLE_LIBRARY
 from executive.experiment.worlds import random_floor
 from executive.training_sources import camera_objects
 from hero_driver.sim.noise import NOISE_PRESETS
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 from learner.appearance import Appearance
 from learner.library import read_library_json

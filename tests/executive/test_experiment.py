@@ -24,7 +24,7 @@ from executive.experiment.table import markdown_table, paired_difference, ratio
 from executive.experiment.worlds import random_floor, set_members
 from executive.profile import knowledge_of
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import parse_world
 from learner.position import Position
 from robot_profile import load_profile

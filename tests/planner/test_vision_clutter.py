@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 from behaviours.bridge import overhead
 from camera_model.board import load_board
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import WORLDS_DIR, load_world, parse_world
 from planner.segmentation import calibrated_camera
 from planner.vision import Region, look

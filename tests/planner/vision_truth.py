@@ -24,8 +24,8 @@ from hero_driver.interface import Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.render_preset import render_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import Placement, load_world
 from planner.image import OverheadImage
 from planner.segmentation import Camera, calibrated_camera
@@ -68,7 +68,7 @@ def lab_at(pose: int, seed: int = 0, noise: NoiseConfig = NOISE) -> SimWorld:
 
 
 def overhead(sim: SimWorld, preset: str) -> OverheadImage:
-    return camera_overhead(render_world(sim, preset))
+    return camera_overhead(sim.render(preset))
 
 
 def lab_camera() -> Camera:
