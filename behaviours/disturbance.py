@@ -41,7 +41,7 @@ from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
-from hero_driver.interface import CameraImage
+from camera_model.image import CameraImage
 from planner import Region
 from planner.merging import within_push
 

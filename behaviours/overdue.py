@@ -23,8 +23,10 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import Future, InvalidStateError
 from typing import Any
 
-from hero_driver.interface import (BUSY, TIMEOUT, CameraImage, Driver, DriverError, GraspResult, MoveResult, Pose,
-                                   RobotState, SenseResult)
+from camera_model.image import CameraImage
+from hero_driver.interface import (
+    BUSY, TIMEOUT, Driver, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
+)
 
 RETRY_S = 0.25  # between two tries of a verb the robot refused as busy
 

@@ -25,7 +25,8 @@ from behaviours.bridge import other_end, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
-from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
+from camera_model.image import CameraImage
+from hero_driver.interface import DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.matrix import Test
 from learner.position import Position

@@ -21,6 +21,7 @@ from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.services import Params
 from camera_model.board import MarkerBoard, load_board
+from camera_model.image import CameraImage
 from executive import defaults
 from executive.args import criterion_from_args, library_path, output_folder
 from executive.commands.learner_cmd import report_quarantined
@@ -33,7 +34,7 @@ from executive.recording.options import check_recording_options, open_recording
 from executive.recording.status import status_tree
 from executive.report import Row, Truth, episode_json, match_truth, print_report, rows
 from executive.tables import print_json
-from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, Driver, DriverError
+from hero_driver.interface import TIMEOUT, UNAVAILABLE, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
 from learner.criteria import Criterion
 from learner.description import ObjectDescription

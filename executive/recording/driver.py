@@ -8,9 +8,9 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from typing import TypeVar
 
+from camera_model.image import CameraImage
 from executive.recording.recorder import Recorder
-from hero_driver.interface import (CameraImage, Driver, DriverError, GraspResult, MoveResult, Pose, RobotState,
-                                   SenseResult)
+from hero_driver.interface import Driver, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult
 
 T = TypeVar("T")
 

@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, CameraImage, DriverError, GraspResult,
-    MoveResult, Obstacle, Pose, RobotState, SenseResult,
+    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
