@@ -5,8 +5,8 @@ consumer never re-checks a profile; the two ``[robot]`` parts also check themsel
 because the planner's tests and tools build them by hand.
 
 The procedures and the ``[move]`` model are the learner's own types
-(:mod:`learner.knowledge`), built here directly: one definition, no translation (see the
-package docstring for why the learner owns them).
+(:mod:`learner.knowledge`), which the reader builds directly: one definition, no
+translation (the package docstring says why the learner owns them).
 
 The ``[robot]`` keys are the fields of :class:`RobotGeometry` and :class:`RobotMotion`:
 the reader reads each field as a non-negative number, or one greater than 0 when its
