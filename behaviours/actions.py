@@ -16,8 +16,8 @@ from py_trees.common import Access, Status
 from behaviours.base import DriverAction
 from behaviours.bridge import to_driver_pose
 from behaviours.events import Event
-from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Obstacle, RobotState,
-                                   SenseResult)
+from camera_model.image import CameraImage
+from hero_driver.interface import DriverError, GraspResult, MoveResult, Obstacle, RobotState, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.position import Position
 from planner import PlanResult

@@ -17,12 +17,13 @@ from typing import Any, TypeVar
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviours.bridge import overhead, to_planner_pose
+from behaviours.bridge import to_planner_pose
 from behaviours.events import Event
 from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb, ObjectRecord, Refusal, Step
 from behaviours.resume import Reconnecting
 from behaviours.services import Services, namespace
-from hero_driver.interface import OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, CameraImage, DriverError
+from camera_model.image import CameraImage
+from hero_driver.interface import OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError
 from planner import Pose as PlannerPose, Scene
 
 T = TypeVar("T")
@@ -88,9 +89,8 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
         image places the robot away from where its pose says, the pose on the blackboard
         becomes the corrected one. Only a behaviour with write access to the pose looks."""
         services = self.services
-        seen = overhead(image)
         working = self.bb.exists("object") and self.bb.get("object") is not None  # else nothing to charge it to
-        scene = self.timed(lambda: services.navigator.observe(seen)) if working else services.navigator.observe(seen)
+        scene = self.timed(lambda: services.navigator.observe(image)) if working else services.navigator.observe(image)
         localise = getattr(services.driver, "localise", None)
         if scene.robot is not None and localise is not None and localise(scene.robot.x_in, scene.robot.y_in):
             was = self.bb.pose

@@ -37,7 +37,8 @@ from behaviours.actions import BLOCKED, Blockage, MoveTo
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
 from behaviours.services import namespace
-from hero_driver.interface import BlockedMoves, CameraImage, Driver, RobotState
+from camera_model.image import CameraImage
+from hero_driver.interface import BlockedMoves, Driver, RobotState
 
 AVOID_MARGIN_IN = 3.0
 """The obstacle is drawn into the map this much wider than the driver says it reaches:

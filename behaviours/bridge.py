@@ -1,4 +1,5 @@
-"""Conversions between the driver's, the planner's and the learner's views of space.
+"""Conversions between the driver's, the planner's and the learner's views of space
+(the overhead image needs none: driver and planner share ``camera_model.image``).
 
 The driver speaks world poses, the planner its own poses and regions, the learner
 positions relative to the object (``docs/conventions.md``). These are the only places
@@ -10,9 +11,9 @@ from __future__ import annotations
 
 import math
 
-from hero_driver.interface import CameraImage, Pose as DriverPose
+from hero_driver.interface import Pose as DriverPose
 from learner.position import Position
-from planner import Navigator, OverheadImage, Pose as PlannerPose, Region
+from planner import Navigator, Pose as PlannerPose, Region
 from planner.positions import beam_blockers, neighbours
 
 
@@ -22,12 +23,6 @@ def to_planner_pose(p: DriverPose) -> PlannerPose:
 
 def to_driver_pose(p: PlannerPose) -> DriverPose:
     return DriverPose(p.x_in, p.y_in, p.heading_deg)
-
-
-def overhead(image: CameraImage) -> OverheadImage:
-    """The driver's camera image as the planner's input (same fields)."""
-    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                         image.camera_matrix, image.fisheye)
 
 
 def relative_position(navigator: Navigator, region: Region, pose: PlannerPose) -> Position:

@@ -32,7 +32,7 @@ from py_trees.common import Access, Status
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
 from behaviours.sameness import PUSHED_IN
-from hero_driver.interface import CameraImage
+from camera_model.image import CameraImage
 from planner import Region
 from planner.merging import within_push
 from planner.positions import beam_blockers, neighbours

@@ -43,7 +43,7 @@ from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN, SEARCH_IN
-from hero_driver.interface import CameraImage
+from camera_model.image import CameraImage
 from planner import Region
 from planner.merging import within_push
 

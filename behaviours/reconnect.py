@@ -38,7 +38,8 @@ from behaviours.base import CslBehaviour
 from behaviours.guard import KeepPlace
 from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb
 from behaviours.resume import Reconnecting, relocate, same_robot
-from hero_driver.interface import UNAVAILABLE, CameraImage, DriverError
+from camera_model.image import CameraImage
+from hero_driver.interface import UNAVAILABLE, DriverError
 
 
 class DriverLost(CslBehaviour):

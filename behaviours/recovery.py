@@ -26,7 +26,8 @@ from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
-from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
+from camera_model.image import CameraImage
+from hero_driver.interface import DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.matrix import Test
 from learner.position import Position

@@ -18,11 +18,12 @@ from typing import Protocol, runtime_checkable
 import py_trees
 from py_trees.common import Access
 
-from behaviours.bridge import overhead, to_planner_pose
+from behaviours.bridge import to_planner_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import Services, namespace
-from hero_driver.interface import UNAVAILABLE, CameraImage, DriverError
+from camera_model.image import CameraImage
+from hero_driver.interface import UNAVAILABLE, DriverError
 from planner import Pose as PlannerPose, Region
 from robot_profile import ProfileStamp
 
@@ -60,7 +61,7 @@ def relocate(services: Services, robot: str, image: CameraImage, reason: str) ->
     for key in ("objects", "object", "step", "pose"):
         board.register_key(key, access=Access.WRITE)
     board.register_key("results", access=Access.READ)
-    scene = services.navigator.observe(overhead(image))
+    scene = services.navigator.observe(image)
     board.pose = None  # where the robot stands: the driver says, not the end of our last move
     here = to_planner_pose(services.driver.state().pose)
     seen = list(scene.regions)

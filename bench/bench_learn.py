@@ -43,7 +43,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
-from executive.profile import load_knowledge  # noqa: E402
+from robot_profile import load_knowledge  # noqa: E402
 from learner.gain import partition_columns  # noqa: E402
 from learner.library import LibraryStore, read_library_json  # noqa: E402
 from learner.matrix import DescriptionMatrix  # noqa: E402

@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from executive.profile import load_knowledge  # noqa: E402
+from robot_profile import load_knowledge  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.criteria import criterion  # noqa: E402
 from learner.description import ObjectDescription, Observation  # noqa: E402

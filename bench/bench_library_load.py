@@ -36,7 +36,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
-from executive.profile import load_knowledge  # noqa: E402
+from robot_profile import load_knowledge  # noqa: E402
 from learner.appearance import Appearance, appearance_from_json  # noqa: E402
 from learner.description import ObjectDescription, Observation  # noqa: E402
 from learner.library import LibraryStore, read_library_json, write_library_json  # noqa: E402

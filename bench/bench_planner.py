@@ -34,9 +34,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from camera_model.image import CameraImage  # noqa: E402
 from hero_driver.interface import Pose as DriverPose  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from planner import Navigator, OverheadImage, PathPlanner, Pose  # noqa: E402
+from planner import Navigator, PathPlanner, Pose  # noqa: E402
 from planner.grid_search import distance_field  # noqa: E402
 from planner.move_cost import arrived  # noqa: E402
 from planner.paths import STRAIGHT  # noqa: E402
@@ -44,10 +45,8 @@ from robot_profile import load_profile  # noqa: E402
 
 
 
-def overhead(hero: SimulatedHero) -> OverheadImage:
-    image = hero.camera().result()
-    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                         image.camera_matrix, image.fisheye)
+def overhead(hero: SimulatedHero) -> CameraImage:
+    return hero.camera().result()
 
 
 def percentile(values: list[float], q: float) -> float:

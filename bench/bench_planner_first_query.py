@@ -33,7 +33,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import planner.paths as paths  # noqa: E402
-from behaviours.bridge import overhead  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
 from planner import Navigator, PathPlanner, PlanResult, Pose  # noqa: E402
 from planner.roadmap import Roadmap  # noqa: E402
@@ -90,7 +89,7 @@ def main() -> None:
     args = ap.parse_args()
     hero = SimulatedHero(seed=args.seed)
     navigator = Navigator(load_profile().robot)
-    navigator.observe(overhead(hero.camera().result()))
+    navigator.observe(hero.camera().result())
     vision_map = navigator.vision_map
     start, goal = detour(vision_map, args.seed)
 
@@ -121,7 +120,7 @@ def main() -> None:
     try:
         nav = Navigator(load_profile().robot)
         for _ in range(3):  # the same world seen three times (the robot is not an obstacle)
-            nav.observe(overhead(hero.camera().result()))
+            nav.observe(hero.camera().result())
             nav.plan(start, goal)
     finally:
         Roadmap.grow = classmethod(original)

@@ -53,7 +53,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
-from executive.profile import load_knowledge  # noqa: E402
+from robot_profile import load_knowledge  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
 from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402

@@ -33,7 +33,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from executive.demo_library import trained_library  # noqa: E402
-from executive.profile import knowledge_of  # noqa: E402
 from executive.training_sources import SimulatorSource, camera_objects  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.training import TrainingResult, train  # noqa: E402
@@ -59,7 +58,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=7, help="runs of each path per workload (default 7)")
     args = ap.parse_args()
     profile = load_profile()
-    knowledge = knowledge_of(profile)
+    knowledge = profile.knowledge()
     estimator = ModelMoveCost(knowledge.move)
 
     objects = read_objects(PROFILES / "hero2000-measurements-objects.json")

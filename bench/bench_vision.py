@@ -28,7 +28,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from hero_driver.sim.world import profile_and_catalogue  # noqa: E402
+from hero_driver.sim.catalogue import profile_and_catalogue  # noqa: E402
 from planner.vision import look  # noqa: E402
 from tests.planner.vision_truth import Seen, lab_at, lab_camera, overhead, pixel_spread, seen  # noqa: E402
 

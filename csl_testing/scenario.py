@@ -20,7 +20,7 @@ from behaviours.services import Params
 from executive.executive import Executive
 from hero_driver.interface import Driver
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import Placement, WorldSpec
 from hero_driver.sim_driver import SimulatedHero
 from learner.criteria import Criterion

@@ -36,11 +36,11 @@ VERSION = 1
 REPOSITORY = Path(__file__).resolve().parents[1]
 # The code a trained library depends on: the learner, the simulated robot and its
 # camera, the camera's published model and the vision that makes training objects of
-# what the camera sees, the profile reader, and the executive modules that drive
-# training and read the knowledge.
+# what the camera sees, the profile reader (which builds the learner's knowledge), and
+# the executive modules that drive training.
 TRAINING_CODE = ("learner/**/*.py", "hero_driver/sim/**/*.py", "hero_driver/interface.py", "camera_model/*.py",
                  "planner/*.py", "robot_profile/*.py", "behaviours/appearance.py", "behaviours/bridge.py",
-                 "executive/sim_training.py", "executive/training_sources.py", "executive/profile.py")
+                 "executive/sim_training.py", "executive/training_sources.py")
 TRAINING_NOISE = False  # demo training measures the objects exactly, as the shipped library was made
 
 

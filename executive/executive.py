@@ -23,7 +23,6 @@ from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.battery_cost import navigator_for
 from executive.episode_log import EpisodeLog
 from executive.grasp_attempts import LearnedGraspCosts
-from executive.profile import knowledge_of
 from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
@@ -66,7 +65,7 @@ class Executive:
         self.log = log or EpisodeLog()
         self.on_tick = on_tick
         profile = profile or load_profile()
-        knowledge = knowledge_of(profile)
+        knowledge = profile.knowledge()
         # a verb refused busy after a timeout is sent again (behaviours.overdue); poses are
         # the overhead camera's, the driver's dead reckoning corrected (behaviours.localisation)
         localised = CameraLocalised(driver) if params.localise else driver

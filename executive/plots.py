@@ -17,12 +17,12 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle, Patch, Rectangle  # noqa: E402
 import py_trees  # noqa: E402
 
-from behaviours.bridge import overhead  # noqa: E402
 from behaviours.records import ObjectRecord  # noqa: E402
+from camera_model.image import CameraImage  # noqa: E402
 from executive.history import CurvePoint  # noqa: E402
 from executive.tree_figure import (BOX_PT, LABEL_H, LABEL_PT, LINE_H, PAD, Box, Link, TreeLayout,  # noqa: E402
                                    layout, object_figures)
-from hero_driver.interface import CameraImage  # noqa: E402
+from planner.image import undistorted  # noqa: E402
 
 _COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
 
@@ -93,11 +93,7 @@ def map_image(image: CameraImage) -> CameraImage:
     ``cv2.fisheye`` model with Knew = K, which keeps the pixel-to-world mapping), so
     that paths and regions drawn in world inches land on what they mark; the raw image
     is inches off towards its corners."""
-    if image.fisheye is None:
-        return image
-    flat = overhead(image).undistorted()
-    return CameraImage(pixels=flat.pixels, inches_per_pixel=flat.inches_per_pixel, origin_x_in=flat.origin_x_in,
-                       origin_y_in=flat.origin_y_in, clock_s=image.clock_s, meta=image.meta)
+    return undistorted(image)
 
 
 def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], events: Sequence[dict],

@@ -15,10 +15,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from behaviours.appearance import appearance_of
-from behaviours.bridge import overhead
 from hero_driver.interface import DriverError
 from hero_driver.sim.probe import approach_pose, probe, probe_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from learner.position import Position
 from learner.training_data import MeasurementSource, TrainingObject
 from learner.training_grasps import GraspOutcome
@@ -175,7 +175,7 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
 
 
 def _seen(object_id: str, profile: RobotProfile | None, seed: int, noise: bool) -> Region:
-    regions = look(overhead(probe_world(object_id, seed, noise, profile).camera())).regions
+    regions = look(probe_world(object_id, seed, noise, profile).camera()).regions
     if len(regions) != 1:
         raise ValueError(f"camera: {object_id!r} alone on the floor shows {len(regions)} regions, not 1")
     return regions[0]

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Future
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
-import numpy as np
+from camera_model.image import CameraImage
 
 PROTOCOL_VERSION = 1
 
@@ -116,28 +116,6 @@ class GraspResult:
     procedure: str
     success: bool
     duration_s: float
-
-
-@dataclass(frozen=True)
-class CameraImage:
-    """An overhead grayscale image and how its pixels map to the world.
-
-    ``pixels`` is HxW uint8. Pixel (row, col)'s centre, once undistorted, is at world
-    ``x = origin_x_in + (col + 0.5) * inches_per_pixel`` and
-    ``y = origin_y_in - (row + 0.5) * inches_per_pixel`` (row 0 is the room's far,
-    high-y edge). When ``fisheye`` is set the image was distorted with OpenCV's fisheye
-    model: ``camera_matrix`` (3x3) and ``fisheye`` (4 coefficients) undistort it with
-    ``cv2.fisheye.undistortImage(pixels, K, D, Knew=K)``.
-    """
-
-    pixels: np.ndarray
-    inches_per_pixel: float
-    origin_x_in: float
-    origin_y_in: float
-    camera_matrix: np.ndarray | None = None
-    fisheye: tuple[float, float, float, float] | None = None
-    clock_s: float = 0.0
-    meta: Mapping[str, object] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

@@ -14,10 +14,12 @@ from concurrent.futures import Future
 from pathlib import Path
 from typing import TypeVar
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, UNAVAILABLE, CameraImage, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
+    BAD_REQUEST, UNAVAILABLE, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
-from hero_driver.sim.events import DisturbPreset, Happened
+from hero_driver.sim.disturber import Happened
+from hero_driver.sim.events import DisturbPreset
 from hero_driver.sim.movers import MoverPreset, MoverTruth
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import ObjectTruth, SimWorld

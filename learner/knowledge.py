@@ -1,8 +1,9 @@
 """The robot's knowledge: sensing and grasping procedures, their costs, and moving.
 
 This is the learner's only view of a robot, so another robot is other knowledge. The
-learner reads no files: the executive builds a :class:`Knowledge` from the validated
-robot profile (``executive.profile``), and tests build one by hand.
+learner reads no files and imports nothing of ours, so these types are its own: the
+robot profile reader (``robot_profile``) builds them directly from the validated file
+(one definition, nothing translated), and tests build them by hand.
 """
 
 from __future__ import annotations

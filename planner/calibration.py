@@ -25,7 +25,7 @@ import numpy as np
 
 from camera_model.board import MarkerBoard
 from camera_model.floor_grid import FloorGrid
-from planner.image import OverheadImage
+from camera_model.image import CameraImage
 
 MIN_MARKERS = 4  # 16 corners: a homography and two distortion terms with room to spare
 RECTIFIED_INCHES_PER_PIXEL = 0.8  # the band image's grid: the planner's costs are tuned to it
@@ -74,7 +74,7 @@ class Calibration:
         raw = raw.reshape(height, width, 2)
         return raw[..., 0].astype(np.float32), raw[..., 1].astype(np.float32)
 
-    def rectify(self, pixels: np.ndarray) -> OverheadImage:
+    def rectify(self, pixels: np.ndarray) -> CameraImage:
         """The raw image resampled onto the floor grid (bilinear: a real image has no
         bands to keep apart); what the camera does not see is black."""
         pixels = np.asarray(pixels)
@@ -84,7 +84,7 @@ class Calibration:
         map_x, map_y = self._maps
         flat = cv2.remap(np.ascontiguousarray(pixels, dtype=np.uint8), map_x, map_y, interpolation=cv2.INTER_LINEAR,
                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-        return OverheadImage(flat, self.inches_per_pixel, self.origin_x_in, self.origin_y_in)
+        return CameraImage(flat, self.inches_per_pixel, self.origin_x_in, self.origin_y_in)
 
 
 def _detector(board: MarkerBoard) -> cv2.aruco.ArucoDetector:

@@ -20,11 +20,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from camera_model.image import CameraImage
 from planner.cache import LruCache
 from planner.calibration import MarkerBoard
 from planner.geometry import Pose
 from planner.merging import flag_merged
-from planner.image import OverheadImage
 from planner.move_cost import CostEstimator, MoveCost, arrived, price_plan
 from planner.paths import OK, PathPlanner, PlanResult
 from planner.positions import free_pose_for_position, position_of
@@ -71,9 +71,10 @@ class Navigator:
         self._current: _World | None = None
         self._avoided: tuple[Disc, ...] = ()
 
-    def observe(self, image: OverheadImage) -> Scene:
+    def observe(self, image: CameraImage) -> Scene:
         """Look at a new overhead image; later calls plan on it. A region covering two
         objects the previous image saw apart is a cluster (:mod:`planner.merging`)."""
+        image.check()
         if self.camera is None and self._board is not None:
             self.camera = calibrated_camera(image.pixels, self._board)
         seen = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))

@@ -23,8 +23,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from camera_model.image import CameraImage
 from planner.calibration import Calibration, MarkerBoard, calibrate, load_calibration, save_calibration
-from planner.image import OverheadImage
 
 OBJECT_RATIO = 1.2  # brighter than the floor by this much: an object (5 noise sigmas)
 ROBOT_RATIO = 0.5  # darker than this: the robot's paint (a shadow darkens to ~0.65 at most)
@@ -85,7 +85,7 @@ def empty_floor_path(calibration_path: Path) -> Path:
     return Path(calibration_path).with_suffix(".floor.png")
 
 
-def save_camera(calibration: Calibration, empty_floor_image: OverheadImage, path: Path) -> None:
+def save_camera(calibration: Calibration, empty_floor_image: CameraImage, path: Path) -> None:
     """Write the calibration file and, beside it, the rectified image the empty floor is
     made from (a PNG, so the floor can be looked at and the file read anywhere)."""
     path = Path(path)
@@ -105,7 +105,7 @@ def load_camera(path: Path) -> Camera:
     if pixels.shape[::-1] != calibration.floor_size:
         raise ValueError(f"{floor_path}: is {pixels.shape[1]}x{pixels.shape[0]}, the calibration's floor grid "
                          f"{calibration.floor_size[0]}x{calibration.floor_size[1]}")
-    image = OverheadImage(pixels, calibration.inches_per_pixel, calibration.origin_x_in, calibration.origin_y_in)
+    image = CameraImage(pixels, calibration.inches_per_pixel, calibration.origin_x_in, calibration.origin_y_in)
     return Camera(calibration, empty_floor(image))
 
 
@@ -120,7 +120,7 @@ class Masks:
     brightness: np.ndarray  # float: the image over the empty floor (1 = bare floor)
 
 
-def empty_floor(image: OverheadImage) -> EmptyFloor:
+def empty_floor(image: CameraImage) -> EmptyFloor:
     """The empty floor from one rectified image, objects and robot painted out."""
     level = np.asarray(image.pixels, dtype=np.float32)
     light = _floor_light(level)
@@ -140,7 +140,7 @@ def empty_floor(image: OverheadImage) -> EmptyFloor:
     return EmptyFloor(level=_smooth(filled), obstacles=obstacles, printed=printed)
 
 
-def segment(image: OverheadImage, floor: EmptyFloor) -> Masks:
+def segment(image: CameraImage, floor: EmptyFloor) -> Masks:
     """Robot, obstacles and objects of one rectified image against the empty floor."""
     level = np.asarray(image.pixels, dtype=np.float32)
     if level.shape != floor.level.shape:

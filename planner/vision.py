@@ -23,8 +23,9 @@ import cv2
 import numpy as np
 
 from camera_model.bands import MARKER_BAND, OBJECT_BAND, ROBOT_BAND, WALL_BAND
+from camera_model.image import CameraImage
 from planner.geometry import Pose, wrap_360
-from planner.image import OverheadImage
+from planner.image import undistorted
 from planner.segmentation import Camera, segment
 
 
@@ -110,24 +111,25 @@ class Scene:
     furniture, ``objects`` the object regions' pixels; neither contains the robot.
     """
 
-    image: OverheadImage
+    image: CameraImage
     regions: tuple[Region, ...]
     robot: Pose | None
     furniture: np.ndarray
     objects: np.ndarray
 
 
-def look(image: OverheadImage, camera: Camera | None = None) -> Scene:
+def look(image: CameraImage, camera: Camera | None = None) -> Scene:
     """Segment an overhead image: by the grey bands (undistorting it first when it is
     fish-eye), or, given a calibrated ``camera``, rectified onto the floor and compared
     with its empty floor (:mod:`planner.segmentation`, docs/camera.md)."""
+    image.check()
     if camera is not None:
         flat = camera.calibration.rectify(image.pixels)
         masks = segment(flat, camera.empty_floor)
         body, marker = masks.robot_body, masks.robot_marker
         furniture, objects, brightness = masks.obstacles, masks.objects, masks.brightness
     else:
-        flat = image.undistorted()
+        flat = undistorted(image)
         pixels = np.ascontiguousarray(flat.pixels, dtype=np.uint8)
         body_mask = _robot_body(pixels)
         not_robot = cv2.dilate(body_mask, _CROSS, iterations=ROBOT_RIM_PX) == 0
@@ -167,7 +169,7 @@ def _robot_body(pixels: np.ndarray) -> np.ndarray:
     return filled
 
 
-def _robot_pose(image: OverheadImage, body: np.ndarray, marker: np.ndarray) -> Pose | None:
+def _robot_pose(image: CameraImage, body: np.ndarray, marker: np.ndarray) -> Pose | None:
     """Base centre from the body's centroid, heading towards the marker's centroid."""
     body_m = cv2.moments(body.astype(np.uint8), binaryImage=True)
     marker_m = cv2.moments(marker.astype(np.uint8), binaryImage=True)
@@ -181,7 +183,7 @@ def _robot_pose(image: OverheadImage, body: np.ndarray, marker: np.ndarray) -> P
     return Pose(float(cx), float(cy), heading)
 
 
-def _regions(image: OverheadImage, objects: np.ndarray,
+def _regions(image: CameraImage, objects: np.ndarray,
              brightness: np.ndarray | None = None) -> tuple[tuple[Region, ...], np.ndarray]:
     """Object regions and the mask of the pixels that belong to a kept region; given a
     real image's ``brightness``, pixel counts are its sub-pixel object areas
@@ -207,7 +209,7 @@ def _regions(image: OverheadImage, objects: np.ndarray,
     return tuple(regions), kept
 
 
-def _kept_region(image: OverheadImage, roi: np.ndarray, row: int, col: int, on: np.ndarray,
+def _kept_region(image: CameraImage, roi: np.ndarray, row: int, col: int, on: np.ndarray,
                  brightness: np.ndarray | None, kept: np.ndarray) -> Region | None:
     """One object's region from its 0/1 pixel mask within the blob's box at (row, col),
     marked in ``kept``; None when it is too small to be an object."""
@@ -302,7 +304,7 @@ def _covered_pixels(brightness: np.ndarray, objects: np.ndarray, roi: np.ndarray
     return max(int(round(float(share[region].sum() + share[rim].sum()))), 1)
 
 
-def _describe(image: OverheadImage, roi: np.ndarray, row0: int, col0: int) -> Region:
+def _describe(image: CameraImage, roi: np.ndarray, row0: int, col0: int) -> Region:
     """Centroid, axis, polygon and sizes of one region (``roi`` is its 0/1 pixel mask)."""
     ipp = image.inches_per_pixel
     moments = cv2.moments(roi, binaryImage=True)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from planner.image import OverheadImage
+from camera_model.image import CameraImage
 from planner.vision import Scene
 from robot_profile import RobotGeometry
 
@@ -39,7 +39,7 @@ class VisionMap:
     quarter cell of a sample, hence in the sample's cell or a neighbour of it).
     """
 
-    image: OverheadImage
+    image: CameraImage
     occupied: np.ndarray
     free: np.ndarray
     free_strict: np.ndarray

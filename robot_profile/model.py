@@ -4,6 +4,10 @@ Every field is validated by :mod:`robot_profile.reader` before these are built, 
 consumer never re-checks a profile; the two ``[robot]`` parts also check themselves,
 because the planner's tests and tools build them by hand.
 
+The procedures and the ``[move]`` model are the learner's own types
+(:mod:`learner.knowledge`), which the reader builds directly: one definition, no
+translation (the package docstring says why the learner owns them).
+
 The ``[robot]`` keys are the fields of :class:`RobotGeometry` and :class:`RobotMotion`:
 the reader reads each field as a non-negative number, or one greater than 0 when its
 metadata is :data:`POSITIVE`, so a new constant is one field here and one line in the
@@ -13,6 +17,8 @@ profile file (docs/conventions.md, "Adding a robot constant").
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+
+from learner.knowledge import GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 
 POSITIVE = {"positive": True}  # field metadata: the reader refuses 0 (sizes, and what costs divide by)
 
@@ -27,48 +33,6 @@ def _check_constants(part: object, what: str) -> None:
             wrong.append(f"{f.name} {'> 0' if positive else '>= 0'} (got {value})")
     if wrong:
         raise ValueError(f"{what} needs {', '.join(wrong)}")
-
-
-@dataclass(frozen=True)
-class FeatureSpec:
-    """A feature a sensing procedure yields, with the error expected of it."""
-
-    name: str
-    error: float  # in the feature's unit
-    unit: str
-    binary: bool  # 0/1 features (holes): their span is (0, 1)
-    span: tuple[float, float]  # the values the feature can take
-    angular_of: str | None = None  # the linear feature whose angular size this is
-
-
-@dataclass(frozen=True)
-class SensingProcedure:
-    """An arm motion with the wrist sonar; one application yields all its features."""
-
-    name: str
-    time_s: float
-    range_in: tuple[float, float]
-    features: tuple[FeatureSpec, ...]
-
-
-@dataclass(frozen=True)
-class GraspingProcedure:
-    """A grasp; ``verifiable`` says whether the finger sensor can confirm success."""
-
-    name: str
-    time_s: float
-    range_in: tuple[float, float]
-    side_effect_penalty_s: float
-    verifiable: bool
-
-
-@dataclass(frozen=True)
-class MoveModel:
-    """The ``[move]`` table: the learner's move cost until a planner prices moves on a map."""
-
-    seconds_per_inch: float
-    seconds_per_degree: float
-    overhead_s: float
 
 
 @dataclass(frozen=True)
@@ -136,3 +100,8 @@ class RobotProfile:
     @property
     def grasp_names(self) -> tuple[str, ...]:
         return tuple(g.name for g in self.grasping)
+
+    def knowledge(self) -> Knowledge:
+        """The learner's part of the profile: its procedures and ``[move]`` model, already
+        in the learner's own types, so nothing is translated; ``[robot]`` stays out."""
+        return Knowledge(sensing=self.sensing, grasping=self.grasping, move=self.move, source=self.source)

@@ -5,6 +5,12 @@ here, so a procedure costs the same robot time in simulation as the learner was 
 and the planner inflates the map by the body the simulator drives. Validation is
 strict: a profile is hand-edited, and a typo that silently changed a cost would
 silently change every tree.
+
+Two readings of one file: :func:`load_profile`, the whole robot, for whatever drives
+the planner or the simulator, requires ``[robot]``; :func:`load_knowledge`, the
+learner's part only, does not (the learner never reads it, and a file of procedures
+alone, as the paper gives them, must be enough for ``csl tree`` and ``csl train``).
+Whatever either reads is checked the same way.
 """
 
 from __future__ import annotations
@@ -17,10 +23,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import BinaryIO, TypeVar
 
+from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 from robot_profile import fields
-from robot_profile.model import (
-    FeatureSpec, GraspingProcedure, MoveModel, Robot, RobotGeometry, RobotMotion, RobotProfile, SensingProcedure,
-)
+from robot_profile.model import Robot, RobotGeometry, RobotMotion, RobotProfile
 
 DEFAULT_PROFILE = Path(__file__).resolve().parent.parent / "hero_driver" / "profiles" / "hero2000.toml"
 
@@ -30,9 +35,22 @@ _Part = TypeVar("_Part", RobotGeometry, RobotMotion)
 def load_profile(path: str | Path = DEFAULT_PROFILE) -> RobotProfile:
     """Read and validate a profile file; errors name the file, entry and problem."""
     path = Path(path)
+    return profile_from_dict(_read(path), str(path))
+
+
+def load_knowledge(path: str | Path = DEFAULT_PROFILE) -> Knowledge:
+    """Read and validate the learner's part of a knowledge file: ``[robot]`` may be
+    absent (the learner never reads it); the rest is checked as :func:`load_profile`
+    checks it."""
+    path = Path(path)
+    return knowledge_from_dict(_read(path), str(path))
+
+
+def _read(path: Path) -> dict[str, object]:
+    """The parsed TOML of a knowledge file; every failure is one line naming the file."""
     try:
         with _open_regular(path) as fh:
-            data = tomllib.load(fh)
+            return tomllib.load(fh)
     except FileNotFoundError:
         raise ValueError(f"{path}: knowledge file not found") from None
     except IsADirectoryError:
@@ -43,7 +61,6 @@ def load_profile(path: str | Path = DEFAULT_PROFILE) -> RobotProfile:
         raise ValueError(f"{path}: not valid TOML: {exc}") from None
     except OSError as exc:
         raise ValueError(f"{path}: cannot read knowledge file: {exc.strerror}") from None
-    return profile_from_dict(data, str(path))
 
 
 def _shown(name: str) -> str:
@@ -69,10 +86,26 @@ def _open_regular(path: Path) -> BinaryIO:
 
 
 def profile_from_dict(data: Mapping[str, object], source: str = "<profile>") -> RobotProfile:
-    """Validate parsed TOML data into a :class:`RobotProfile`."""
+    """Validate parsed TOML data into a :class:`RobotProfile` (``[robot]`` required)."""
+    robot, knowledge = _parts(data, source, robot_required=True)
+    assert robot is not None
+    return RobotProfile(robot=robot, move=knowledge.move, sensing=knowledge.sensing, grasping=knowledge.grasping,
+                        source=source)
+
+
+def knowledge_from_dict(data: Mapping[str, object], source: str = "<knowledge>") -> Knowledge:
+    """Validate parsed TOML data into the learner's :class:`Knowledge` (``[robot]``
+    optional, and checked when present: a typo there is still a typo)."""
+    return _parts(data, source, robot_required=False)[1]
+
+
+def _parts(data: Mapping[str, object], source: str, robot_required: bool) -> tuple[Robot | None, Knowledge]:
+    """The ``[robot]`` table (None when absent and not required) and the learner's part,
+    checked in the file's reading order so the first problem is the one reported."""
     fields.only_keys(data, {"move", "robot", "sensing", "grasping"}, source)
     move = _move(fields.table(data, "move", source), f"{source}: [move]")
-    robot = _robot(fields.table(data, "robot", source), f"{source}: [robot]")
+    robot = (_robot(fields.table(data, "robot", source), f"{source}: [robot]")
+             if robot_required or "robot" in data else None)
     sensing = tuple(
         _sensing(entry, f"{source}: sensing[{i}]") for i, entry in enumerate(fields.array(data, "sensing", source))
     )
@@ -86,7 +119,7 @@ def profile_from_dict(data: Mapping[str, object], source: str = "<profile>") -> 
         raise ValueError(f"{source}: no [[sensing]] procedures")
     if not grasping:
         raise ValueError(f"{source}: no [[grasping]] procedures")
-    return RobotProfile(robot=robot, move=move, sensing=sensing, grasping=grasping, source=source)
+    return robot, Knowledge(sensing=sensing, grasping=grasping, move=move, source=source)
 
 
 def _check_features(sensing: tuple[SensingProcedure, ...], source: str) -> None:

@@ -21,6 +21,7 @@ from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.services import Params
 from camera_model.board import MarkerBoard, load_board
+from camera_model.image import CameraImage
 from executive import defaults
 from executive.args import criterion_from_args, library_path, output_folder
 from executive.commands.learner_cmd import report_quarantined
@@ -29,12 +30,11 @@ from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status
 from executive.history import append_run, default_history, episode_run
 from executive.plots import plot_behaviour_tree, plot_map, plot_object_tree
-from executive.profile import knowledge_of
 from executive.recording.options import check_recording_options, open_recording
 from executive.recording.status import status_tree
 from executive.report import Row, Truth, episode_json, match_truth, print_report, rows
 from executive.tables import print_json
-from hero_driver.interface import TIMEOUT, UNAVAILABLE, CameraImage, Driver, DriverError
+from hero_driver.interface import TIMEOUT, UNAVAILABLE, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
 from learner.criteria import Criterion
 from learner.description import ObjectDescription
@@ -71,7 +71,7 @@ class Setup:
 def _setup(args: argparse.Namespace) -> Setup:
     check_recording_options(args)  # before training or robot time
     profile = load_profile(args.knowledge)
-    return Setup(profile, knowledge_of(profile),
+    return Setup(profile, profile.knowledge(),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=args.seed or 0,
                         use_appearance=args.appearance, battery_low=args.battery_low,

@@ -11,7 +11,7 @@ from pathlib import Path
 from executive import defaults
 from executive.args import library_path, writable_file
 from executive.history import Run, default_history, learning_curve, read_history
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from executive.tables import Column, print_json, print_table
 from learner.library import (LibraryStore, check_library, descriptions_to_json, read_library_json,
                              write_library_json)

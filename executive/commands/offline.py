@@ -10,7 +10,6 @@ from typing import TYPE_CHECKING
 
 from executive import defaults
 from executive.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
-from executive.profile import knowledge_of, load_knowledge
 from executive.tables import Column, print_paragraph, print_table
 from learner.costs import ModelMoveCost
 from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
@@ -21,7 +20,7 @@ from learner.selection import Context, Node
 from learner.training import TrainingResult, train
 from learner.training_data import TrainingObject, objects_document, read_objects, read_replay, replay_document
 from learner.training_summary import TrainingSummary, summarise
-from robot_profile import load_profile
+from robot_profile import load_knowledge, load_profile
 from learner.decision_tree import grow
 
 if TYPE_CHECKING:  # the simulator stack is imported only when --sim is used
@@ -114,8 +113,10 @@ def run_tree(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
-    profile = load_profile(args.knowledge)
-    knowledge = knowledge_of(profile)
+    # The simulator drives a robot body, so --sim needs the whole profile; replayed
+    # measurements need only the learner's part ([robot] may be absent).
+    profile = load_profile(args.knowledge) if args.sim else None
+    knowledge = load_knowledge(args.knowledge) if profile is None else profile.knowledge()
     if args.out.suffix.lower() not in (".json", ".sqlite", ".db"):
         raise ValueError(f"--out: {args.out} must end in .json or .sqlite")
     writable_file(args.out, "--out")  # before hours of (simulated) training, not after

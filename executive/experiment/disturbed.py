@@ -18,7 +18,7 @@ from collections.abc import Mapping, Sequence
 
 from behaviours.disturbance import CHANGED, MOVED
 from behaviours.records import ObjectRecord
-from hero_driver.sim.events import Happened
+from hero_driver.sim.disturber import Happened
 from hero_driver.sim.world import ObjectTruth
 
 

@@ -36,7 +36,7 @@ from executive.experiment.table import ResultRow, StudyResult, mean, num, percen
 from executive.experiment.worlds import random_floor
 from hero_driver.interface import SenseResult
 from hero_driver.sim.clutter import Clutter, cluttered, contaminated
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim_driver import SimulatedHero
 
 TITLE = "Clutter: success, cost and contaminated readings vs the neighbour's gap, beam check on and off"

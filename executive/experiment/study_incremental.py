@@ -17,7 +17,7 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, Results
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, percent
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 
 TITLE = "Incremental learning: the learning curve"
 TUMBLER = "tumbler-20oz/upside-down"

@@ -20,7 +20,6 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import installed_profile
 from executive.experiment.plots import bars
 from executive.experiment.table import ResultRow, StudyResult, num
-from executive.profile import knowledge_of
 from learner.costs import ModelMoveCost
 from learner.criteria import CRITERIA, DEFAULT_CRITERION, criterion
 from learner.library import read_library_json
@@ -68,7 +67,7 @@ class OptimumJob:
     study: str = "optimum"
 
     def run(self) -> list[OptimumRow]:
-        knowledge = knowledge_of(installed_profile())
+        knowledge = installed_profile().knowledge()
         shipped = read_library_json(EXAMPLE_LIBRARY)
         if self.library == SHIPPED:
             descriptions = shipped[:self.shipped_descriptions]

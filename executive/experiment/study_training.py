@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from executive.experiment import figures
 from executive.experiment.exhaustive import exhaustive_library
 from executive.experiment.table import ResultRow, StudyResult, num, ratio
-from executive.profile import knowledge_of
 from executive.sim_training import ground_truth, train_in_simulator
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
@@ -35,7 +34,7 @@ class Trained:
 
 
 def run_training(profile: RobotProfile) -> Trained:
-    knowledge = knowledge_of(profile)
+    knowledge = profile.knowledge()
     trained = train_in_simulator(knowledge, profile)  # as `csl train --sim` (seed 0): footprints from the camera
     objects, source, result, summary = list(trained.seen.objects), trained.source, trained.result, trained.summary
     log = result.log

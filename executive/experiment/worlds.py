@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 
 SLOT_SPACING_IN = 62.0  # centre to centre; the training floor's objects are 65-70 in apart
 JITTER_IN = 6.0  # each object's centre moves up to this much from its slot, per axis

@@ -8,9 +8,10 @@ from collections.abc import Callable
 from concurrent.futures import Future
 from typing import Any
 
+from camera_model.image import CameraImage
 from executive.recording.recorder import Recorder
 from hero_driver.decorator import DriverDecorator, argument
-from hero_driver.interface import CameraImage, Driver, DriverError, DriverVerb, MoveResult, RobotState, SenseResult
+from hero_driver.interface import Driver, DriverError, DriverVerb, MoveResult, RobotState, SenseResult
 
 
 class RecordingDriver(DriverDecorator):

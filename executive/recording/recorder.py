@@ -19,11 +19,12 @@ import py_trees
 from foxglove.channels import (FrameTransformChannel, GridChannel, LaserScanChannel, PoseInFrameChannel,
                                RawImageChannel, SceneUpdateChannel)
 
+from camera_model.image import CameraImage
 from executive.recording import scene
 from executive.recording.status import status_tree
 from executive.recording.topics import (BODY, CAMERA, EVENTS, MAP, OBJECTS, PATHS, POSE, SONAR, STATUS, TF,
                                         Topic)
-from hero_driver.interface import CameraImage, MoveResult, RobotState, SenseResult
+from hero_driver.interface import MoveResult, RobotState, SenseResult
 from hero_driver.interface import Pose as RobotPose
 from robot_profile.model import RobotGeometry
 

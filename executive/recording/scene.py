@@ -13,10 +13,10 @@ from foxglove.messages import (ArrowPrimitive, Color, CylinderPrimitive, FrameTr
                                PackedElementFieldNumericType, Point3, Pose, PoseInFrame, Quaternion, RawImage,
                                SceneEntity, SceneUpdate, TextPrimitive, Timestamp, Vector2, Vector3)
 
-from behaviours.bridge import overhead
+from camera_model.image import CameraImage
 from executive.recording.topics import BASE_FRAME, METRES_PER_INCH, WORLD_FRAME
-from hero_driver.interface import CameraImage
 from hero_driver.interface import Pose as RobotPose
+from planner.image import undistorted
 from robot_profile.model import RobotGeometry
 
 OUTCOME_COLOURS = {"grasped": (0.17, 0.63, 0.17), "left": (0.12, 0.47, 0.71), "failed": (0.84, 0.15, 0.16)}
@@ -115,7 +115,7 @@ def raw_image(image: CameraImage, ns: int) -> RawImage:
 def floor_map(image: CameraImage, ns: int) -> Grid:
     """The overhead image, undistorted, as a grid on the floor: the grid's first row is
     its low-y edge, the image's last row (docs/conventions.md)."""
-    flat = overhead(image).undistorted()
+    flat = undistorted(image)
     pixels = np.ascontiguousarray(np.flipud(flat.pixels), dtype=np.uint8)
     h, w = pixels.shape
     corner = floor_pose(image.origin_x_in, image.origin_y_in - h * image.inches_per_pixel)

@@ -22,7 +22,8 @@ import numpy as np
 
 from camera_model.bands import BASE, FLOOR, MARKER, OBJECT, PIXEL_NOISE_MAX, WALL
 from camera_model.floor_grid import FloorGrid
-from hero_driver.interface import CameraImage, Pose
+from camera_model.image import CameraImage
+from hero_driver.interface import Pose
 from hero_driver.sim import render_realistic
 from hero_driver.sim.catalogue import Footprint
 from hero_driver.sim.noise import NoiseConfig

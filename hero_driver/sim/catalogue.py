@@ -12,7 +12,11 @@ import json
 import math
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
+from types import MappingProxyType
+
+from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile
 
 DEFAULT_CATALOGUE = Path(__file__).resolve().parent.parent / "worlds" / "catalogue.json"
 
@@ -201,3 +205,12 @@ def load_catalogue(grasp_names: Collection[str], path: str | Path | None = None)
         if target is not None and target not in catalogue:
             raise ValueError(f"{source}: entry '{entry.id}': field 'knocks_to' names unknown entry '{target}'")
     return catalogue
+
+
+@lru_cache(maxsize=4)
+def profile_and_catalogue(profile: RobotProfile | None = None) -> tuple[RobotProfile, Mapping[str, CatalogueEntry]]:
+    """The profile (None: the shipped one) and the shipped catalogue checked against
+    its grasps, read once per profile: training probes build thousands of one-object
+    worlds and must not re-parse files each time."""
+    loaded = load_profile(DEFAULT_PROFILE) if profile is None else profile
+    return loaded, MappingProxyType(load_catalogue(loaded.grasp_names))

@@ -11,7 +11,8 @@ import math
 
 from hero_driver.interface import Pose, SenseResult
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import SimWorld, normalise_deg, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld, normalise_deg
 from hero_driver.sim.worldfile import one_object_world
 from robot_profile import RobotProfile
 

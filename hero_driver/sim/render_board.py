@@ -14,16 +14,14 @@ import cv2
 import numpy as np
 
 from camera_model.board import QUIET_MODULES, MarkerBoard, load_board
-from hero_driver.sim.worldfile import WorldSpec
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.worldfile import WorldSpec, load_world
 
 
 def _spec(world: WorldSpec | str | Path) -> WorldSpec:
     """A world spec as given, or loaded from a shipped world's name or a world file."""
     if isinstance(world, WorldSpec):
         return world
-    from hero_driver.sim.world import profile_and_catalogue  # the world imports this module
-    from hero_driver.sim.worldfile import load_world
-
     return load_world(world, profile_and_catalogue()[1])
 
 

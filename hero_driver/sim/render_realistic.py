@@ -26,7 +26,8 @@ import cv2
 import numpy as np
 
 from camera_model.floor_grid import FloorGrid
-from hero_driver.interface import CameraImage, Pose
+from camera_model.image import CameraImage
+from hero_driver.interface import Pose
 from hero_driver.sim.catalogue import Footprint
 from hero_driver.sim.physics import WALL_IN
 from hero_driver.sim.render_board import board_for, print_board

@@ -9,31 +9,29 @@ so a run is as fast as the CPU allows and repeatable for a seed. Verbs raise
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
-from types import MappingProxyType
 
 import numpy as np
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, CameraImage, DriverError, GraspResult,
-    MoveResult, Obstacle, Pose, RobotState, SenseResult,
+    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
 from hero_driver.sim.camera import PRESETS
-from hero_driver.sim.catalogue import CatalogueEntry, GraspRule, load_catalogue
-from hero_driver.sim.events import Disturber, DisturbPreset, Happened
+from hero_driver.sim.catalogue import GraspRule, profile_and_catalogue
+from hero_driver.sim.disturber import Disturber, Happened
+from hero_driver.sim.events import DisturbPreset
 from hero_driver.sim.movers import STEP_S, MoverPreset, MoverTruth, preset_movers
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.odometry import Drift, slip
 from hero_driver.sim.physics import Physics, SimObject
 from hero_driver.sim.readings import perturb, perturb_flag, specular_miss, specular_value
-from hero_driver.sim.render_preset import render_world
 from hero_driver.sim.worldfile import WorldSpec, load_world
-from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile
+from robot_profile import RobotProfile
 
 RANGE_TOLERANCE_IN = 1.5  # docs/conventions.md: a procedure accepts its range ± this
 CENTRING_RADIUS_IN = 12.0  # sonar centring finds an object whose centre is this near `face`
@@ -61,15 +59,6 @@ class ObjectTruth:
     round: bool
     held: bool
     binned: bool
-
-
-@lru_cache(maxsize=4)
-def profile_and_catalogue(profile: RobotProfile | None = None) -> tuple[RobotProfile, Mapping[str, CatalogueEntry]]:
-    """The profile (None: the shipped one) and the shipped catalogue checked against
-    its grasps, read once per profile: training probes build thousands of one-object
-    worlds and must not re-parse files each time."""
-    loaded = load_profile(DEFAULT_PROFILE) if profile is None else profile
-    return loaded, MappingProxyType(load_catalogue(loaded.grasp_names))
 
 
 def _wrap_deg(angle: float) -> float:
@@ -475,4 +464,14 @@ class SimWorld:
         """The overhead image through this world's camera preset (vision time is
         charged to moves, not here); each object's orientation is drawn off by its
         camera error."""
-        return render_world(self, self.camera_preset)
+        return self.render(self.camera_preset)
+
+    def render(self, preset: str) -> CameraImage:
+        """What the overhead camera shows with ``preset`` (one of camera.PRESETS): the
+        objects on the floor at their drawn camera yaw, the true pose. Benches and tests
+        that compare presets on identical scenes call it with each."""
+        floor = [(o.entry.footprint, o.x_in, o.y_in,
+                  o.yaw_deg + self.camera_yaw.error(o.index, (o.x_in, o.y_in, o.yaw_deg), self.noise, self.rng))
+                 for o in self.physics.objects if o.status == "floor"]
+        return camera.render(self.spec, floor, self.pose, self.profile.robot.geometry.base_radius_in, self.noise,
+                             self.rng, self.clock_s, preset=preset, movers=self.physics.movers.outlines())

@@ -29,7 +29,8 @@ import numpy as np
 from camera_model.bands import MARKER_BAND, OBJECT_BAND, ROBOT_BAND, WALL_BAND, in_band
 from camera_model.fisheye import undistortion_maps
 from camera_model.floor_grid import FloorGrid
-from hero_driver.interface import CameraImage, Pose
+from camera_model.image import CameraImage
+from hero_driver.interface import Pose
 
 CENTRE_TOLERANCE_IN = 4.0  # base centroid vs published position (odometry, pixelisation)
 HEADING_TOLERANCE_DEG = 25.0  # marker bearing vs published heading (a small marker, few pixels)
@@ -203,7 +204,6 @@ def calibrated_reader(path: Path) -> Vision:
     The planner is imported here, and only here, because a real camera's image means
     only what that vision makes of it: a check with its own reading could pass images
     an episode then misreads."""
-    from planner.image import OverheadImage
     from planner.segmentation import load_camera
     from planner.vision import look
 
@@ -215,8 +215,7 @@ def calibrated_reader(path: Path) -> Vision:
         if (cols, rows) != (width, height):
             raise MappingError(f"the calibration {path} is for {width}x{height} images, the driver's camera gives "
                                f"{cols}x{rows} (a calibration of another camera?)")
-        scene = look(OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                                   image.camera_matrix, image.fisheye), camera)
+        scene = look(image, camera)
         robot = None if scene.robot is None else Pose(scene.robot.x_in, scene.robot.y_in, scene.robot.heading_deg)
         # look() measures every region from pixels, so each has its area
         return Sight(robot, tuple(SeenObject(r.centroid[0], r.centroid[1], float(r.area_in2 or 0.0))

@@ -29,19 +29,9 @@ from typing import Any
 
 import zenoh
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST,
-    INTERNAL,
-    TIMEOUT,
-    UNAVAILABLE,
-    UNKNOWN_VERB,
-    CameraImage,
-    DriverError,
-    GraspResult,
-    MoveResult,
-    Pose,
-    RobotState,
-    SenseResult,
+    BAD_REQUEST, INTERNAL, TIMEOUT, UNAVAILABLE, UNKNOWN_VERB, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request,

@@ -28,18 +28,9 @@ from typing import Any
 import cv2
 import numpy as np
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    ERROR_CODES,
-    PROTOCOL_VERSION,
-    CameraImage,
-    DriverError,
-    GraspResult,
-    Hello,
-    MoveResult,
-    Obstacle,
-    Pose,
-    RobotState,
-    SenseResult,
+    ERROR_CODES, PROTOCOL_VERSION, DriverError, GraspResult, Hello, MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, PROFILE, Greeting
 from robot_profile import ProfileStamp
@@ -524,6 +515,8 @@ def camera_in(message: Json) -> CameraImage:
         rows = _array(matrix, "camera_matrix", 3)
         matrix = np.array([_reals(row, f"camera_matrix[{i}]", 3) for i, row in enumerate(rows)])
     fisheye = fields.get("fisheye")
+    if fisheye is not None and matrix is None:  # CameraImage refuses it too; here it is the driver's fault
+        raise CodecError("fisheye: given without the camera_matrix that undistorts it")
     meta = fields.get("meta", {})
     if not isinstance(meta, dict):
         raise CodecError(f"meta: expected an object, got {_kind(meta)}")

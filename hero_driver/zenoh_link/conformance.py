@@ -36,21 +36,9 @@ from typing import Any
 import zenoh
 
 from camera_model.bands import looks_like_bands
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST,
-    BUSY,
-    NO_TARGET,
-    OUT_OF_RANGE,
-    PROTOCOL_VERSION,
-    UNKNOWN_PROCEDURE,
-    UNKNOWN_VERB,
-    DriverError,
-    CameraImage,
-    GraspResult,
-    MoveResult,
-    Pose,
-    RobotState,
-    SenseResult,
+    BAD_REQUEST, BUSY, NO_TARGET, OUT_OF_RANGE, PROTOCOL_VERSION, UNKNOWN_PROCEDURE, UNKNOWN_VERB, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link import codec
 from hero_driver.sim.catalogue import load_catalogue

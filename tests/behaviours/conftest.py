@@ -38,8 +38,8 @@ from behaviours.bridge import PlannerMoveCost, to_driver_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
-from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveResult, Pose as DriverPose,
-                                   RobotState, SenseResult)
+from camera_model.image import CameraImage
+from hero_driver.interface import DriverError, GraspResult, MoveResult, Pose as DriverPose, RobotState, SenseResult
 from learner.criteria import criterion
 from learner.description import ObjectDescription
 from learner.matrix import DescriptionMatrix

@@ -24,7 +24,8 @@ LEVELS = (bands.FLOOR, bands.WALL, bands.BASE, bands.OBJECT, bands.MARKER)
 
 
 def test_the_leaf_imports_nothing_of_ours_nor_opencv() -> None:
-    code = ("import sys, camera_model.bands, camera_model.board, camera_model.fisheye, camera_model.floor_grid\n"
+    code = ("import sys, camera_model.bands, camera_model.board, camera_model.fisheye, camera_model.floor_grid, "
+            "camera_model.image\n"
             "print(sorted({m.split('.')[0] for m in sys.modules}))")
     loaded = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, check=True)
     names = set(json.loads(loaded.stdout.replace("'", '"')))

@@ -13,12 +13,12 @@ import math
 import pytest
 
 from behaviours.appearance import appearance_of
-from behaviours.bridge import overhead
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.experiment.worlds import random_floor
 from executive.training_sources import camera_objects
 from hero_driver.sim.noise import NOISE_PRESETS
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 from learner.appearance import Appearance
 from learner.library import read_library_json
@@ -39,8 +39,8 @@ def test_every_view_agrees_with_what_training_recorded(object_set: str) -> None:
     for preset, noise in NOISE_PRESETS.items():
         for seed in (0, 1):
             floor = random_floor(object_set, seed)
-            regions = look(overhead(SimWorld(parse_world(floor, "floor", catalogue), seed, None, noise)
-                                    .camera())).regions
+            regions = look(SimWorld(parse_world(floor, "floor", catalogue), seed, None, noise)
+                                    .camera()).regions
             for obj in floor["objects"]:  # type: ignore[union-attr]
                 region = min(regions, key=lambda r: math.hypot(r.centroid[0] - obj["x_in"],
                                                                r.centroid[1] - obj["y_in"]))
@@ -59,8 +59,8 @@ def test_a_lying_can_never_looks_like_an_upright_one() -> None:
     for preset, noise in NOISE_PRESETS.items():
         for seed in (0, 1):
             floor = random_floor("training", seed)
-            regions = look(overhead(SimWorld(parse_world(floor, "floor", catalogue), seed, None, noise)
-                                    .camera())).regions
+            regions = look(SimWorld(parse_world(floor, "floor", catalogue), seed, None, noise)
+                                    .camera()).regions
             for obj in floor["objects"]:  # type: ignore[union-attr]
                 if obj["id"] not in ("soda-can-12oz/lying", "tennis-can/lying"):
                     continue

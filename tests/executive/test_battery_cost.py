@@ -90,12 +90,11 @@ def test_the_navigator_leaves_a_move_that_lasts_alone() -> None:
 
 
 def test_the_executive_prices_detours_only_when_asked_with_the_guard_on_and_a_dock(tmp_path) -> None:
-    from executive.profile import knowledge_of
     from hero_driver.sim_driver import SimulatedHero
     from robot_profile import load_profile
     from tests.executive.test_battery_episode import small_world
 
-    knowledge = knowledge_of(load_profile())
+    knowledge = load_profile().knowledge()
     docked = SimulatedHero("r1", world=small_world(tmp_path, 0.5), seed=0)
     undocked = SimulatedHero("r2", world=small_world(tmp_path, 0.5, dock=False), seed=0)
     on = Params(price_detours=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from executive.cli import main
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
 
 LAB_OBJECTS = 7

@@ -9,7 +9,6 @@ import pytest
 
 import executive.sim_training
 from executive.demo_library import DemoLibrary, trained_folder, trained_library, training_key
-from executive.profile import knowledge_of
 from executive.sim_training import SimTraining, train_in_simulator
 from learner.library import read_library_json
 from robot_profile import load_profile
@@ -20,7 +19,7 @@ WORLDS = Path(executive.sim_training.__file__).resolve().parents[1] / "hero_driv
 
 @pytest.fixture(scope="module")
 def trained_once() -> SimTraining:
-    return train_in_simulator(knowledge_of(load_profile(HERO)))
+    return train_in_simulator(load_profile(HERO).knowledge())
 
 
 class Trainings:
@@ -45,7 +44,7 @@ def _demo(folder: Path, world: str | Path = "lab", seed: int = 0, retrain: bool 
           profile_path: Path = HERO) -> tuple[DemoLibrary, list[str]]:
     said: list[str] = []
     profile = load_profile(profile_path)
-    library = trained_library(knowledge_of(profile), profile, world, seed, retrain=retrain, folder=folder,
+    library = trained_library(profile.knowledge(), profile, world, seed, retrain=retrain, folder=folder,
                               say=said.append)
     return library, said
 

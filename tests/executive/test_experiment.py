@@ -22,9 +22,8 @@ from executive.experiment.episodes import EpisodeRow, EpisodeSpec, _object_stats
 from executive.experiment.exhaustive import measure_everything_s, positions
 from executive.experiment.table import markdown_table, paired_difference, ratio
 from executive.experiment.worlds import random_floor, set_members
-from executive.profile import knowledge_of
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import parse_world
 from learner.position import Position
 from robot_profile import load_profile
@@ -124,7 +123,7 @@ def test_jobs_that_differ_only_in_their_labels_are_one_job() -> None:
 
 
 def test_measure_everything_is_every_procedure_plus_moves_plus_the_grasp() -> None:
-    knowledge = knowledge_of(load_profile())
+    knowledge = load_profile().knowledge()
     # at 6 in all seven procedures apply: 100 + 45 + 76 + 42 + 70 + 105 + 84 = 522 s
     assert measure_everything_s(knowledge, [6.0], [0.0], True, "Front-Wrap") == pytest.approx(522 + 60)
     # a round object from 24 in then 6 in: the four sweeps at 24 (263 s), all seven at 6,

@@ -16,7 +16,6 @@ from behaviours.records import ObjectRecord
 from behaviours.services import LibraryMatrix
 from executive import defaults
 from executive.grasp_attempts import LearnedGraspCosts
-from executive.profile import knowledge_of
 from learner.costs import GraspCostRecord
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
@@ -54,7 +53,7 @@ class _DiesBeforeTheAttempts:
 
 
 def _costs(store: Path) -> tuple[LocalLearner, LearnedGraspCosts]:
-    knowledge = knowledge_of(load_profile(defaults.KNOWLEDGE))
+    knowledge = load_profile(defaults.KNOWLEDGE).knowledge()
     learner = LocalLearner(store, knowledge=knowledge)
     return learner, LearnedGraspCosts(learner, knowledge, LibraryMatrix(learner, knowledge), EVENTS)
 

@@ -11,10 +11,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 import numpy as np
 
+from camera_model.image import CameraImage
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from executive.plots import Leg, legs, plot_map
-from hero_driver.interface import CameraImage
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import read_library_json
 from learner.service.local import LocalLearner

@@ -12,15 +12,15 @@ import matplotlib.image
 import numpy as np
 
 from behaviours.records import ObjectRecord
+from camera_model.image import CameraImage
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from executive.plots import Ending, endings, map_image, plot_map
-from hero_driver.interface import CameraImage
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import read_library_json
 from learner.service.local import LocalLearner
-from planner import OverheadImage, Region
+from planner import Region
 
 OBJECT_BAND = 220  # docs/conventions.md, the overhead image's intensities
 ROBOT_BAND = 170
@@ -88,7 +88,7 @@ def test_a_fish_eye_image_is_undistorted_before_anything_is_drawn_on_it() -> Non
     assert raw.fisheye is not None
     flat = map_image(raw)
     assert flat.fisheye is None and flat.pixels.shape == raw.pixels.shape
-    grid = OverheadImage(raw.pixels, raw.inches_per_pixel, raw.origin_x_in, raw.origin_y_in)
+    grid = CameraImage(raw.pixels, raw.inches_per_pixel, raw.origin_x_in, raw.origin_y_in)
 
     def at(pixels: np.ndarray, x: float, y: float) -> int:
         row, col = grid.to_pixel(x, y)

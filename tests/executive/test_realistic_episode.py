@@ -12,7 +12,7 @@ from camera_model.board import load_board
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import read_library_json

@@ -12,7 +12,6 @@ import pytest
 from executive.cli import main
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.demo_library import trained_folder
-from executive.profile import knowledge_of
 from learner.library import check_library, read_library_json
 from robot_profile import load_profile
 from tests.hero_driver.test_zenoh_conformance import ROVER
@@ -22,7 +21,7 @@ def test_run_with_the_rover_profile_trains_its_library_once(tmp_path: Path,
                                                             capsys: pytest.CaptureFixture[str]) -> None:
     rover = load_profile(ROVER)
     with pytest.raises(ValueError):  # the reason: the example is the HERO's
-        check_library(read_library_json(EXAMPLE_LIBRARY), knowledge_of(rover), "the example")
+        check_library(read_library_json(EXAMPLE_LIBRARY), rover.knowledge(), "the example")
     first = tmp_path / "first"
     assert main(["run", "--knowledge", str(ROVER), "--no-plots", "--out", str(first)]) == 0
     captured = capsys.readouterr()

@@ -14,7 +14,6 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import install_worker
 from executive.experiment.study_grasp_costs import GraspCostJob, GraspCostRow, plan, slowed, summarise
 from executive.experiment.worlds import set_members
-from executive.profile import knowledge_of
 from hero_driver.sim_driver import SimulatedHero
 from learner.library import load_library
 from learner.service.local import LocalLearner
@@ -26,7 +25,7 @@ def test_the_simulator_is_slowed_and_the_executive_priced_by_what_was_recorded(t
     truth = slowed(profile, "Front-Wrap", 4.0)
     assert truth.grasping_procedure("Front-Wrap").time_s == 240.0
     assert truth.grasping_procedure("Top-Pinch") == profile.grasping_procedure("Top-Pinch")
-    file = knowledge_of(profile)
+    file = profile.knowledge()
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         learner.record_grasp_attempts([("Front-Wrap", 240.0, True), ("Front-Wrap", 240.0, True),
                                        ("Front-Wrap", 300.0, False)])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from executive.cli import main
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from executive.sim_training import train_in_simulator
 from executive.training_sources import SimulatorGrasps, camera_objects
 from learner.costs import ModelMoveCost

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from executive.cli import main
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from executive.sim_training import SimTraining, ground_truth, train_in_simulator
 from executive.training_sources import SimulatorSource, camera_objects
 from learner.library import read_library_json

@@ -104,7 +104,7 @@ class Workbench:
     @property
     def learner(self) -> Any:
         if self._learner is None:
-            from executive.profile import load_knowledge
+            from robot_profile import load_knowledge
             from learner.library import read_library_json
             from learner.service.local import LocalLearner
 
@@ -195,9 +195,8 @@ def check_profile(case: tuple[str, Any], bench: Workbench) -> str:
         return "refused"
     if not all_finite(profile):
         raise Finding(f"profile accepted with a non-finite number: {profile}")
-    from executive.profile import knowledge_of
 
-    refused(lambda: knowledge_of(profile), "knowledge_of an accepted profile")  # the learner's view of it
+    refused(lambda: profile.knowledge(), "the knowledge of an accepted profile")  # the learner's view of it
     return "accepted"
 
 

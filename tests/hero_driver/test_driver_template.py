@@ -20,7 +20,6 @@ from pathlib import Path
 import pytest
 import zenoh
 
-from behaviours.bridge import overhead
 from hero_driver.interface import INTERNAL, DriverError
 from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.conformance import shutdown_order
@@ -162,7 +161,7 @@ def test_the_vision_finds_the_toy_box_and_robot_where_they_are(template: tuple[s
     robot, endpoint = template
     with ZenohDriver(robot, connect=[endpoint]) as driver:
         assert driver.wait_ready(10.0)
-        scene = look(overhead(driver.camera().result(10.0)))
+        scene = look(driver.camera().result(10.0))
     # the toy's box: 6 in along x by 10 in along y, centred at (100, 60); the robot at (30, 60) facing +x
     (box,) = scene.regions
     assert box.centroid == pytest.approx((100.0, 60.0), abs=0.8)  # one pixel

@@ -13,7 +13,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from behaviours.bridge import overhead
 from camera_model.bands import FLOOR, OBJECT, WALL
 from camera_model.board import load_board
 from hero_driver.sim.movers import MoverPreset, MoverTruth
@@ -53,7 +52,7 @@ def test_a_mover_is_a_wall_band_blob_where_it_stands() -> None:
     assert set(np.unique(before.pixels[changed])) == {FLOOR} and set(np.unique(after.pixels[changed])) == {WALL}
     count, labels, stats, centroids = cv2.connectedComponentsWithStats(changed.astype(np.uint8), connectivity=8)
     assert count - 1 == MOVERS
-    image, ipp = overhead(after), after.inches_per_pixel
+    image, ipp = after, after.inches_per_pixel
     for mover in busy.movers():
         row, col = (round(v) for v in image.to_pixel(mover.x_in, mover.y_in))
         blob = labels[row, col]
@@ -72,14 +71,14 @@ def test_movers_only_ever_add_wall_pixels_and_each_shows_at_its_centre(count: in
     before, busy = _lab(0, seed=seed).camera(), _lab(count, seed=seed)
     after = busy.camera()
     assert set(np.unique(after.pixels[before.pixels != after.pixels])) <= {WALL}
-    image = overhead(after)
+    image = after
     for mover in busy.movers():
         row, col = (round(v) for v in image.to_pixel(mover.x_in, mover.y_in))
         assert after.pixels[row, col] in (WALL, OBJECT)
 
 
 def test_vision_maps_a_mover_as_an_obstacle_and_finds_the_same_objects() -> None:
-    plain, busy = look(overhead(_lab(0).camera())), look(overhead(_lab(MOVERS).camera()))
+    plain, busy = look(_lab(0).camera()), look(_lab(MOVERS).camera())
     assert [r.centroid for r in busy.regions] == [r.centroid for r in plain.regions]
     for mover in _lab(MOVERS).movers():
         row, col = (round(v) for v in busy.image.to_pixel(mover.x_in, mover.y_in))
@@ -92,7 +91,7 @@ def _realistic_scenes(seed: int) -> tuple[SimWorld, Scene, Scene]:
     through a camera calibrated on the lab without movers (its empty floor)."""
     plain, busy = _lab(0, "realistic", seed), _lab(MOVERS, "realistic", seed)
     camera = calibrated_camera(plain.camera().pixels, load_board(board_path("lab")))
-    return busy, look(overhead(plain.camera()), camera), look(overhead(busy.camera()), camera)
+    return busy, look(plain.camera(), camera), look(busy.camera(), camera)
 
 
 def _robot_gap(a: Scene, b: Scene) -> float:
@@ -135,7 +134,7 @@ def test_a_plan_on_a_new_image_goes_round_the_mover_with_no_disc_reported() -> N
     person, = sim.movers()
     assert abs(person.y_in - 90.0) < 3.0
     nav = Navigator(sim.profile.robot)
-    nav.observe(overhead(sim.camera()))
+    nav.observe(sim.camera())
     assert nav.avoided == () and not nav.vision_map.is_free(person.x_in, person.y_in)
     start, goal = Pose(30.0, 90.0, 0.0), Pose(170.0, 90.0, 0.0)
     around = nav.plan(start, goal)

@@ -15,7 +15,8 @@ from hero_driver.interface import BATTERY_EMPTY, OUT_OF_RANGE, DriverError, Pose
 from hero_driver.sim.battery import (CHARGING_PER_S, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery, Dock)
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.odometry import Drift
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import load_world, parse_world
 
 ROOM = {"width_in": 120, "depth_in": 100}

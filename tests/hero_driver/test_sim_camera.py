@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from hero_driver.interface import CameraImage
+from camera_model.image import CameraImage
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import SimWorld
 from tests.hero_driver.test_sim_support import lone

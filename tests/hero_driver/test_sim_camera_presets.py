@@ -13,8 +13,8 @@ import pytest
 from hero_driver.cli import CAMERA_PRESETS
 from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.render_board import board_for, board_path
-from hero_driver.sim.render_preset import render_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import WORLDS_DIR, load_world
 from hero_driver.sim_driver import SimulatedHero
 
@@ -23,7 +23,7 @@ from hero_driver.sim_driver import SimulatedHero
 def test_the_world_camera_draws_its_preset(preset: str) -> None:
     sim, twin = SimWorld("lab", 3, camera=preset), SimWorld("lab", 3)
     image = sim.camera()
-    assert np.array_equal(image.pixels, render_world(twin, preset).pixels)  # the same draws, the same image
+    assert np.array_equal(image.pixels, twin.render(preset).pixels)  # the same draws, the same image
     assert image.meta.get("camera", "simple") == preset
 
 

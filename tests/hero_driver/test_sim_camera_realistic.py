@@ -15,8 +15,8 @@ from hero_driver.interface import Pose
 from hero_driver.sim import render_realistic as rr
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.render_board import aruco_dictionary, board_for
-from hero_driver.sim.render_preset import render_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import load_world
 
 
@@ -35,7 +35,7 @@ def raw_pixel(spec_world: SimWorld, x: float, y: float) -> tuple[float, float]:
 
 
 def test_the_image_has_no_bands_and_says_nothing_of_its_lens() -> None:
-    image = render_world(lab(), "realistic")
+    image = lab().render("realistic")
     assert image.pixels.dtype == np.uint8
     assert len(np.unique(image.pixels)) > 100
     assert image.camera_matrix is None and image.fisheye is None
@@ -44,7 +44,7 @@ def test_the_image_has_no_bands_and_says_nothing_of_its_lens() -> None:
 
 def test_every_marker_of_the_lab_board_is_printed_where_the_board_file_says() -> None:
     sim = lab()
-    image = render_world(sim, "realistic")
+    image = sim.render("realistic")
     board = board_for("lab")
     assert board is not None and len(board.markers) == 9
     detector = cv2.aruco.ArucoDetector(aruco_dictionary(board), cv2.aruco.DetectorParameters())
@@ -59,7 +59,7 @@ def test_every_marker_of_the_lab_board_is_printed_where_the_board_file_says() ->
 
 def test_the_nominal_mapping_is_inches_off_at_the_corners_so_calibration_is_needed() -> None:
     sim = lab()
-    image = render_world(sim, "realistic")
+    image = sim.render("realistic")
     col, row = raw_pixel(sim, 230.0, 10.0)
     x = image.origin_x_in + (col + 0.5) * image.inches_per_pixel
     y = image.origin_y_in - (row + 0.5) * image.inches_per_pixel
@@ -73,7 +73,7 @@ def test_the_nominal_mapping_is_inches_off_at_the_corners_so_calibration_is_need
 def test_the_light_falls_off_across_the_room_and_objects_are_lighter_than_the_floor() -> None:
     sim = lab()
     sim.pose = Pose(200.0, 40.0, 0.0)
-    image = render_world(sim, "realistic").pixels.astype(float)
+    image = sim.render("realistic").pixels.astype(float)
 
     def around(x: float, y: float) -> float:
         col, row = raw_pixel(sim, x, y)
@@ -90,8 +90,8 @@ def test_the_light_falls_off_across_the_room_and_objects_are_lighter_than_the_fl
 
 
 def test_the_floor_looks_the_same_every_time_but_the_noise_does_not() -> None:
-    first = render_world(lab(seed=1), "realistic").pixels.astype(float)
-    second = render_world(lab(seed=2), "realistic").pixels.astype(float)
+    first = lab(seed=1).render("realistic").pixels.astype(float)
+    second = lab(seed=2).render("realistic").pixels.astype(float)
     difference = first - second
     # two independent draws of sigma^2 = 2^2 + 0.04 * level (level ~ 60..110 on the floor)
     assert 2.5 < float(np.std(difference)) < 4.5
@@ -102,7 +102,7 @@ def test_the_floor_looks_the_same_every_time_but_the_noise_does_not() -> None:
 
 def test_an_unknown_preset_is_one_clear_error() -> None:
     with pytest.raises(ValueError, match="camera preset 'fancy': expected one of simple, realistic"):
-        render_world(lab(), "fancy")
+        lab().render("fancy")
 
 
 def test_a_bad_board_file_names_the_file_and_field(tmp_path) -> None:

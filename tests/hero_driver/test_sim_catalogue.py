@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from hero_driver.sim.catalogue import load_catalogue
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import load_world, parse_world
 
 TABLE_3 = {

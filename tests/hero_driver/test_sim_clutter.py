@@ -16,7 +16,8 @@ from executive.experiment.worlds import random_floor
 from hero_driver.sim.clutter import Clutter, cluttered, footprint_gap, pairs_of
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import WORLDS_DIR, footprint_polygon, load_world, parse_world
 
 CATALOGUE = profile_and_catalogue()[1]

@@ -15,9 +15,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hero_driver.interface import NO_TARGET, DriverError, Pose
-from hero_driver.sim.events import DisturbPreset, area, parse_disturb
+from hero_driver.sim.disturber import area
+from hero_driver.sim.events import DisturbPreset, parse_disturb
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 
 BOX = "closed-box-10x10x10/upright"

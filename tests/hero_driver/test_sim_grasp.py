@@ -14,7 +14,8 @@ from hero_driver.sim.grasping import JAMMED, KNOCKED_OVER, LIFTED, NOTHING, PUSH
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.physics import OVERLAP_IN
 from hero_driver.sim.probe import approach_pose, grasp_probe
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 from tests.hero_driver.test_sim_support import lone, object_pixels
 

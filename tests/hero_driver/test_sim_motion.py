@@ -60,7 +60,7 @@ def test_the_base_stops_short_of_an_object() -> None:
 @settings(max_examples=25, deadline=None)
 @given(points=st.lists(st.tuples(st.floats(20, 380), st.floats(20, 380)), min_size=1, max_size=4))
 def test_move_time_formula_in_an_empty_room(points: list[tuple[float, float]]) -> None:
-    from hero_driver.sim.world import profile_and_catalogue
+    from hero_driver.sim.catalogue import profile_and_catalogue
     from hero_driver.sim.worldfile import parse_world
     spec = parse_world({"room": {"width_in": 400, "depth_in": 400}, "robot": {"x_in": 200, "y_in": 200}},
                        "<empty>", profile_and_catalogue()[1])

@@ -18,7 +18,8 @@ from hero_driver.sim.camera import YawErrors
 from hero_driver.sim.noise import NOISE_PRESETS, PROBABILITIES, SIGMAS, NoiseConfig
 from hero_driver.sim.odometry import slip
 from hero_driver.sim.readings import perturb, specular_miss
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 from tests.hero_driver.test_sim_support import lone
 

@@ -10,7 +10,8 @@ import pytest
 
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import one_object_world
 
 

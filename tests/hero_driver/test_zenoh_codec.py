@@ -13,16 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST,
-    PROTOCOL_VERSION,
-    CameraImage,
-    DriverError,
-    GraspResult,
-    MoveResult,
-    Pose,
-    RobotState,
-    SenseResult,
+    BAD_REQUEST, PROTOCOL_VERSION, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest
@@ -191,6 +184,10 @@ def test_bad_images_and_error_replies_are_refused() -> None:
     raw = {"format": "raw", "height": 3, "width": 4, "data": base64.b64encode(b"12345").decode()}
     with pytest.raises(CodecError, match="5 bytes, expected height\\*width = 12"):
         BY_NAME["camera"].decode_result(body(image=raw, inches_per_pixel=1, origin_x_in=0, origin_y_in=0))
+    good = {"format": "raw", "height": 1, "width": 1, "data": base64.b64encode(b"1").decode()}
+    with pytest.raises(CodecError, match="fisheye: given without the camera_matrix"):  # no vision could undistort it
+        BY_NAME["camera"].decode_result(body(image=good, inches_per_pixel=1, origin_x_in=0, origin_y_in=0,
+                                             fisheye=[0.1, 0.0, 0.0, 0.0]))
     with pytest.raises(CodecError, match="code: 'oops' is not a protocol error code"):
         codec.decode_error(body(code="oops", message="?"))
     with pytest.raises(CodecError, match="code: 'oops'"):

@@ -16,7 +16,8 @@ import pytest
 import zenoh
 
 from camera_model.board import load_board
-from hero_driver.interface import CameraImage, MoveResult, Pose
+from camera_model.image import CameraImage
+from hero_driver.interface import MoveResult, Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero

@@ -21,16 +21,9 @@ from typing import TypeVar
 import numpy as np
 import zenoh
 
+from camera_model.image import CameraImage
 from hero_driver.interface import (
-    NO_TARGET,
-    UNKNOWN_PROCEDURE,
-    CameraImage,
-    DriverError,
-    GraspResult,
-    MoveResult,
-    Pose,
-    RobotState,
-    SenseResult,
+    NO_TARGET, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import serve

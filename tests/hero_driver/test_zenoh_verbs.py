@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hero_driver.interface import CameraImage, GraspResult, Hello, MoveResult, Pose, RobotState, SenseResult
+from camera_model.image import CameraImage
+from hero_driver.interface import GraspResult, Hello, MoveResult, Pose, RobotState, SenseResult
 from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
 

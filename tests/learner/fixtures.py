@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion
 from learner.description import ObjectDescription, Observation

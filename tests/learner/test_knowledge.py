@@ -1,15 +1,14 @@
 """The learner's knowledge: the HERO profile reaches it as docs/method.md tables it.
 
 Reading and validating the file is robot_profile's (tests/robot_profile); here, what
-the executive's adaptor hands the learner.
+the profile hands the learner.
 """
 
 from __future__ import annotations
 
 import pytest
 
-from executive.profile import knowledge_of, load_knowledge
-from robot_profile import load_profile
+from robot_profile import load_knowledge, load_profile
 from tests.learner.fixtures import HERO, hero
 
 
@@ -33,10 +32,11 @@ def test_hero_profile_has_the_papers_procedures() -> None:
     assert k.grasp("Top-Pinch").feature_cost_s == 63 + 40
 
 
-def test_the_adaptor_keeps_every_field_and_names_the_file() -> None:
+def test_the_profiles_knowledge_keeps_every_field_and_names_the_file() -> None:
     profile = load_profile(HERO)
-    k = knowledge_of(profile)
+    k = profile.knowledge()
     assert k.source == str(HERO)
+    assert k.sensing is profile.sensing and k.grasping is profile.grasping and k.move is profile.move  # one type
     assert (k.move.seconds_per_inch, k.move.seconds_per_degree, k.move.overhead_s) == (2.0, 0.0, 0.0)
     sweep = k.feature("Width-Degree-1°")
     assert (sweep.error, sweep.unit, sweep.binary, sweep.span, sweep.angular_of) == (3.0, "deg", False, (0.0, 180.0), "Width")

@@ -13,7 +13,7 @@ import dataclasses
 import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion
 from learner.decision_tree import leaf_at

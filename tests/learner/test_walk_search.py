@@ -13,7 +13,7 @@ from __future__ import annotations
 import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
-from executive.profile import load_knowledge
+from robot_profile import load_knowledge
 from learner import rollout_walk
 from learner.costs import ModelMoveCost
 from learner.criteria import criterion

@@ -12,7 +12,7 @@ import math
 import cv2
 import numpy as np
 
-from planner import OverheadImage
+from camera_model.image import CameraImage
 
 FLOOR, WALL, ROBOT, MARKER, OBJECT = 30, 110, 170, 250, 220
 IPP = 0.8
@@ -64,8 +64,8 @@ class Canvas:
         self.pixels = np.clip(self.pixels.astype(int) + jitter, 0, 255).astype(np.uint8)
         return self
 
-    def image(self) -> OverheadImage:
-        return OverheadImage(self.pixels.copy(), IPP, self.origin_x_in, self.origin_y_in)
+    def image(self) -> CameraImage:
+        return CameraImage(self.pixels.copy(), IPP, self.origin_x_in, self.origin_y_in)
 
 
 def rect_corners(x: float, y: float, length: float, width: float, yaw_deg: float) -> list[tuple[float, float]]:

@@ -2,16 +2,10 @@
 
 from __future__ import annotations
 
-from hero_driver.interface import CameraImage
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.sim_driver import SimulatedHero
-from planner import Navigator, OverheadImage, PlanResult, Pose
+from planner import Navigator, PlanResult, Pose
 from robot_profile import load_profile
-
-
-def overhead(image: CameraImage) -> OverheadImage:
-    return OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in,
-                         image.camera_matrix, image.fisheye)
 
 
 def robot_pose(hero: SimulatedHero) -> Pose:

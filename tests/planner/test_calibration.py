@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 from hero_driver.sim import render_realistic as rr
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.render_preset import render_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import load_world
 from camera_model.board import load_board
 from planner.calibration import Calibration, calibrate, load_calibration, save_calibration
@@ -29,7 +29,7 @@ BOARD = load_board(board_path("lab"))
 @pytest.fixture(scope="module")
 def shot() -> tuple[SimWorld, np.ndarray]:
     sim = SimWorld(load_world("lab", profile_and_catalogue()[1]), 0, noise=NoiseConfig.off())
-    return sim, render_world(sim, "realistic").pixels
+    return sim, sim.render("realistic").pixels
 
 
 def true_raw_pixels(sim: SimWorld, points: np.ndarray) -> np.ndarray:

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 
-from behaviours.bridge import overhead
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.sim.world import SimWorld
 from planner import Navigator, Pose, Region
@@ -27,7 +26,7 @@ def here(sim: SimWorld) -> Pose:
 def test_the_position_between_a_close_pair_is_unreachable() -> None:
     sim = SimWorld("clutter", 0)
     nav = Navigator(load_profile().robot)
-    nav.observe(overhead(sim.camera()))
+    nav.observe(sim.camera())
     tumbler = region_at(nav, 70.0, 60.0)
     # (0, 0) of the tumbler: sonar at its +x face, the base 11 in further, centred 1.85 +
     # 11 = 12.85 in from the tumbler, 7.65 in from the bottle's centre: within the 9 in
@@ -39,7 +38,7 @@ def test_the_position_between_a_close_pair_is_unreachable() -> None:
 def test_no_position_priced_finite_among_close_objects_is_a_collision() -> None:
     sim = SimWorld("clutter", 0)
     nav = Navigator(load_profile().robot)
-    nav.observe(overhead(sim.camera()))
+    nav.observe(sim.camera())
     radius = load_profile().robot.geometry.base_radius_in
     driven = blocked = 0
     for x, y in CLOSE:

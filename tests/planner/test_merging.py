@@ -11,7 +11,6 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from behaviours.bridge import overhead
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.world import SimWorld
 from planner import Navigator, Pose, Region, Scene, look
@@ -24,7 +23,7 @@ Placed = tuple[str, float, float, float]
 
 
 def scene(*objects: Placed, noise: NoiseConfig | None = None, seed: int = 0) -> Scene:
-    return look(overhead(SimWorld(floor(*objects), seed, noise=noise).camera()))
+    return look(SimWorld(floor(*objects), seed, noise=noise).camera())
 
 
 # Seen 1.5 in apart, then pushed to 0.1-0.3 in apart (the second object moved 1.2-1.4 in,
@@ -170,5 +169,5 @@ def test_the_navigator_tells_the_next_plans_a_merge_happened() -> None:
     nav = Navigator(load_profile().robot)
     for gap, clusters in ((1.5, [False, False]), (0.3, [True]), (0.3, [True])):
         world = SimWorld(floor(*pair(gap)), 0)
-        assert [r.cluster for r in nav.observe(overhead(world.camera())).regions] == clusters
-        assert nav.scene.regions == nav.observe(overhead(world.camera())).regions  # the same image: the same answer
+        assert [r.cluster for r in nav.observe(world.camera()).regions] == clusters
+        assert nav.scene.regions == nav.observe(world.camera()).regions  # the same image: the same answer

@@ -8,7 +8,6 @@ import math
 
 import pytest
 
-from behaviours.bridge import overhead
 from hero_driver.sim.world import SimWorld
 from planner import Navigator, Pose
 from planner.vision_map import build_vision_map, draw_discs
@@ -35,7 +34,7 @@ def _clearance(path: tuple[Pose, ...], start: Pose, centre: tuple[float, float])
 
 def test_a_plan_goes_around_a_drawn_disc_until_the_next_image(empty_room: SimWorld) -> None:
     nav = Navigator(empty_room.profile.robot)
-    image = overhead(empty_room.camera())
+    image = empty_room.camera()
     nav.observe(image)
     start, goal = Pose(30.0, 90.0, 0.0), Pose(200.0, 90.0, 0.0)
     straight = nav.plan(start, goal)
@@ -53,7 +52,7 @@ def test_a_plan_goes_around_a_drawn_disc_until_the_next_image(empty_room: SimWor
 
 def test_draw_discs_marks_the_pixels_whose_centres_lie_within_the_radius(empty_room: SimWorld) -> None:
     nav = Navigator(empty_room.profile.robot)
-    scene = nav.observe(overhead(empty_room.camera()))
+    scene = nav.observe(empty_room.camera())
     drawn = draw_discs(scene, ((120.0, 90.0, 5.0),)) & ~(scene.furniture | scene.objects)
     ipp = scene.image.inches_per_pixel
     assert drawn.sum() == pytest.approx(math.pi * 25.0 / ipp ** 2, rel=0.15)

@@ -16,7 +16,7 @@ from planner import paths as reasons
 from planner.positions import RANGE_TOLERANCE_IN, TOLERANCE_STEP_IN
 from robot_profile import load_profile
 from tests.planner.drawing import WALL, Canvas
-from tests.planner.sim import drive, overhead, robot_pose
+from tests.planner.sim import drive, robot_pose
 
 ROBOT = load_profile().robot
 BOX_X, BOX_Y, HALF = 100.0, 90.0, 3.0  # a 6 x 6 in box; its 0° face is at x = 103
@@ -92,7 +92,7 @@ def test_the_demo_lab_position_near_the_wall_is_reached_and_sensed() -> None:
     planned, driven, and the 1° sweep accepts the distance."""
     hero = SimulatedHero("r1", world="lab", seed=0, noise=NoiseConfig.off())
     nav = Navigator(ROBOT)
-    regions = nav.observe(overhead(hero.camera().result())).regions
+    regions = nav.observe(hero.camera().result()).regions
     region = min(regions, key=lambda r: math.dist(r.centroid, (70.0, 60.0)))
     nominal = pose_for_position(region, 39.0, 2.0, ROBOT.geometry)
     assert not nav.vision_map.is_free(nominal.x_in, nominal.y_in)

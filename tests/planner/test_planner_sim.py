@@ -13,7 +13,7 @@ from learner.training import training_orientations
 from planner import look
 from planner.geometry import angle_between
 from planner.move_cost import arrived
-from tests.planner.sim import drive, navigator, overhead, robot_pose
+from tests.planner.sim import drive, navigator, robot_pose
 from tests.planner.test_vision_orientations import as_training_object
 
 
@@ -24,7 +24,7 @@ def truth_by_position(hero: SimulatedHero, region):
 @pytest.mark.parametrize("fisheye", [False, True])
 def test_lab_regions_match_the_ground_truth(fisheye):
     hero = SimulatedHero(seed=1, noise=NoiseConfig(fisheye=fisheye))
-    scene = look(overhead(hero.camera().result()))
+    scene = look(hero.camera().result())
     truth = hero.truth()
     assert len(scene.regions) == len(truth)
     tolerance = 1.0 if fisheye else 0.5
@@ -38,7 +38,7 @@ def test_lab_regions_match_the_ground_truth(fisheye):
 
 def test_lab_orientations_follow_the_objects_yaw():
     hero = SimulatedHero(seed=1, noise=NoiseConfig.off())
-    scene = look(overhead(hero.camera().result()))
+    scene = look(hero.camera().result())
     elongated = [r for r in scene.regions if r.length_in > 1.5 * r.width_in and r.pixel_count >= 20]
     assert len(elongated) >= 2  # the magazine box and the lying bottle
     for region in elongated:
@@ -55,7 +55,7 @@ def test_lab_orientations_follow_the_objects_yaw():
 def test_planned_positions_put_the_sonar_at_the_asked_distance():
     hero = SimulatedHero(seed=2, noise=NoiseConfig.off())
     nav = navigator()
-    regions = nav.observe(overhead(hero.camera().result())).regions
+    regions = nav.observe(hero.camera().result()).regions
     checked = 0
     for region, distance, orientation in [(regions[2], 6.0, 90.0), (regions[4], 16.0, 0.0),
                                           (regions[6], 6.0, 180.0), (regions[0], 24.0, 270.0)]:
@@ -66,7 +66,7 @@ def test_planned_positions_put_the_sonar_at_the_asked_distance():
         assert not moved.collided and moved.centred
         sensed = hero.sense("H-Sweep-5°").result()
         assert sensed.distance_in == pytest.approx(distance, abs=1.0)
-        nav.observe(overhead(hero.camera().result()))
+        nav.observe(hero.camera().result())
         checked += 1
     assert checked >= 3
 
@@ -74,7 +74,7 @@ def test_planned_positions_put_the_sonar_at_the_asked_distance():
 def test_move_costs_track_the_simulated_move_times():
     hero = SimulatedHero(seed=3)
     nav = navigator()
-    regions = nav.observe(overhead(hero.camera().result())).regions
+    regions = nav.observe(hero.camera().result()).regions
     estimate_errors, exact_errors = [], []
     for k in range(12):
         region = regions[(5 * k) % len(regions)]
@@ -88,7 +88,7 @@ def test_move_costs_track_the_simulated_move_times():
         actual = drive(hero, plan, region.centroid).duration_s
         estimate_errors.append(abs(estimate.seconds - actual) / actual)
         exact_errors.append(abs(exact.seconds - actual) / actual)
-        nav.observe(overhead(hero.camera().result()))
+        nav.observe(hero.camera().result())
     assert len(exact_errors) >= 8
     assert statistics.median(exact_errors) < 0.05
     assert statistics.median(estimate_errors) < 0.15

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from camera_model.board import load_board
+from camera_model.image import CameraImage
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero
-from planner.image import OverheadImage
 from planner.segmentation import calibrated_camera, empty_floor, segment
 from planner.vision import look
 
@@ -35,7 +35,7 @@ def components(mask: np.ndarray) -> int:
 def test_an_object_against_a_wall_is_filled_with_floor_not_wall() -> None:
     pixels = floor_with_wall()
     pixels[10:14, 30:34] = OBJECT  # touching the wall
-    floor = empty_floor(OverheadImage(pixels, 0.8, 0.0, 48.0))
+    floor = empty_floor(CameraImage(pixels, 0.8, 0.0, 48.0))
     under = floor.level[10:14, 30:34]
     assert np.all(np.abs(under - FLOOR) < 0.1 * FLOOR)  # filled from the wall it would read ~50
 
@@ -44,7 +44,7 @@ def test_a_speck_beside_a_wall_is_not_painted_out_so_no_object_appears() -> None
     pixels = floor_with_wall()
     pixels[10, 20] = 125  # one pixel 25 % over the floor: noise or texture, not an object
     pixels[30:34, 40:44] = OBJECT
-    image = OverheadImage(pixels, 0.8, 0.0, 48.0)
+    image = CameraImage(pixels, 0.8, 0.0, 48.0)
     masks = segment(image, empty_floor(image))
     assert components(masks.objects) == 1 and masks.objects[30:34, 40:44].all()
 
@@ -56,5 +56,5 @@ def test_the_calibration_image_itself_shows_just_the_lab_objects(seed: int, fram
     hero = SimulatedHero("r1", world="lab", seed=seed, camera="realistic")
     image = [hero.camera().result() for _ in range(frame + 1)][-1]
     camera = calibrated_camera(image.pixels, load_board(board_path("lab")))
-    scene = look(OverheadImage(image.pixels, image.inches_per_pixel, image.origin_x_in, image.origin_y_in), camera)
+    scene = look(image, camera)
     assert len(scene.regions) == 7

@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from behaviours.bridge import overhead
 from camera_model.board import load_board
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import WORLDS_DIR, load_world, parse_world
 from planner.segmentation import calibrated_camera
 from planner.vision import Region, look
@@ -37,7 +37,7 @@ def regions(world: object, preset: str) -> tuple[Region, ...]:
     episode without a calibration file does."""
     image = SimWorld(world, 0, camera=preset).camera()
     camera = calibrated_camera(image.pixels, load_board(board_path("lab"))) if preset == "realistic" else None
-    return look(overhead(image), camera).regions
+    return look(image, camera).regions
 
 
 def assert_found_once_each(found: tuple[Region, ...], placed: list[tuple[float, float]], preset: str) -> None:

@@ -13,8 +13,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from camera_model.image import CameraImage
 from hero_driver.sim.worldfile import Placement
-from planner.image import OverheadImage
 from planner.segmentation import Camera, load_camera, save_camera, segment
 from planner.vision import look
 from tests.planner.vision_truth import ROBOT_PARKED, lab_at, lab_camera, measure, overhead, pixel_spread
@@ -85,7 +85,7 @@ def test_objects_on_the_floor_when_calibrating_are_still_seen(camera: Camera) ->
 
 def test_a_change_of_exposure_changes_nothing(camera: Camera) -> None:
     image = overhead(lab_at(1), "realistic")
-    brighter = OverheadImage(np.clip(image.pixels.astype(float) * 1.2, 0, 255).astype(np.uint8),
+    brighter = CameraImage(np.clip(image.pixels.astype(float) * 1.2, 0, 255).astype(np.uint8),
                              image.inches_per_pixel, image.origin_x_in, image.origin_y_in)
     before, after = look(image, camera).regions, look(brighter, camera).regions
     assert len(before) == len(after) == 7
@@ -116,11 +116,11 @@ def test_the_camera_file_round_trips_and_says_what_is_missing(camera: Camera, tm
 
 
 def test_an_image_of_another_size_is_one_clear_error(camera: Camera) -> None:
-    small = OverheadImage(np.zeros((100, 120), np.uint8), 0.5, 0.0, 50.0)
+    small = CameraImage(np.zeros((100, 120), np.uint8), 0.5, 0.0, 50.0)
     with pytest.raises(ValueError, match="camera image is 120x100 pixels, the calibration's 504x384"):
         look(small, camera)
     flat = camera.calibration.rectify(overhead(lab_at(0), "realistic").pixels)
-    wrong = OverheadImage(flat.pixels[:-1], flat.inches_per_pixel, flat.origin_x_in, flat.origin_y_in)
+    wrong = CameraImage(flat.pixels[:-1], flat.inches_per_pixel, flat.origin_x_in, flat.origin_y_in)
     with pytest.raises(ValueError, match="on the floor grid"):
         segment(wrong, camera.empty_floor)
 

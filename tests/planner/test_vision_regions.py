@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from planner import OverheadImage, look
+from camera_model.image import CameraImage
+from planner import look
 from planner.geometry import angle_between
 from tests.planner.drawing import IPP, OBJECT, WALL, Canvas
 
@@ -127,17 +128,17 @@ def test_polygon_lies_on_the_true_outline():
 @pytest.mark.parametrize("pixels", [np.zeros((0, 0), np.uint8), np.zeros((3,), np.uint8)])
 def test_empty_image_is_refused(pixels):
     with pytest.raises(ValueError, match="non-empty"):
-        OverheadImage(pixels, IPP, 0.0, 0.0)
+        look(CameraImage(pixels, IPP, 0.0, 0.0))
 
 
 def test_bad_scale_is_refused():
     with pytest.raises(ValueError, match="inches_per_pixel"):
-        OverheadImage(np.zeros((4, 4), np.uint8), float("nan"), 0.0, 0.0)
+        look(CameraImage(np.zeros((4, 4), np.uint8), float("nan"), 0.0, 0.0))
 
 
 def test_fisheye_without_camera_matrix_is_refused():
     with pytest.raises(ValueError, match="camera_matrix"):
-        OverheadImage(np.zeros((4, 4), np.uint8), IPP, 0.0, 0.0, fisheye=(0.05, 0.01, 0.0, 0.0))
+        look(CameraImage(np.zeros((4, 4), np.uint8), IPP, 0.0, 0.0, fisheye=(0.05, 0.01, 0.0, 0.0)))
 
 
 def test_content_key_tells_images_apart():

@@ -18,16 +18,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from behaviours.bridge import overhead as camera_overhead
 from camera_model.board import load_board
+from camera_model.image import CameraImage
 from hero_driver.interface import Pose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose
 from hero_driver.sim.render_board import board_path
-from hero_driver.sim.render_preset import render_world
-from hero_driver.sim.world import SimWorld, profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
+from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import Placement, load_world
-from planner.image import OverheadImage
 from planner.segmentation import Camera, calibrated_camera
 from planner.vision import look
 
@@ -67,8 +66,8 @@ def lab_at(pose: int, seed: int = 0, noise: NoiseConfig = NOISE) -> SimWorld:
     return sim
 
 
-def overhead(sim: SimWorld, preset: str) -> OverheadImage:
-    return camera_overhead(render_world(sim, preset))
+def overhead(sim: SimWorld, preset: str) -> CameraImage:
+    return sim.render(preset)
 
 
 def lab_camera() -> Camera:

@@ -7,8 +7,10 @@ from pathlib import Path
 
 import pytest
 
+from learner.knowledge import MoveModel
 from robot_profile import (
-    DEFAULT_PROFILE, MoveModel, Robot, RobotGeometry, RobotMotion, load_profile, profile_from_dict,
+    DEFAULT_PROFILE, Robot, RobotGeometry, RobotMotion, knowledge_from_dict, load_knowledge, load_profile,
+    profile_from_dict,
 )
 
 HERO = Path(__file__).resolve().parents[2] / "hero_driver" / "profiles" / "hero2000.toml"
@@ -75,6 +77,25 @@ def test_bad_profiles_are_rejected_naming_file_entry_and_problem(mutate, message
         profile_from_dict(data, "k.toml")
     assert str(err.value).startswith("k.toml: ")
     assert message in str(err.value) and "\n" not in str(err.value)
+
+
+def test_the_learners_part_needs_no_robot_table_but_checks_one_given(tmp_path: Path) -> None:
+    data = _data()
+    full = profile_from_dict(data, "k.toml").knowledge()
+    del data["robot"]
+    assert knowledge_from_dict(data, "k.toml") == full  # [robot] is nothing of the learner's
+    no_robot = tmp_path / "learner-only.toml"
+    no_robot.write_text("".join(line for line in HERO.read_text(encoding="utf-8").splitlines(keepends=True)
+                                if not line.startswith(("[robot]", "base_radius_in", "sensor_", "raised_sensor_",
+                                                        "speed_in_per_s", "turn_deg_per_s", "vision_s",
+                                                        "centring_s"))), encoding="utf-8")
+    assert load_knowledge(no_robot).sensing == full.sensing and load_knowledge(no_robot).source == str(no_robot)
+    with pytest.raises(ValueError, match=r"learner-only.toml: missing table \[robot\]"):
+        load_profile(no_robot)  # whatever drives the planner or the simulator still needs it
+    data = _data()
+    data["robot"].update(wheels=3)
+    with pytest.raises(ValueError, match=r"k.toml: \[robot\]: unknown key 'wheels'"):
+        knowledge_from_dict(data, "k.toml")  # a typo there is still a typo
 
 
 def test_unreadable_files_are_one_line_errors(tmp_path: Path) -> None:

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from csl_testing.inputs import STEADY_NOISE, criterion_of, noise_config, placements, seed_library, world_spec
 from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
-from hero_driver.sim.world import profile_and_catalogue
+from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import Placement
 from learner.criteria import criterion
 from learner.library import read_library_json, write_library_json
