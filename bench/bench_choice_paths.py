@@ -43,15 +43,15 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
+from learner.choosing.criteria import criterion  # noqa: E402
+from learner.choosing.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.selection import Context, Node, _failure_share  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import criterion  # noqa: E402
 from learner.decision_tree import grasp_options  # noqa: E402
-from learner.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
-from learner.library import LibraryStore, read_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.library.format import LibraryStore, read_library_json  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
-from learner.selection import Context, Node, _failure_share  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 from tests.learner.reference_paths import entries, entry_partition, simple_failure_share, simple_grasp_options  # noqa: E402
 
 START = Position(60.0, 0.0)  # as bench_scaling.py

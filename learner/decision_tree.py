@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learner.matrix import Test
-from learner.partition import Range, match
+from learner.choosing.matrix import Test
+from learner.choosing.partition import Range, match
+from learner.choosing.selection import (Context, Measurements, Node, ScoredTest, deciding_index, rank, split,
+                                        target_for, yielded)
 from learner.position import Position
-from learner.selection import (Context, Measurements, Node, ScoredTest, deciding_index, rank, split,
-                               target_for, yielded)
 
 
 @dataclass(frozen=True)

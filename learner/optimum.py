@@ -58,16 +58,16 @@ from types import MappingProxyType
 
 import numpy as np
 
+from learner.choosing.criteria import DEFAULT_CRITERION, Criterion, criterion
+from learner.choosing.gain import partition_columns
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.rollout_walk import shared_decisions
+from learner.choosing.selection import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range,
+                                        split, target_for)
 from learner.costs import MoveCostEstimator, sensing_cost
-from learner.criteria import DEFAULT_CRITERION, Criterion, criterion
 from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options
-from learner.gain import partition_columns
-from learner.matrix import DescriptionMatrix
 from learner.position import Position
-from learner.rollout_walk import shared_decisions
 from learner.runtime import Matched, RecognitionSession, Unreliable
-from learner.selection import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range, split,
-                               target_for)
 
 _EPS = 1e-9
 

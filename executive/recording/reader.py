@@ -11,7 +11,7 @@ from mcap.reader import make_reader
 from zstandard import ZstdError
 
 from executive.recording.topics import EVENTS
-from learner.json_text import NotJson, parse_json
+from learner.library.json_text import NotJson, parse_json
 
 def read_recorded_events(path: Path) -> list[dict[str, object]]:
     """The events of a recording in the order they were logged; a file that is not a

@@ -14,15 +14,15 @@ import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from executive.profile import load_knowledge
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.selection import Context, Node
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.decision_tree import leaf_at
-from learner.library import read_library_json
-from learner.matrix import DescriptionMatrix
+from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.optimum import optimal_cost, policy_walk
 from learner.position import Position
-from learner.selection import Context, Node
-from learner.synthetic import synthetic_library
 from tests.learner.fixtures import P
 from tests.learner.test_optimum import EST, d, matrix
 

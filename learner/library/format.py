@@ -21,16 +21,16 @@ from typing import TypeVar
 from learner.appearance import Appearance, appearance_from_json
 from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription, Observation, in_order
-from learner.input_file import open_input, read_input
-from learner.json_text import NotJson, parse_json
-from learner.library_columnar import COLUMNAR_VERSION, columnar_from_json, columnar_to_json
 from learner.knowledge import Knowledge
+from learner.library.columnar import COLUMNAR_VERSION, columnar_from_json, columnar_to_json
+from learner.library.input_file import open_input, read_input
+from learner.library.json_text import NotJson, parse_json
 from learner.position import Position, finite_number, known_position_json, position_from_json
 
 FORMAT = "csl-library"
 VERSION = 2  # 2: descriptions may carry the camera's appearance of their object
 READS = (1, 2)  # a version-1 library loads with no appearances
-JSON_READS = (*READS, COLUMNAR_VERSION)  # JSON files may also be columnar (learner/library_columnar.py)
+JSON_READS = (*READS, COLUMNAR_VERSION)  # JSON files may also be columnar (learner/library/columnar.py)
 
 
 # -- JSON ---------------------------------------------------------------------------

@@ -35,10 +35,10 @@ from collections.abc import Callable
 
 import numpy as np
 
+from learner.choosing.matrix import Test
+from learner.choosing.selection import Context, Measurements, Node, ScoredTest, rank, split, yielded
 from learner.decision_tree import grasp_options, leaf_at
-from learner.matrix import Test
 from learner.position import Position
-from learner.selection import Context, Measurements, Node, ScoredTest, rank, split, yielded
 
 ROLLOUT_WIDTH = 8
 """How many of the best tests by one step are rolled out: each costs a run of the greedy

@@ -6,7 +6,7 @@ descriptions at the node: the learner can only test what some object was measure
 Each is scored with the criterion on its gain and its cost *from the current position*;
 the ranked list is kept so the executive can reselect the next-best test.
 
-Gains come from ``learner.gain`` (docs/method.md §3); what a criterion does besides its
+Gains come from ``learner.choosing.gain`` (docs/method.md §3); what a criterion does besides its
 formula (cost-blind ties and ``*`` slots, joint gain, lookahead) it declares in its
 registry entry, and the ranking here follows it.
 """
@@ -21,12 +21,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from learner.choosing.criteria import Criterion
+from learner.choosing.gain import Split, joint_gain, partition_columns
+from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.partition import Range
 from learner.costs import MoveCostEstimator, sensing_cost
-from learner.criteria import Criterion
-from learner.gain import Split, joint_gain, partition_columns
 from learner.knowledge import Knowledge
-from learner.matrix import DescriptionMatrix, Test
-from learner.partition import Range
 from learner.position import Position
 
 _MIN_GAIN = 1e-12
@@ -174,8 +174,8 @@ def rank(
     joint gain of its procedure application, for a ``joint_gain`` criterion) and its
     cost from ``current``; a ``lookahead`` criterion then rescores the paid ones over two
     steps (of the best :data:`LOOKAHEAD_WIDTH` by one step; the rest follow them), and a
-    ``rollout`` one ranks its best few by expected cost to the end (learner/rollout.py, or
-    learner/rollout_walk.py). A ``grasp_paid_on_failure`` criterion prices a grasp test
+    ``rollout`` one ranks its best few by expected cost to the end (learner/choosing/rollout.py, or
+    learner/choosing/rollout_walk.py). A ``grasp_paid_on_failure`` criterion prices a grasp test
     at its failure probability times its cost (``scored_on``). Ties go
     to the nearer, then the cheaper test, or, for a criterion with
     ``cost_blind_choices``, are ordered at random from ``ctx.rng``.
@@ -228,9 +228,9 @@ def rank(
     if ctx.criterion.rollout:
         # imported here: the rollout finishes by the leaf rule (decision_tree), built on this module
         if ctx.criterion.rollout_follows_walk:
-            from learner.rollout_walk import rolled_out
+            from learner.choosing.rollout_walk import rolled_out
         else:
-            from learner.rollout import rolled_out
+            from learner.choosing.rollout import rolled_out
         ranked = rolled_out(node, ranked, current, ctx, measurements, exclude)
     return ranked
 

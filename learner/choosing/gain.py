@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learner.matrix import DescriptionMatrix
-from learner.partition import Range
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.partition import Range
 
 _EPS = 1e-9
 
