@@ -27,9 +27,9 @@ from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from hero_driver.interface import CameraImage, DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
+from learner.choosing.leaf import AmbiguousLeaf
 from learner.choosing.matrix import Test
-from learner.choosing.selection import ScoredTest
-from learner.decision_tree import AmbiguousLeaf
+from learner.choosing.node import ScoredTest
 from learner.position import Position
 from learner.runtime import Exhausted
 

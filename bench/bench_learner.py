@@ -23,11 +23,12 @@ sys.path.insert(0, str(ROOT))
 
 from executive.profile import load_knowledge  # noqa: E402
 from learner.choosing.criteria import criterion  # noqa: E402
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.node import Context, Node  # noqa: E402
 from learner.choosing.partition import partition  # noqa: E402
-from learner.choosing.selection import Context, Node, rank  # noqa: E402
+from learner.choosing.selection import rank  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.description import ObjectDescription, Observation  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402

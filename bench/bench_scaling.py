@@ -55,10 +55,11 @@ sys.path.insert(0, str(ROOT))
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
 from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
-from learner.choosing.selection import Context, Node, ScoredTest, measured_value, rank  # noqa: E402
+from learner.choosing.node import Context, Node, ScoredTest, measured_value  # noqa: E402
+from learner.choosing.selection import rank  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.description import ObjectDescription  # noqa: E402
 from learner.library.format import LibraryStore, read_library_json, write_library_json  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402

@@ -13,7 +13,7 @@ from executive.args import add_criterion_options, criterion_from_args, non_negat
 from executive.profile import knowledge_of, load_knowledge
 from executive.tables import Column, print_paragraph, print_table
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import Context, Node
+from learner.choosing.node import Context, Node
 from learner.costs import ModelMoveCost
 from learner.library.format import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
 from learner.position import parse_position

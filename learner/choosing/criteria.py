@@ -63,7 +63,7 @@ class Traits:
     before the one-step rule takes over, within a budget of searched nodes per decision
     (learner/choosing/rollout_walk.py).
     ``leaf_every_row``: a node is a leaf only when every description at it, carried ones
-    included, shares one grasp (``decision_tree.leaf_at``). Without it the descriptions
+    included, shares one grasp (``leaf.leaf_at``). Without it the descriptions
     carried down a test they lack do not decide a leaf, and the leaf's grasp is executed
     blind where a carried description of another grasp is still as likely as a measured
     one; with it the session tests on while a test still tells them apart

@@ -17,17 +17,14 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance
+from learner.choosing.partition import Split
 from learner.description import Descriptions, ObjectDescription, Observation
 from learner.knowledge import Knowledge
 from learner.position import Position
-
-if TYPE_CHECKING:
-    from learner.choosing.gain import Split
 
 
 NODE_SPLITS_KEPT = 256

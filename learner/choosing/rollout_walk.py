@@ -17,7 +17,7 @@ they matter the least estimate is not the least cost:
   cost nothing).
 
 The decision's node starts from what ``Node.likelihood`` records (a session's nodes come
-by ``selection.split``, which keeps it). What stays approximate: a row lacking a value
+by ``node.split``, which keeps it). What stays approximate: a row lacking a value
 re-used after a rebuild is spread over the branches again rather than following its
 first fork. The accounting is otherwise learner/choosing/rollout.py's: a test is paid once, its
 procedure's siblings are then free, a grasp tried as a feature is paid only when it
@@ -42,11 +42,12 @@ import dataclasses
 import math
 from collections.abc import Iterator
 
+from learner.choosing.leaf import grasp_options, leaf_at
 from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Measurements, Node, ScoredTest, procedure_range, split, yielded
 from learner.choosing.rollout import one_step, rescored, shortlisted
-from learner.choosing.selection import Context, Measurements, Node, ScoredTest, procedure_range, rank, split, yielded
+from learner.choosing.scoring import rank_by_score
 from learner.costs import sensing_cost
-from learner.decision_tree import grasp_options, leaf_at
 from learner.position import Position
 
 _EPS = 1e-9
@@ -123,7 +124,7 @@ def _rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Co
 
 def star_fills(test: ScoredTest, current: Position, ctx: Context) -> list[ScoredTest]:
     """``test`` made elsewhere than where the learner fills its ``*`` slots (where the
-    robot is, ``selection.target_for``): at each other value the library uses for the
+    robot is, ``node.target_for``): at each other value the library uses for the
     slot within the procedure's range, priced from ``current``. Where a ``*`` column is
     made decides which concrete siblings come free after it (docs/optimum.md)."""
     slot = test.test.position
@@ -184,7 +185,7 @@ class WalkRollout:
                 failed: frozenset[str], depth: int) -> float:
         leaf = leaf_at(node, at, self.ctx)
         if leaf is None:
-            ranked = rank(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
+            ranked = rank_by_score(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
             if ranked and depth > 0 and self.searched < SEARCH_BUDGET:
                 self.searched += 1
                 return min(self.after(node, weights, test, measured, exclude, failed, depth - 1)
@@ -232,7 +233,7 @@ class WalkRollout:
 
 def weighted_split(node: Node, weights: Weights, test: ScoredTest,
                    ctx: Context) -> list[tuple[Node, float, Weights]]:
-    """Each branch of ``test`` at ``node``: its node (``selection.split``), its
+    """Each branch of ``test`` at ``node``: its node (``learner.choosing.node.split``), its
     probability, and its rows' probabilities given the branch. A row lacking the value
     goes down each of the ``k`` branches with ``1/k`` of its weight."""
     matrix = ctx.matrix

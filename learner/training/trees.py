@@ -22,10 +22,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
 from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Node, ScoredTest, split, yielded
 from learner.choosing.partition import Range, match, nearest
-from learner.choosing.selection import Context, Node, ScoredTest, rank, split, yielded
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grasp_options, grow, leaf_at, object_ids
+from learner.choosing.selection import rank
+from learner.decision_tree import TestNode, TreeNode, grow
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.position import Position

@@ -42,7 +42,7 @@ from hero_driver.interface import (CameraImage, DriverError, GraspResult, MoveRe
                                    RobotState, SenseResult)
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import ScoredTest
+from learner.choosing.node import ScoredTest
 from learner.description import ObjectDescription
 from learner.position import Position
 from learner.runtime import RecognitionSession

@@ -18,7 +18,7 @@ from behaviours.services import Params
 from hero_driver.interface import (BUSY, NO_TARGET, OUT_OF_RANGE, UNAVAILABLE, Driver, DriverError, GraspResult,
                                    Pose as DriverPose, RobotState, SenseResult)
 from learner.appearance import Appearance
-from learner.choosing.selection import ScoredTest
+from learner.choosing.node import ScoredTest
 from learner.description import ObjectDescription, Observation
 from planner import Region
 from tests.behaviours.conftest import (HEIGHT, PENDING, REGION, ROBOT, FakeDriver, P, fresh_board, get, image, measure,

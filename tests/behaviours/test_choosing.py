@@ -15,7 +15,7 @@ from py_trees.common import Status
 
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.records import GraspAttempt
-from learner.choosing.selection import ScoredTest
+from learner.choosing.node import ScoredTest
 from learner.runtime import Matched, Unreliable
 from planner import MoveCost
 from tests.behaviours.conftest import HEIGHT, REGION, ROBOT, WIDTH, P, measure, put, run, start_object

@@ -27,7 +27,7 @@ from executive.experiment.study_grasp_costs import slowed
 from executive.grasp_attempts import attempt_costs
 from hero_driver.sim_driver import SimulatedHero
 from learner.choosing.matrix import Test as Column
-from learner.choosing.selection import procedure_cost
+from learner.choosing.node import procedure_cost
 from learner.costs import GraspCostRecord
 from learner.library.format import LibraryStore, load_library
 from learner.service.local import LocalLearner

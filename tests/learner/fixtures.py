@@ -7,7 +7,7 @@ from pathlib import Path
 from executive.profile import load_knowledge
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import Context
+from learner.choosing.node import Context
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge, MoveModel

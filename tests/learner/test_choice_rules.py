@@ -18,11 +18,13 @@ from hypothesis import strategies as st
 from learner import decision_tree
 from learner.choosing.criteria import criterion
 from learner.choosing.gain import joint_gain, partition_columns
+from learner.choosing.leaf import GraspLeaf
 from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node, ScoredTest
 from learner.choosing.rollout import branch_shares, finishing_cost
-from learner.choosing.selection import Context, Node, ScoredTest, rank
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
-from learner.decision_tree import GraspLeaf, grow
+from learner.decision_tree import grow
 from learner.knowledge import MoveModel
 from learner.optimum import optimal_cost, policy_walk
 from learner.runtime import RecognitionSession

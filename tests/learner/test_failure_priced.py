@@ -18,9 +18,10 @@ from hypothesis import strategies as st
 
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node, split
 from learner.choosing.rollout import finishing_cost
 from learner.choosing.rollout_walk import walk_finishing_cost
-from learner.choosing.selection import Context, Node, rank, split
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
 from learner.knowledge import MoveModel
 from learner.optimum import optimal_cost, policy_walk

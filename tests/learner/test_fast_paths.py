@@ -17,10 +17,12 @@ from hypothesis import strategies as st
 from executive.defaults import EXAMPLE_LIBRARY
 from learner.choosing.criteria import criterion
 from learner.choosing.gain import partition_columns
+from learner.choosing.leaf import grasp_options, object_ids
 from learner.choosing.matrix import NODE_SPLITS_KEPT, DescriptionMatrix, RowLabels
-from learner.choosing.selection import Context, Node, _failure_share
+from learner.choosing.node import Context, Node
+from learner.choosing.scoring import _failure_share
 from learner.costs import ModelMoveCost
-from learner.decision_tree import grasp_options, grow, object_ids
+from learner.decision_tree import grow
 from learner.description import ObjectDescription
 from learner.library.format import read_library_json
 from learner.library.synthetic import synthetic_library

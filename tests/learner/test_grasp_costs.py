@@ -15,10 +15,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import Context, Node, rank
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import GraspCostRecord, ModelMoveCost, bayesian_mean, with_learned_grasp_costs
-from learner.decision_tree import AmbiguousLeaf
 from learner.library.format import LibraryStore
 from learner.runtime import RecognitionSession
 from learner.service.local import LocalLearner

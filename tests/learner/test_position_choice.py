@@ -14,7 +14,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from learner.choosing.selection import Node, rank
+from learner.choosing.node import Node
+from learner.choosing.selection import rank
 from learner.knowledge import MoveModel
 from tests.learner.fixtures import P, context, desc
 

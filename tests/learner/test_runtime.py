@@ -8,9 +8,9 @@ import pytest
 
 from learner.appearance import Appearance
 from learner.choosing.criteria import criterion
-from learner.choosing.selection import ScoredTest
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf
+from learner.choosing.node import ScoredTest
 from learner.costs import ModelMoveCost
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable
 from tests.learner.fixtures import P, desc, four_objects, hero
 

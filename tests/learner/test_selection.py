@@ -13,8 +13,9 @@ from hypothesis import strategies as st
 from learner.choosing.criteria import criterion
 from learner.choosing.gain import partition_columns
 from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Node
 from learner.choosing.partition import match, nearest, partition
-from learner.choosing.selection import Node, rank
+from learner.choosing.selection import rank
 from tests.learner import test_matrix_append as append_tests
 from tests.learner.fixtures import ANY, P, context, desc, four_objects, hero
 from tests.learner.reference import information_gain

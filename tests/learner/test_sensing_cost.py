@@ -16,9 +16,11 @@ import math
 import pytest
 
 from learner.choosing.criteria import criterion
-from learner.choosing.selection import Context, Node, rank
+from learner.choosing.leaf import AmbiguousLeaf
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost, sensing_cost
-from learner.decision_tree import AmbiguousLeaf, grow
+from learner.decision_tree import grow
 from learner.knowledge import MoveModel
 from learner.position import Position
 from learner.runtime import RecognitionSession

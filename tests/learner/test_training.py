@@ -168,7 +168,7 @@ def test_phase_two_presents_every_object_again_until_a_pass_changes_nothing() ->
     """An object classified early must still be classified by the final tree (the
     review's reproduction: o0 was right in the first pass, wrong after reorganizing)."""
     from learner.choosing.matrix import DescriptionMatrix
-    from learner.choosing.selection import Context, Node
+    from learner.choosing.node import Context, Node
     from learner.choosing.criteria import criterion
     from learner.training.stage import TrainingLog, _Recorder, train_position
     from learner.training.trees import _ZeroMove

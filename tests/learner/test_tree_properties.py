@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import Context, Node, rank
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
 from learner.decision_tree import classify, grow
 from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure

@@ -17,7 +17,8 @@ from executive.profile import load_knowledge
 from learner.choosing import rollout_walk
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.selection import Context, Node, rank
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
 from learner.library.format import read_library_json
 from learner.library.synthetic import synthetic_library
