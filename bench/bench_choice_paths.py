@@ -51,7 +51,8 @@ from learner.choosing.node import Context, Node  # noqa: E402
 from learner.choosing.partition import Split  # noqa: E402
 from learner.choosing.scoring import _failure_share  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.library.format import LibraryStore, read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
 from tests.learner.reference_paths import entries, entry_partition, simple_failure_share, simple_grasp_options  # noqa: E402

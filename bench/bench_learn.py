@@ -46,7 +46,8 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
 from learner.choosing.gain import partition_columns  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
-from learner.library.format import LibraryStore, read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 

@@ -36,7 +36,8 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from executive.profile import load_knowledge  # noqa: E402
-from learner.library.format import LibraryStore, read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.service import protocol  # noqa: E402
 from learner.service.protocol import LIBRARY  # noqa: E402

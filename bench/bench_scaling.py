@@ -61,7 +61,8 @@ from learner.choosing.node import Context, Node, ScoredTest, measured_value  # n
 from learner.choosing.selection import rank  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.description import ObjectDescription  # noqa: E402
-from learner.library.format import LibraryStore, read_library_json, write_library_json  # noqa: E402
+from learner.library.format import read_library_json, write_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable  # noqa: E402

@@ -19,7 +19,7 @@ from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.sim.worldfile import Placement, WorldSpec, parse_world, resolve
 from learner.choosing.criteria import Criterion, criterion
 from learner.description import ObjectDescription
-from learner.library.format import load_library
+from learner.library.store import load_library
 
 ObjectEntry = Placement | tuple[str, float, float] | tuple[str, float, float, float]
 """An object on the floor: a :class:`Placement`, or ``(entry, x_in, y_in[, yaw_deg])``."""

@@ -39,7 +39,8 @@ from hero_driver.sim.noise import NoiseConfig
 from learner.choosing.criteria import Criterion
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.library.format import check_library, read_library_json
+from learner.library.checks import check_library
+from learner.library.format import read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
 from planner.segmentation import Camera, load_camera

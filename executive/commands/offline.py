@@ -15,7 +15,9 @@ from executive.tables import Column, print_paragraph, print_table
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, Node
 from learner.costs import ModelMoveCost
-from learner.library.format import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
+from learner.library.checks import check_library
+from learner.library.format import write_json_atomically, write_library_json
+from learner.library.store import LibraryStore, load_library
 from learner.position import parse_position
 from learner.render import tree_json, tree_text
 from learner.training.inputs import TrainingObject, objects_document, read_objects, read_replay, replay_document

@@ -29,7 +29,7 @@ from hero_driver.sim_driver import SimulatedHero
 from learner.choosing.matrix import Test as Column
 from learner.choosing.node import procedure_cost
 from learner.costs import GraspCostRecord
-from learner.library.format import LibraryStore, load_library
+from learner.library.store import LibraryStore, load_library
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile, load_profile
 

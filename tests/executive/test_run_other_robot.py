@@ -13,7 +13,8 @@ from executive.cli import main
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.demo_library import trained_folder
 from executive.profile import knowledge_of
-from learner.library.format import check_library, read_library_json
+from learner.library.checks import check_library
+from learner.library.format import read_library_json
 from robot_profile import load_profile
 from tests.hero_driver.test_zenoh_conformance import ROVER
 

@@ -16,7 +16,7 @@ from executive.experiment.study_grasp_costs import GraspCostJob, GraspCostRow, p
 from executive.experiment.worlds import set_members
 from executive.profile import knowledge_of
 from hero_driver.sim_driver import SimulatedHero
-from learner.library.format import load_library
+from learner.library.store import load_library
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
 

@@ -271,7 +271,8 @@ def _rows(db: Path) -> list[tuple[Any, ...]]:
 
 def _check_store(damage: list[tuple[int, int]], bench: Workbench) -> str:
     """A damaged copy of a real SQLite library through ``load_library``."""
-    from learner.library.format import LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore, load_library
 
     pristine = bench.folder / "pristine.sqlite"
     if not pristine.exists():

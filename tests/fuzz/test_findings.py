@@ -196,7 +196,8 @@ def test_world_unknown_field_named_in_one_line() -> None:
 def test_library_store_damaged_inside(tmp_path: Path, text: bytes, after: int) -> None:
     """A store damaged inside is one line from ``load_library`` and exit 2 from ``csl library stats``
     (``LibraryStore``)."""
-    from learner.library.format import LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore, load_library
 
     store = tmp_path / "lib.sqlite"
     with LibraryStore(store) as opened:
@@ -277,7 +278,8 @@ def test_library_store_rows_that_do_not_decode(tmp_path: Path, codes: object, wh
     import contextlib
     import sqlite3
 
-    from learner.library.format import _CODED, LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import _CODED, LibraryStore, load_library
 
     store = tmp_path / "lib.sqlite"
     with LibraryStore(store) as opened:

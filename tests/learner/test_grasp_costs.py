@@ -20,7 +20,7 @@ from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, Node
 from learner.choosing.selection import rank
 from learner.costs import GraspCostRecord, ModelMoveCost, bayesian_mean, with_learned_grasp_costs
-from learner.library.format import LibraryStore
+from learner.library.store import LibraryStore
 from learner.runtime import RecognitionSession
 from learner.service.local import LocalLearner
 from tests.learner.fixtures import ANY, P, desc, hero

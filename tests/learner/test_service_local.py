@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from learner.appearance import Appearance
-from learner.library.format import LibraryStore, load_library
+from learner.library.store import LibraryStore, load_library
 from learner.service import LearnerService, LibrarySnapshot, LocalLearner
 from learner.service.local import VERSION_KEY
 from tests.learner.fixtures import P, desc, four_objects, hero
