@@ -19,13 +19,8 @@ from learner.choosing.scoring import rank_by_score
 from learner.position import Position
 
 
-def rank(
-    node: Node,
-    current: Position,
-    ctx: Context,
-    measurements: Measurements,
-    exclude: frozenset[Test] = frozenset(),
-) -> list[ScoredTest]:
+def rank(node: Node, current: Position, ctx: Context, measurements: Measurements,
+         exclude: frozenset[Test] = frozenset()) -> list[ScoredTest]:
     """All usable tests at a node, best first: by the criterion's score
     (:func:`learner.choosing.scoring.rank_by_score`), and for a ``rollout`` criterion its
     best few then by expected cost to the end."""
