@@ -15,10 +15,10 @@ from behaviours.base import CslBehaviour
 from behaviours.bridge import other_end
 from behaviours.events import Event
 from behaviours.records import GraspAttempt
-from learner.runtime import Decision, Matched
-from learner.selection import ScoredTest
-from learner.decision_tree import GraspLeaf
+from learner.choosing.leaf import GraspLeaf
+from learner.choosing.node import ScoredTest
 from learner.position import Position
+from learner.runtime import Decision, Matched
 
 
 class Choose(CslBehaviour):

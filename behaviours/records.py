@@ -20,9 +20,9 @@ import py_trees
 from behaviours.bridge import PlannerMoveCost
 from behaviours.services import namespace
 from hero_driver.interface import Pose as DriverPose
+from learner.choosing.node import ScoredTest
 from learner.position import Position
 from learner.runtime import RecognitionSession
-from learner.selection import ScoredTest
 from planner import Region
 
 

@@ -29,11 +29,11 @@ from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
 from camera_model.image import CameraImage
 from hero_driver.interface import DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
-from learner.matrix import Test
+from learner.choosing.leaf import AmbiguousLeaf
+from learner.choosing.matrix import Test
+from learner.choosing.node import ScoredTest
 from learner.position import Position
 from learner.runtime import Exhausted
-from learner.selection import ScoredTest
-from learner.decision_tree import AmbiguousLeaf
 
 # -- conditions ---------------------------------------------------------------------
 

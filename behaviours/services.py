@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from hero_driver.interface import Driver
-from learner.criteria import Criterion
+from learner.choosing.criteria import Criterion
+from learner.choosing.matrix import DescriptionMatrix
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.matrix import DescriptionMatrix
 from learner.service.interface import LearnerService
 from planner import Navigator
 from robot_profile import ProfileStamp

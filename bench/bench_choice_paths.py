@@ -13,10 +13,10 @@ Per size, medians of CPU time (``time.process_time``: the machine is shared) of:
 - the same partitions against the per-entry one they replaced (over every known entry
   of the node's rows, ``tests/learner/reference_paths.py``), where today's works
   on each column's distinct values with their counts per class;
-- a leaf's grasp options (``decision_tree.grasp_options``) at that node, read as per-row
+- a leaf's grasp options (``leaf.grasp_options``) at that node, read as per-row
   arrays, against the row-by-row reading they replaced (the labels made once per
   matrix, outside the timing, as a session finds them);
-- every grasp test's failure share at the root (``selection._failure_share``, what a
+- every grasp test's failure share at the root (``scoring._failure_share``, what a
   ``cs-id3-failure`` choice prices each grasp tried as a feature by), over numpy
   arrays, against the Python sum row by row it replaced.
 
@@ -43,15 +43,18 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
+from learner.choosing.criteria import criterion  # noqa: E402
+from learner.choosing.gain import _EPS, entropy, partition_columns  # noqa: E402
+from learner.choosing.leaf import grasp_options  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.node import Context, Node  # noqa: E402
+from learner.choosing.partition import Split  # noqa: E402
+from learner.choosing.scoring import _failure_share  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import criterion  # noqa: E402
-from learner.decision_tree import grasp_options  # noqa: E402
-from learner.gain import Split, _EPS, entropy, partition_columns  # noqa: E402
-from learner.library import LibraryStore, read_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
-from learner.selection import Context, Node, _failure_share  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 from tests.learner.reference_paths import entries, entry_partition, simple_failure_share, simple_grasp_options  # noqa: E402
 
 START = Position(60.0, 0.0)  # as bench_scaling.py

@@ -28,14 +28,15 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
 from executive.training_sources import catalogue_objects  # noqa: E402
 from hero_driver.sim.probe import probe  # noqa: E402
+from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.node import Context, Node  # noqa: E402
+from learner.choosing.partition import match, nearest  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import CRITERIA, criterion  # noqa: E402
-from learner.library import read_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
-from learner.partition import match, nearest  # noqa: E402
+from learner.decision_tree import TestNode, grow  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
 from learner.position import parse_position  # noqa: E402
-from learner.selection import Context, Node  # noqa: E402
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, grow  # noqa: E402
 
 
 @lru_cache(maxsize=None)

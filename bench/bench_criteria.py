@@ -23,8 +23,8 @@ from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from executive.report import Truth, rows  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.criteria import CRITERIA, criterion  # noqa: E402
-from learner.library import read_library_json  # noqa: E402
+from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
 

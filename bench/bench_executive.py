@@ -31,7 +31,7 @@ from behaviours.records import reset_blackboard  # noqa: E402
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.library import read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
 

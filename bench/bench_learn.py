@@ -44,11 +44,12 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
-from learner.gain import partition_columns  # noqa: E402
-from learner.library import LibraryStore, read_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.gain import partition_columns  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 
 SIZES = (100, 1_000, 10_000, 100_000)
 

@@ -22,15 +22,16 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from robot_profile import load_knowledge  # noqa: E402
+from learner.choosing.criteria import criterion  # noqa: E402
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.node import Context, Node  # noqa: E402
+from learner.choosing.partition import partition  # noqa: E402
+from learner.choosing.selection import rank  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import criterion  # noqa: E402
 from learner.description import ObjectDescription, Observation  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
-from learner.partition import partition  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
-from learner.selection import Context, Node, rank  # noqa: E402
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from tests.learner.reference import information_gain  # noqa: E402
 
 KNOWLEDGE = ROOT / "hero_driver" / "profiles" / "hero2000.toml"

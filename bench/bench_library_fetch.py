@@ -36,11 +36,12 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
-from learner.library import LibraryStore, read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.service import protocol  # noqa: E402
 from learner.service.protocol import LIBRARY  # noqa: E402
 from learner.service.zenoh_client import ZenohLearner  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 
 SIZES = (1_000, 10_000, 100_000)
 WHOLE_ONCE_FROM = 100_000  # sizes from here fetch the whole library once, not per repeat

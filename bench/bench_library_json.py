@@ -28,8 +28,8 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
-from learner.library import read_library_json, write_library_json  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
+from learner.library.format import read_library_json, write_library_json  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 
 from bench_library_load import held_bytes  # noqa: E402  (bench/ is the script's folder)
 

@@ -39,9 +39,10 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
 from learner.appearance import Appearance, appearance_from_json  # noqa: E402
 from learner.description import ObjectDescription, Observation  # noqa: E402
-from learner.library import LibraryStore, read_library_json, write_library_json  # noqa: E402
+from learner.library.format import read_library_json, write_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 
 SIZES = (1_000, 10_000, 100_000)
 

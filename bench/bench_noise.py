@@ -31,7 +31,7 @@ from executive.executive import Executive  # noqa: E402
 from executive.report import Truth, rows  # noqa: E402
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.library import read_library_json  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
 

@@ -31,14 +31,14 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
+from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import CRITERIA, criterion  # noqa: E402
-from learner.library import read_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.library.format import read_library_json  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.optimum import optimal_cost, policy_walk  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import RecognitionSession  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 
 NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search",
                   "cs-id3-failure-search-every-row")

@@ -1,6 +1,6 @@
 """Scaling: how the learner's costs grow with the library, from 100 to 100,000 descriptions.
 
-Libraries are synthetic (learner/synthetic.py): each description is one of the shipped
+Libraries are synthetic (learner/library/synthetic.py): each description is one of the shipped
 library's, perturbed within its features' errors, so the structure (which features at
 which positions, what is missing, the few grasps) stays the robot's. Per size, medians of:
 
@@ -54,16 +54,18 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
+from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
+from learner.choosing.node import Context, Node, ScoredTest, measured_value  # noqa: E402
+from learner.choosing.selection import rank  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.description import ObjectDescription  # noqa: E402
-from learner.library import LibraryStore, read_library_json, write_library_json  # noqa: E402
-from learner.matrix import DescriptionMatrix  # noqa: E402
+from learner.library.format import read_library_json, write_library_json  # noqa: E402
+from learner.library.store import LibraryStore  # noqa: E402
+from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.position import Position  # noqa: E402
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable  # noqa: E402
-from learner.selection import Context, Node, ScoredTest, measured_value, rank  # noqa: E402
-from learner.synthetic import synthetic_library  # noqa: E402
 
 SIZES = (100, 300, 1_000, 3_000, 10_000, 30_000, 100_000)
 START = Position(60.0, 0.0)  # as bench_learner.py: the robot starts away from the object

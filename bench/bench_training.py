@@ -1,6 +1,6 @@
 """Training speed on the Table 3 objects: each distinct phase-2 tree grown once and only as
 far as predictions walk it, each description kept until it changes
-(``learner/training_trees.py``), against the method as written, which rebuilds the
+(``learner/training/trees.py``), against the method as written, which rebuilds the
 descriptions and grows a whole tree for every prediction of Table 6
 (``train(reuse=False)``), side by side in this process.
 
@@ -35,8 +35,8 @@ sys.path.insert(0, str(ROOT))
 from executive.demo_library import trained_library  # noqa: E402
 from executive.training_sources import SimulatorSource, camera_objects  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
-from learner.training import TrainingResult, train  # noqa: E402
-from learner.training_data import read_objects, read_replay  # noqa: E402
+from learner.training.inputs import read_objects, read_replay  # noqa: E402
+from learner.training.stage import TrainingResult, train  # noqa: E402
 from robot_profile import load_profile  # noqa: E402
 
 PROFILES = ROOT / "hero_driver" / "profiles"

@@ -17,9 +17,9 @@ from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.sim.catalogue import CatalogueEntry
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.sim.worldfile import Placement, WorldSpec, parse_world, resolve
-from learner.criteria import Criterion, criterion
+from learner.choosing.criteria import Criterion, criterion
 from learner.description import ObjectDescription
-from learner.library import load_library
+from learner.library.store import load_library
 
 ObjectEntry = Placement | tuple[str, float, float] | tuple[str, float, float, float]
 """An object on the floor: a :class:`Placement`, or ``(entry, x_in, y_in[, yaw_deg])``."""
@@ -106,7 +106,7 @@ def seed_library(library: str | Path | Sequence[ObjectDescription] | None) -> li
 
 
 def criterion_of(chosen: str | Criterion | None) -> Criterion | None:
-    """A criterion's name (a key of ``learner.criteria.CRITERIA``) or a built one; None is the
+    """A criterion's name (a key of ``learner.choosing.criteria.CRITERIA``) or a built one; None is the
     executive's default."""
     if chosen is None or not isinstance(chosen, str):
         return chosen

@@ -23,7 +23,7 @@ from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import Placement, WorldSpec
 from hero_driver.sim_driver import SimulatedHero
-from learner.criteria import Criterion
+from learner.choosing.criteria import Criterion
 from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
 

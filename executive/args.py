@@ -11,7 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from executive import defaults
-from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, CriterionSpec, Parameter
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, CriterionSpec, Parameter
 from zenoh_rpc.argtypes import non_negative_int
 from zenoh_rpc.endpoints import check_endpoint
 

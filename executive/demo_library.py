@@ -26,9 +26,9 @@ from pathlib import Path
 
 from executive import defaults
 from learner.description import ObjectDescription
-from learner.library import descriptions_from_json, descriptions_to_json, write_json_atomically
 from learner.knowledge import Knowledge
-from learner.training_summary import TrainingSummary
+from learner.library.format import descriptions_from_json, descriptions_to_json, write_json_atomically
+from learner.training.summary import TrainingSummary
 from robot_profile import RobotProfile
 
 FORMAT = "csl-trained-library"

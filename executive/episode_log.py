@@ -15,8 +15,8 @@ from pathlib import Path
 from typing import IO
 
 from behaviours.events import Event
-from learner.input_file import open_input, read_input
-from learner.json_text import NotJson, parse_json
+from learner.library.input_file import open_input, read_input
+from learner.library.json_text import NotJson, parse_json
 
 
 class EpisodeLog:

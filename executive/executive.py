@@ -25,7 +25,7 @@ from executive.episode_log import EpisodeLog
 from executive.grasp_attempts import LearnedGraspCosts
 from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
-from learner.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
 from learner.service.interface import KeepsGraspCosts, LearnerService
 from planner.calibration import MarkerBoard
 from planner.segmentation import Camera

@@ -16,10 +16,10 @@ from executive.training_sources import RecordingSource, SeenObjects, SimulatorGr
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.training import TrainingResult, train
-from learner.training_fidelity import FidelityReport, check_fidelity
-from learner.training_grasps import GraspSearch, find_grasps
-from learner.training_summary import TrainingSummary, summarise
+from learner.training.fidelity import FidelityReport, check_fidelity
+from learner.training.grasps import GraspSearch, find_grasps
+from learner.training.stage import TrainingResult, train
+from learner.training.summary import TrainingSummary, summarise
 from robot_profile import RobotProfile
 
 
@@ -46,7 +46,7 @@ def train_in_simulator(knowledge: Knowledge, profile: RobotProfile | None = None
     """Train on the catalogue's training objects (Table 3) as the robot of ``profile`` sees
     and senses it; moves are priced with the knowledge's move model. Without a
     ``teacher`` the catalogue's grasp labels are not used: each object's grasp is found
-    by trying grasps on it first (``learner.training_grasps``), and training goes on with
+    by trying grasps on it first (``learner.training.grasps``), and training goes on with
     the grasps found."""
     seen = camera_objects("training", profile, seed, noise)
     for o in seen.objects:

@@ -20,8 +20,8 @@ from hero_driver.sim.probe import approach_pose, probe, probe_world
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.world import SimWorld
 from learner.position import Position
-from learner.training_data import MeasurementSource, TrainingObject
-from learner.training_grasps import GraspOutcome
+from learner.training.grasps import GraspOutcome
+from learner.training.inputs import MeasurementSource, TrainingObject
 from planner.vision import Region, look
 from robot_profile import RobotProfile
 

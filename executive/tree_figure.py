@@ -11,7 +11,7 @@ afterwards from two sources:
   with the measured value; or a recovery: backtrack, start over, rebuild after a failed
   grasp) and, at the end, the grasp and whether it held;
 - the learner gives the rest: the descriptions at each node are replayed from the same
-  library (``learner.selection.split``), the chosen test's ranges recomputed
+  library (``learner.choosing.node.split``), the chosen test's ranges recomputed
   (``rank``), and every branch *not* taken is regrown with ``learner.decision_tree.grow``
   from the test's position, as the learner would have grown it had the value fallen
   there, shown a few levels deep and then elided with "…".
@@ -35,11 +35,13 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from behaviours.events import RECOVERIES
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grasp_options, grow
-from learner.matrix import Test
-from learner.partition import Range
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf, grasp_options
+from learner.choosing.matrix import Test
+from learner.choosing.node import Context, Node, ScoredTest, split
+from learner.choosing.partition import Range
+from learner.choosing.selection import rank
+from learner.decision_tree import TestNode, TreeNode, grow
 from learner.position import Position, position_from_json
-from learner.selection import Context, Node, ScoredTest, rank, split
 
 Tone = Literal["plain", "failed", "ok", "note"]
 Kind = Literal["test", "grasp", "ambiguous", "elided"]

@@ -16,12 +16,12 @@ own grasp is executed.
   ``rank`` prices it: ``inf`` where a reading there would not be the object's alone)
   plus the procedure's ``time_s``. A procedure yields all its features: once
   it ran at a position, a test of any of its features at a position covering that one
-  is free (``selection.measured_value``) and is made where the robot stands.
+  is free (``node.measured_value``) and is made where the robot stands.
 - Concrete positions only: a ``*`` slot of a test's position may be filled by any value
   the library uses for that slot within the procedure's range, or the way the learner
-  fills it (``selection.target_for``: where the robot is).
+  fills it (``node.target_for``: where the robot is).
 - Tests split the candidate descriptions exactly as the learner does (``gain``'s
-  chain-merged ranges, ``selection.split``); a test already on the path is not repeated.
+  chain-merged ranges, ``node.split``); a test already on the path is not repeated.
 - A description's value for a test is its value in the learner's matrix column. One
   that lacks it is carried down every branch (docs/method.md §3.2); as the object at
   hand its outcome is unknown, so it follows each branch with probability ``1/k``. The
@@ -58,16 +58,16 @@ from types import MappingProxyType
 
 import numpy as np
 
+from learner.choosing.criteria import DEFAULT_CRITERION, Criterion, criterion
+from learner.choosing.gain import partition_columns
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf, grasp_options
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range, split,
+                                   target_for)
+from learner.choosing.rollout_walk import shared_decisions
 from learner.costs import MoveCostEstimator, sensing_cost
-from learner.criteria import DEFAULT_CRITERION, Criterion, criterion
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options
-from learner.gain import partition_columns
-from learner.matrix import DescriptionMatrix
 from learner.position import Position
-from learner.rollout_walk import shared_decisions
 from learner.runtime import Matched, RecognitionSession, Unreliable
-from learner.selection import (Context, Node, ScoredTest, measured_value, procedure_cost, procedure_range, split,
-                               target_for)
 
 _EPS = 1e-9
 
@@ -313,7 +313,7 @@ class _Search:
 
     def _frees(self, name: str, kind: str, at: int) -> int:
         """The columns a measurement makes free: every feature of ``procedure`` ``name``
-        measured at ``at``, or just ``feature`` ``name`` (``selection.measured_value``)."""
+        measured at ``at``, or just ``feature`` ``name`` (``node.measured_value``)."""
         key = (name, kind, at)
         if key not in self._made_free:
             where = self.positions[at]

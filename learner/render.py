@@ -12,7 +12,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf
+from learner.decision_tree import TestNode, TreeNode
 
 
 def tree_text(node: TreeNode, indent: str = "  ") -> str:

@@ -28,15 +28,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance
+from learner.choosing.criteria import Criterion
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
+from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Node, ScoredTest, measured_value, split, target_for
+from learner.choosing.partition import match, nearest
+from learner.choosing.selection import rank
 from learner.costs import MoveCostEstimator, sensing_cost
-from learner.criteria import Criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge
-from learner.matrix import DescriptionMatrix, Test
-from learner.partition import match, nearest
 from learner.position import Position
-from learner.selection import Context, Node, ScoredTest, measured_value, rank, split, target_for
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
 
 
 @dataclass(frozen=True)

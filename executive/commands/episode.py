@@ -36,10 +36,11 @@ from executive.report import Row, Truth, episode_json, match_truth, print_report
 from executive.tables import print_json
 from hero_driver.interface import TIMEOUT, UNAVAILABLE, Driver, DriverError
 from hero_driver.sim.noise import NoiseConfig
-from learner.criteria import Criterion
+from learner.choosing.criteria import Criterion
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.library import check_library, read_library_json
+from learner.library.checks import check_library
+from learner.library.format import read_library_json
 from learner.service.interface import LearnerService
 from learner.service.local import LocalLearner
 from planner.segmentation import Camera, load_camera

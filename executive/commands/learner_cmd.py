@@ -10,7 +10,7 @@ from pathlib import Path
 from executive import defaults
 from executive.args import library_path
 from robot_profile import load_knowledge
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint

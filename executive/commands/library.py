@@ -13,8 +13,9 @@ from executive.args import library_path, writable_file
 from executive.history import Run, default_history, learning_curve, read_history
 from robot_profile import load_knowledge
 from executive.tables import Column, print_json, print_table
-from learner.library import (LibraryStore, check_library, descriptions_to_json, read_library_json,
-                             write_library_json)
+from learner.library.checks import check_library
+from learner.library.format import descriptions_to_json, read_library_json, write_library_json
+from learner.library.store import LibraryStore
 
 
 def register(sub: argparse._SubParsersAction) -> None:

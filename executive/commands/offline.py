@@ -11,21 +11,23 @@ from typing import TYPE_CHECKING
 from executive import defaults
 from executive.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
 from executive.tables import Column, print_paragraph, print_table
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node
 from learner.costs import ModelMoveCost
-from learner.library import LibraryStore, check_library, load_library, write_json_atomically, write_library_json
-from learner.matrix import DescriptionMatrix
+from learner.library.checks import check_library
+from learner.library.format import write_json_atomically, write_library_json
+from learner.library.store import LibraryStore, load_library
 from learner.position import parse_position
 from learner.render import tree_json, tree_text
-from learner.selection import Context, Node
-from learner.training import TrainingResult, train
-from learner.training_data import TrainingObject, objects_document, read_objects, read_replay, replay_document
-from learner.training_summary import TrainingSummary, summarise
+from learner.training.inputs import TrainingObject, objects_document, read_objects, read_replay, replay_document
+from learner.training.stage import TrainingResult, train
+from learner.training.summary import TrainingSummary, summarise
 from robot_profile import load_knowledge, load_profile
 from learner.decision_tree import grow
 
 if TYPE_CHECKING:  # the simulator stack is imported only when --sim is used
     from executive.sim_training import SimTraining
-    from learner.training_grasps import GraspSearch
+    from learner.training.grasps import GraspSearch
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -23,7 +23,7 @@ from executive.experiment.worlds import write_floor
 from executive.exit_status import HANDLED_OUTCOMES
 from executive.report import Row, Truth, match_truth, rows
 from hero_driver.sim_driver import SimulatedHero
-from learner.criteria import DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import DEFAULT_CRITERION, criterion
 from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile

@@ -3,7 +3,7 @@
 - *Measure every feature* (plain ID3 on the robot, docs/method.md §6: "over 1.5 hours
   per object"): every sensing procedure at every training position, with the moves
   between the positions, then the grasp.
-- *Exhaustive training* ("over 5 years", priced by ``learner.training_summary``), in
+- *Exhaustive training* ("over 5 years", priced by ``learner.training.summary``), in
   the feasible version the experiment runs: every procedure at every *chosen* training
   position, whose descriptions execution then uses (the paper: only ~9% cheaper to
   execute).
@@ -17,8 +17,8 @@ from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge
 from learner.position import Position
-from learner.training import generalise
-from learner.training_data import MeasurementSource, TrainingObject
+from learner.training.inputs import MeasurementSource, TrainingObject
+from learner.training.stage import generalise
 
 def positions(distances: Sequence[float], orientations: Sequence[float], round_object: bool) -> list[Position]:
     """The training positions an object is sensed from, far to near; a round object has
@@ -42,7 +42,7 @@ def exhaustive_library(objects: Sequence[TrainingObject], knowledge: Knowledge, 
                        distances: Sequence[float], orientations: Sequence[float]) -> tuple[list[ObjectDescription],
                                                                                             float]:
     """Every procedure in range at every chosen training position, for every object, merged
-    and generalised as training merges (``learner.training.generalise``). Returns the
+    and generalised as training merges (``learner.training.stage.generalise``). Returns the
     descriptions and the robot seconds of sensing it took."""
     out = []
     spent = 0.0

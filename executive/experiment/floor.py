@@ -23,7 +23,7 @@ from executive.experiment.conditions import EXECUTION_NOISE, noise_config
 from executive.experiment.situation import installed
 from executive.report import Row, Truth, rows
 from hero_driver.interface import Driver
-from hero_driver.sim.events import Happened
+from hero_driver.sim.disturber import Happened
 from hero_driver.sim.world import ObjectTruth
 from hero_driver.sim_driver import SimulatedHero
 from learner.service.local import LocalLearner

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 from executive.experiment.conditions import EXECUTION_NOISE, Control
 from executive.experiment.config import ExperimentConfig
-from learner.criteria import DEFAULT_CRITERION
+from learner.choosing.criteria import DEFAULT_CRITERION
 from executive.experiment.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 

@@ -24,9 +24,9 @@ from executive.experiment.exhaustive import measure_everything_s
 from executive.experiment.plots import bars
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent, ratio
 from executive.training_sources import catalogue_objects
-from learner.criteria import CRITERIA, DEFAULT_CRITERION
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION
 from learner.knowledge import Knowledge
-from learner.training import TrainingLog
+from learner.training.stage import TrainingLog
 
 EXECUTION_TITLE = "Execution on training and unseen test objects"
 BASELINES_TITLE = "Baselines in the same run"

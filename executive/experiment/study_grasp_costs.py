@@ -30,7 +30,7 @@ from executive.experiment.floor import play
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 from executive.experiment.worlds import write_floor
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import load_library
+from learner.library.store import load_library
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from executive.experiment.conditions import EXECUTION_NOISE, STRATEGIES_OFF, STRATEGIES_ON, Control
 from executive.experiment.config import ExperimentConfig
-from learner.criteria import DEFAULT_CRITERION
+from learner.choosing.criteria import DEFAULT_CRITERION
 from executive.experiment.episodes import EpisodeSpec, Results, robot_minutes, success_rate
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num, paired_difference, percent

@@ -20,12 +20,12 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import installed_profile
 from executive.experiment.plots import bars
 from executive.experiment.table import ResultRow, StudyResult, num
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, criterion
+from learner.choosing.matrix import DescriptionMatrix
 from learner.costs import ModelMoveCost
-from learner.criteria import CRITERIA, DEFAULT_CRITERION, criterion
-from learner.library import read_library_json
-from learner.matrix import DescriptionMatrix
+from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.optimum import optimal_cost, policy_cost
-from learner.synthetic import synthetic_library
 from learner.position import Position
 
 TITLE = "Distance to the optimum (noise-free)"
@@ -121,7 +121,7 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
               for name in walked}
     bars(out / "optimum.png", "worst ratio to the optimum over the start poses", "policy cost / optimal cost",
          groups, reference=(1.0, "optimum"))
-    synthetic = f"synthetic: {config.synthetic_objects} objects from `learner.synthetic` (seed {SYNTHETIC_SEED})"
+    synthetic = f"synthetic: {config.synthetic_objects} objects from `learner.library.synthetic` (seed {SYNTHETIC_SEED})"
     shipped = ("all of it" if config.shipped_descriptions is None
                else f"its first {config.shipped_descriptions} descriptions (quick)")
     notes = (f"Shipped: the example library (`{EXAMPLE_LIBRARY.name}`), {shipped}; {synthetic}. Uniform prior over "

@@ -15,7 +15,7 @@ from executive.experiment.table import ResultRow, StudyResult, num, ratio
 from executive.sim_training import ground_truth, train_in_simulator
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.training import TrainingLog
+from learner.training.stage import TrainingLog
 from robot_profile import RobotProfile
 
 TITLE = "Training on the Table 3 objects"

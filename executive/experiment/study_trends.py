@@ -26,11 +26,11 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeSpec, Results, robot_minutes
 from executive.experiment.plots import Panel, curves
 from executive.experiment.table import ResultRow, StudyResult, mean, num
-from learner.criteria import DEFAULT_CRITERION
+from learner.choosing.criteria import DEFAULT_CRITERION
+from learner.choosing.gain import partition_columns
+from learner.choosing.matrix import DescriptionMatrix
 from learner.description import ObjectDescription
-from learner.gain import partition_columns
 from learner.knowledge import Knowledge
-from learner.matrix import DescriptionMatrix
 
 TITLE = "Cost trends: move and sensing cost multipliers"
 

@@ -13,7 +13,7 @@ from zstandard import ZstdError
 
 from executive.episode_log import IsRecording, read_log
 from executive.recording.topics import EVENTS
-from learner.json_text import NotJson, parse_json
+from learner.library.json_text import NotJson, parse_json
 
 
 def read_events(path: Path) -> list[dict[str, object]]:

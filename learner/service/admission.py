@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 from learner.description import ObjectDescription
 from learner.knowledge import GraspingProcedure, Knowledge, SensingProcedure
-from learner.library import check_library, descriptions_from_json, descriptions_to_json
+from learner.library.checks import check_library
+from learner.library.format import descriptions_from_json, descriptions_to_json
 from learner.position import Position
 
 MAX_ID_CHARS = 200

@@ -33,7 +33,8 @@ from pathlib import Path
 from learner.costs import GraspCostRecord
 from learner.description import Descriptions, ObjectDescription
 from learner.knowledge import Knowledge
-from learner.library import LibraryStore, check_library
+from learner.library.checks import check_library
+from learner.library.store import LibraryStore
 from learner.service.admission import Quarantined, admitted, partition
 from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
 

@@ -30,7 +30,8 @@ from pathlib import Path
 
 from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
-from learner.library import descriptions_from_json, descriptions_to_json, durable_and_quick
+from learner.library.format import descriptions_from_json, descriptions_to_json
+from learner.library.store import durable_and_quick
 from learner.service.interface import KeepsGraspCosts, LearnerService, LearnerUnavailable, LibrarySnapshot
 
 _SCHEMA = """

@@ -17,8 +17,8 @@ from typing import cast
 
 from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
-from learner.json_text import NotJson, parse_json
-from learner.library import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
+from learner.library.format import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
+from learner.library.json_text import NotJson, parse_json
 from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
 from zenoh_rpc.keys import KeySpace
 

@@ -40,12 +40,12 @@ from behaviours.records import ObjectRecord, Step, reset_blackboard
 from behaviours.services import LibraryMatrix, Params, Services, namespace
 from camera_model.image import CameraImage
 from hero_driver.interface import DriverError, GraspResult, MoveResult, Pose as DriverPose, RobotState, SenseResult
-from learner.criteria import criterion
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import ScoredTest
 from learner.description import ObjectDescription
-from learner.matrix import DescriptionMatrix
 from learner.position import Position
 from learner.runtime import RecognitionSession
-from learner.selection import ScoredTest
 from learner.service.interface import LibrarySnapshot
 from planner import MoveCost, PlanResult, Pose, Region, Scene
 from tests.learner.fixtures import ANY, P, desc, four_objects, hero  # noqa: F401 - the tests here take them from this module

@@ -17,8 +17,8 @@ from behaviours.records import GraspAttempt
 from hero_driver.interface import (BUSY, NO_TARGET, UNAVAILABLE, Driver, DriverError, GraspResult,
                                    Pose as DriverPose, RobotState, SenseResult)
 from learner.appearance import Appearance
+from learner.choosing.node import ScoredTest
 from learner.description import ObjectDescription, Observation
-from learner.selection import ScoredTest
 from planner import Region
 from tests.behaviours.conftest import (HEIGHT, PENDING, REGION, ROBOT, FakeDriver, P, fresh_board, get, image, measure,
                                        moved, pose_at, put, refused, region, run, setup, start_object, tick)

@@ -15,8 +15,8 @@ from py_trees.common import Status
 
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.records import GraspAttempt
+from learner.choosing.node import ScoredTest
 from learner.runtime import Matched, Unreliable
-from learner.selection import ScoredTest
 from planner import MoveCost
 from tests.behaviours.conftest import HEIGHT, REGION, ROBOT, WIDTH, P, measure, put, run, start_object
 

@@ -24,7 +24,7 @@ from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Di
 from behaviours.services import Params
 from hero_driver.interface import (INTERNAL, NO_TARGET, UNAVAILABLE, DriverError, Pose as DriverPose,
                                    SenseResult)
-from learner.matrix import DescriptionMatrix
+from learner.choosing.matrix import DescriptionMatrix
 from learner.runtime import Exhausted, Unreliable
 from tests.behaviours.conftest import (HEIGHT, PENDING, REGION, ROBOT, P, desc, hero, image, make_services,
                                        measure, moved, pose_at, put, refused, region, run, setup, start_object, tick)

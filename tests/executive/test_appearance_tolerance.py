@@ -21,7 +21,7 @@ from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import parse_world
 from learner.appearance import Appearance
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from planner.vision import look
 
 

@@ -17,7 +17,7 @@ from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 HANDLED = {"grasped", "left"}

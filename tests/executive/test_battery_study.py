@@ -57,7 +57,7 @@ def test_one_floor_from_a_nearly_flat_battery_with_the_guard_off_and_on() -> Non
     from executive.experiment.situation import install
     from executive.experiment.study_battery import run_job
     from executive.experiment.worlds import set_members
-    from learner.library import read_library_json
+    from learner.library.format import read_library_json
     from robot_profile import load_profile
 
     install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())

@@ -7,7 +7,7 @@ from __future__ import annotations
 from behaviours.services import Params
 from csl_testing import ScenarioFactory, ScenarioResult, encounters, tree_display
 from hero_driver.sim.noise import NoiseConfig
-from learner.criteria import criterion
+from learner.choosing.criteria import criterion
 from tests.executive.scenarios import NOISE, NOISY_SONAR, tumbler_story_library
 
 PAPER = criterion("cs-id3")  # the paper's rule, for the stories the paper tells

@@ -10,7 +10,7 @@ import pytest
 
 from executive.args import add_criterion_options, criterion_from_args
 from executive.cli import main
-from learner.criteria import CRITERIA
+from learner.choosing.criteria import CRITERIA
 
 
 @pytest.mark.parametrize(

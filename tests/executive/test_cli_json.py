@@ -10,7 +10,7 @@ from pathlib import Path
 
 from executive import defaults
 from executive.cli import main
-from learner.library import descriptions_from_json, descriptions_to_json, read_library_json
+from learner.library.format import descriptions_from_json, descriptions_to_json, read_library_json
 
 LAB_OBJECTS = ["closed-box-2x2x2/upright", "tumbler-20oz/upside-down", "soda-bottle-16oz/upright",
                "magazine-box-9x4x7/upright", "soda-bottle-16oz/lying", "tumbler-20oz/upright",

@@ -25,7 +25,7 @@ from executive import defaults
 from executive.cli import main
 from executive.commands.offline import MEASURED_COLUMNS
 from executive.tables import Column, plain_lines, rich_table
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 
 REPO = Path(__file__).resolve().parents[2]
 ANSI = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]")

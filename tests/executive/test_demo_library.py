@@ -10,7 +10,7 @@ import pytest
 import executive.sim_training
 from executive.demo_library import DemoLibrary, trained_folder, trained_library, training_key
 from executive.sim_training import SimTraining, train_in_simulator
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from robot_profile import load_profile
 from tests.learner.fixtures import HERO
 
@@ -81,7 +81,7 @@ def test_the_training_code_is_part_of_the_key(tmp_path: Path, monkeypatch: pytes
     profile = load_profile(HERO)
     before = training_key(profile, "lab", 0)
     repository = tmp_path / "repo"
-    for source in ("learner/training.py", "executive/sim_training.py"):
+    for source in ("learner/training/stage.py", "executive/sim_training.py"):
         (repository / source).parent.mkdir(parents=True, exist_ok=True)
         (repository / source).write_text("# version 1\n", encoding="utf-8")
     monkeypatch.setattr("executive.demo_library.REPOSITORY", repository)

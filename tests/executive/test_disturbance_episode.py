@@ -26,7 +26,7 @@ from executive.experiment.disturbed import saved_from_disturbed, unnoticed
 from hero_driver.sim.events import DisturbPreset, parse_disturb
 from hero_driver.sim.world import ObjectTruth
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 BOTTLE = {"id": "soda-bottle-16oz/upright", "x_in": 70, "y_in": 30}

@@ -14,7 +14,7 @@ from executive.experiment.situation import install
 from executive.experiment.study_disturbance import DisturbanceJob, ObjectRow, cell, plan, preset, run_job, summarise
 from executive.experiment.worlds import set_members
 from hero_driver.sim.disturber import Happened
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from robot_profile import load_profile
 
 

@@ -12,11 +12,11 @@ from pathlib import Path
 import pytest
 
 from hero_driver.zenoh_link.client import ZenohDriver
-from learner.library import write_library_json
+from learner.library.format import write_library_json
 from learner.service.zenoh_client import ZenohLearner
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from tests.hero_driver.test_zenoh_support import DriverProcess
 from tests.zenoh_rpc.support import free_endpoint, wait_until

@@ -13,7 +13,7 @@ from executive.experiment.config import ExperimentConfig
 from executive.experiment.episodes import EpisodeRow
 from executive.experiment.study_execution import first_grasp_right, recoveries_per_object
 from executive.experiment.study_trends import root_gain_by_distance
-from learner.criteria import DEFAULT_CRITERION
+from learner.choosing.criteria import DEFAULT_CRITERION
 from tests.learner.fixtures import ANY, P, desc, hero
 
 

@@ -3,7 +3,7 @@
 ``bench/bench_fleet.py`` runs a router, a learner service, simulated drivers and
 executives as separate processes. Here two robots run one episode each through it, and
 the test re-derives from the files it left (each episode's JSON report and log, the
-SQLite library read through ``learner.library``) that every object located came out
+SQLite library read through ``learner.library.store``) that every object located came out
 handled or failed and that the library gained exactly one row per learned description.
 The accounting itself is checked on hand-made cases, so a bench that stopped counting
 lost or duplicated rows would fail here too.
@@ -21,7 +21,8 @@ from pathlib import Path
 import pytest
 
 from executive import defaults
-from learner.library import load_library, read_library_json
+from learner.library.format import read_library_json
+from learner.library.store import load_library
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "bench" / "bench_fleet.py"

@@ -14,7 +14,7 @@ import pytest
 from executive.cli import main
 from executive.episode_log import read_log
 from executive.history import Run, append_run, default_history, read_history, wrong_grasps
-from learner.library import LibraryStore
+from learner.library.store import LibraryStore
 
 
 def _run(**changes: object) -> Run:

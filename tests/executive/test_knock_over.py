@@ -44,7 +44,7 @@ from executive.experiment.conditions import noise_config
 from executive.experiment.floor import play
 from hero_driver.sim_driver import SimulatedHero
 from learner.appearance import Appearance
-from learner.criteria import DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import DEFAULT_CRITERION, criterion
 from learner.service.local import LocalLearner
 from planner import Region
 from robot_profile.reader import load_profile

@@ -26,10 +26,10 @@ from executive.executive import Executive
 from executive.experiment.study_grasp_costs import slowed
 from executive.grasp_attempts import attempt_costs
 from hero_driver.sim_driver import SimulatedHero
+from learner.choosing.matrix import Test as Column
+from learner.choosing.node import procedure_cost
 from learner.costs import GraspCostRecord
-from learner.library import LibraryStore, load_library
-from learner.matrix import Test as Column
-from learner.selection import procedure_cost
+from learner.library.store import LibraryStore, load_library
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile, load_profile
 

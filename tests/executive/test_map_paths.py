@@ -16,7 +16,7 @@ from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from executive.plots import Leg, legs, plot_map
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 EVENTS = [

@@ -18,7 +18,7 @@ from executive import defaults
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 BOTTLE = {"id": "soda-bottle-16oz/upright", "x_in": 70, "y_in": 30}

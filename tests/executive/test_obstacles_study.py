@@ -8,7 +8,7 @@ import pytest
 from executive import defaults
 from executive.experiment.situation import install
 from executive.experiment.study_obstacles import Floor, ObstaclesJob, cell, plan, run_job, summarise
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from robot_profile import load_profile
 
 

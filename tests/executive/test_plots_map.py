@@ -18,7 +18,7 @@ from executive.executive import Executive
 from executive.plots import Ending, endings, map_image, plot_map
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from planner import Region
 

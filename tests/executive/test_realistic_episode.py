@@ -15,7 +15,7 @@ from hero_driver.sim.render_board import board_path
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 

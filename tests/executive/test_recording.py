@@ -18,7 +18,7 @@ from executive.executive import EpisodeResult, Executive
 from executive.recording import topics
 from executive.recording.session import Recording
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
 from tests.executive.foxglove_wire import doubles, fields, named, vector

@@ -15,7 +15,7 @@ from executive.executive import Executive
 from executive.recording import topics
 from executive.recording.session import Recording
 from hero_driver.zenoh_link.client import ZenohDriver
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
 from tests.hero_driver.test_zenoh_support import DriverProcess

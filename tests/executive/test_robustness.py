@@ -13,7 +13,7 @@ from behaviours.services import Params
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from tests.executive.scenarios import DEAF_SONAR, one, run
 

@@ -12,7 +12,8 @@ import pytest
 from executive.cli import main
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.demo_library import trained_folder
-from learner.library import check_library, read_library_json
+from learner.library.checks import check_library
+from learner.library.format import read_library_json
 from robot_profile import load_profile
 from tests.hero_driver.test_zenoh_conformance import ROVER
 

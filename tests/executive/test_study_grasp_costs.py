@@ -15,7 +15,7 @@ from executive.experiment.episodes import install_worker
 from executive.experiment.study_grasp_costs import GraspCostJob, GraspCostRow, plan, slowed, summarise
 from executive.experiment.worlds import set_members
 from hero_driver.sim_driver import SimulatedHero
-from learner.library import load_library
+from learner.library.store import load_library
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
 

@@ -10,9 +10,9 @@ from robot_profile import load_knowledge
 from executive.sim_training import train_in_simulator
 from executive.training_sources import SimulatorGrasps, camera_objects
 from learner.costs import ModelMoveCost
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.position import Position
-from learner.training_grasps import find_grasps
+from learner.training.grasps import find_grasps
 from tests.learner.fixtures import HERO
 
 FEW = ("cup-8oz/upright", "tumbler-16oz/upright", "tumbler-16oz/lying", "soda-can-12oz/lying",

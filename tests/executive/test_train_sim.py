@@ -11,9 +11,9 @@ from executive.cli import main
 from robot_profile import load_knowledge
 from executive.sim_training import SimTraining, ground_truth, train_in_simulator
 from executive.training_sources import SimulatorSource, camera_objects
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 from learner.position import Position
-from learner.training import face_normals, training_orientations
+from learner.training.stage import face_normals, training_orientations
 from tests.learner.fixtures import HERO
 
 LIBRARY = HERO.parent / "hero2000-library.json"

@@ -18,8 +18,8 @@ from behaviours.records import ObjectRecord
 from executive.plots import plot_object_tree, plot_tree_layout
 from executive.tree_figure import (LABEL_H, Branch, Line, Shape, TreeLayout, box_size, label_width, layout,
                                    object_figure)
+from learner.choosing.criteria import criterion
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.runtime import RecognitionSession
 from planner import Region
 from tests.learner.fixtures import P, context, four_objects, hero

@@ -105,7 +105,7 @@ class Workbench:
     def learner(self) -> Any:
         if self._learner is None:
             from robot_profile import load_knowledge
-            from learner.library import read_library_json
+            from learner.library.format import read_library_json
             from learner.service.local import LocalLearner
 
             self._learner = LocalLearner(self.folder / "learner.sqlite", seed_library=read_library_json(LIBRARY),
@@ -270,7 +270,8 @@ def _rows(db: Path) -> list[tuple[Any, ...]]:
 
 def _check_store(damage: list[tuple[int, int]], bench: Workbench) -> str:
     """A damaged copy of a real SQLite library through ``load_library``."""
-    from learner.library import LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore, load_library
 
     pristine = bench.folder / "pristine.sqlite"
     if not pristine.exists():
@@ -287,9 +288,9 @@ def _check_store(damage: list[tuple[int, int]], bench: Workbench) -> str:
 
 
 def check_library(case: tuple[str, Any], bench: Workbench) -> str:
-    """``learner.library``: a decoded document through ``descriptions_from_json``, or a
+    """``learner.library.format``: a decoded document through ``descriptions_from_json``, or a
     file through ``csl library import``, whose refusal must leave the store as it was."""
-    from learner.library import descriptions_from_json
+    from learner.library.format import descriptions_from_json
 
     kind, value = case
     if kind == "store":

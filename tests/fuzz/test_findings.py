@@ -52,7 +52,7 @@ def test_world_robot_outside_the_room(x: float) -> None:
 
 
 def test_library_file_nested_too_deep(tmp_path: Path) -> None:
-    """``csl library import`` of a deep nest: exit 2, one line (``read_library_json`` via ``learner.json_text``)."""
+    """``csl library import`` of a deep nest: exit 2, one line (``read_library_json`` via ``learner.library.json_text``)."""
     bench = Workbench(tmp_path)
     path = bench.file("deep.json", DEEP)
     code, _, err = run_cli(["library", "import", "--db", str(tmp_path / "l.sqlite"), str(path)], bench)
@@ -60,7 +60,7 @@ def test_library_file_nested_too_deep(tmp_path: Path) -> None:
 
 
 def test_log_line_nested_too_deep(tmp_path: Path) -> None:
-    """``csl log`` of a deep nest: exit 2, one line (``read_log`` via ``learner.json_text``)."""
+    """``csl log`` of a deep nest: exit 2, one line (``read_log`` via ``learner.library.json_text``)."""
     bench = Workbench(tmp_path)
     path = bench.file("episode.jsonl", DEEP)
     code, _, err = run_cli(["log", str(path)], bench)
@@ -111,7 +111,7 @@ def _outcome_within(read: Callable[[Path], object], path: Path, seconds: float =
 @pytest.mark.parametrize("device", ["fifo", "/dev/zero"])
 def test_log_of_a_fifo_does_not_hang(tmp_path: Path, device: str) -> None:
     """A FIFO (no writer: open would wait) or /dev/zero (read would never end) is refused
-    at once as not a regular file (``read_log``, ``learner.input_file``)."""
+    at once as not a regular file (``read_log``, ``learner.library.input_file``)."""
     from executive.episode_log import read_log
 
     path = tmp_path / device
@@ -196,7 +196,8 @@ def test_world_unknown_field_named_in_one_line() -> None:
 def test_library_store_damaged_inside(tmp_path: Path, text: bytes, after: int) -> None:
     """A store damaged inside is one line from ``load_library`` and exit 2 from ``csl library stats``
     (``LibraryStore``)."""
-    from learner.library import LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore, load_library
 
     store = tmp_path / "lib.sqlite"
     with LibraryStore(store) as opened:
@@ -277,7 +278,8 @@ def test_library_store_rows_that_do_not_decode(tmp_path: Path, codes: object, wh
     import contextlib
     import sqlite3
 
-    from learner.library import _CODED, LibraryStore, load_library, read_library_json
+    from learner.library.format import read_library_json
+    from learner.library.store import _CODED, LibraryStore, load_library
 
     store = tmp_path / "lib.sqlite"
     with LibraryStore(store) as opened:

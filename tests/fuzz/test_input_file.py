@@ -1,4 +1,4 @@
-"""``learner.input_file``: a file a person named is read only when it is a regular
+"""``learner.library.input_file``: a file a person named is read only when it is a regular
 file, so the library file and the episode log refuse a FIFO, a device, a folder or
 an impossible name in one line, at once (the finding ``test_log_of_a_fifo_does_not_hang``)."""
 
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from learner.input_file import NotAFile, open_input, read_input
+from learner.library.input_file import NotAFile, open_input, read_input
 
 
 def _thing(tmp_path: Path, kind: str) -> Path:
@@ -34,7 +34,7 @@ def test_what_is_not_a_regular_file_is_one_line(tmp_path: Path, kind: str, says:
 
 
 def test_the_library_file_reader_goes_through_it(tmp_path: Path) -> None:
-    from learner.library import read_library_json
+    from learner.library.format import read_library_json
 
     with pytest.raises(ValueError, match="is a device or a pipe, not a library file"):
         read_library_json(_thing(tmp_path, "fifo"))

@@ -1,4 +1,4 @@
-"""``learner.json_text.parse_json``: the one parser behind the library file, the
+"""``learner.library.json_text.parse_json``: the one parser behind the library file, the
 learner protocol and the episode log, so each refuses every kind of bad JSON the
 same way (the fuzz findings ``*_nested_too_deep`` came from readers that each caught
 only ``JSONDecodeError``)."""
@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.json_text import NotJson, parse_json
+from learner.library.json_text import NotJson, parse_json
 from tests.fuzz.mutation import bombs
 
 finite_json = st.recursive(

@@ -5,13 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from robot_profile import load_knowledge
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge, MoveModel
-from learner.matrix import DescriptionMatrix
 from learner.position import Position
-from learner.selection import Context
 
 HERO = Path(__file__).resolve().parents[2] / "hero_driver" / "profiles" / "hero2000.toml"
 ANY = None

@@ -2,12 +2,12 @@
 that compare them (tests/learner/test_fast_paths.py, bench/bench_choice_paths.py):
 
 - the partition entry by entry over every known value of the node's rows, each
-  column's sorted from the matrix's order, which ``learner.gain.partition_columns``
+  column's sorted from the matrix's order, which ``learner.choosing.gain.partition_columns``
   (over distinct values) must match bit for bit;
 - a leaf's grasp options read description by description, which
-  ``learner.decision_tree.grasp_options`` (per-row arrays) must equal;
+  ``learner.choosing.leaf.grasp_options`` (per-row arrays) must equal;
 - a grasp test's failure share summed row by row in Python, which
-  ``learner.selection._failure_share`` (numpy over the node's rows) must match.
+  ``learner.choosing.scoring._failure_share`` (numpy over the node's rows) must match.
 """
 
 from __future__ import annotations
@@ -17,11 +17,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learner.decision_tree import GraspLeaf
-from learner.gain import Split, entropy
-from learner.matrix import DescriptionMatrix, Test
+from learner.choosing.gain import entropy
+from learner.choosing.leaf import GraspLeaf
+from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Node, target_for
+from learner.choosing.partition import Split
 from learner.position import Position
-from learner.selection import Context, Node, target_for
 
 _EPS = 1e-9
 

@@ -13,11 +13,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance, appearance_from_json
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import GraspLeaf
+from learner.choosing.matrix import DescriptionMatrix
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
-from learner.decision_tree import GraspLeaf
 from learner.description import ObjectDescription, Observation
-from learner.matrix import DescriptionMatrix
 from learner.position import Position
 from learner.runtime import RecognitionSession
 from tests.learner.fixtures import P, hero

@@ -15,17 +15,19 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner import decision_tree
-from learner.decision_tree import GraspLeaf, grow
-from learner.gain import joint_gain, partition_columns
+from learner.choosing.criteria import criterion
+from learner.choosing.gain import joint_gain, partition_columns
+from learner.choosing.leaf import GraspLeaf
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node, ScoredTest
+from learner.choosing.rollout import branch_shares, finishing_cost
+from learner.choosing.selection import rank
+from learner.costs import ModelMoveCost
+from learner.decision_tree import grow
 from learner.knowledge import MoveModel
-from learner.matrix import DescriptionMatrix
 from learner.optimum import optimal_cost, policy_walk
-from learner.rollout import branch_shares, finishing_cost
 from learner.runtime import RecognitionSession
-from learner.selection import Context, Node, ScoredTest, rank
 from tests.learner.fixtures import ANY, P, context, desc, hero
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix

@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from executive.cli import main
-from learner.library import write_library_json
+from learner.library.format import write_library_json
 from tests.learner.fixtures import four_objects
 
 

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from learner.criteria import CRITERIA, DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, criterion
 
 # (name, gain in bits, cost in s, expected score), worked by hand from each formula.
 HAND_WORKED = [

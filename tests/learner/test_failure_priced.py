@@ -16,14 +16,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node, split
+from learner.choosing.rollout import finishing_cost
+from learner.choosing.rollout_walk import walk_finishing_cost
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.knowledge import MoveModel
-from learner.matrix import DescriptionMatrix
 from learner.optimum import optimal_cost, policy_walk
-from learner.rollout import finishing_cost
-from learner.rollout_walk import walk_finishing_cost
-from learner.selection import Context, Node, rank, split
 from tests.learner.fixtures import ANY, P, context, desc, hero
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix
@@ -101,7 +102,7 @@ def test_the_walk_rollout_estimates_what_the_walk_pays() -> None:
     # Walked: cup 42, tumbler 42, soda can 42 + 1/2 x 103 = 93.5: mean 59.17 s.
     # The walk rollout: 42 + 1/2 (the tumbler's branch: 1/3 + 1/3 x 1/2) x 1/3 (the soda
     # can's probability there) x 103 = 59.17 s, the walk's own figure; the learner's view
-    # (learner/rollout.py) counts the soda can as one of two there: 42 + 1/2 x 1/2 x 103.
+    # (learner/choosing/rollout.py) counts the soda can as one of two there: 42 + 1/2 x 1/2 x 103.
     lib = _soda_can_lacks_the_sweep()
     ctx = context(lib, name="cs-id3", grasps=False)
     walked = policy_walk(ctx.matrix, ctx.criterion, ctx.estimator, P(6, 0))

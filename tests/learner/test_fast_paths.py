@@ -15,16 +15,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from executive.defaults import EXAMPLE_LIBRARY
+from learner.choosing.criteria import criterion
+from learner.choosing.gain import partition_columns
+from learner.choosing.leaf import grasp_options, object_ids
+from learner.choosing.matrix import NODE_SPLITS_KEPT, DescriptionMatrix, RowLabels
+from learner.choosing.node import Context, Node
+from learner.choosing.scoring import _failure_share
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
-from learner.decision_tree import grasp_options, grow, object_ids
+from learner.decision_tree import grow
 from learner.description import ObjectDescription
-from learner.gain import partition_columns
-from learner.library import read_library_json
-from learner.matrix import NODE_SPLITS_KEPT, DescriptionMatrix, RowLabels
+from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.position import Position
-from learner.selection import Context, Node, _failure_share
-from learner.synthetic import synthetic_library
 from tests.learner.fixtures import hero
 from tests.learner.reference_paths import entry_partition, simple_failure_share, simple_grasp_options
 

@@ -14,13 +14,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import GraspCostRecord, ModelMoveCost, bayesian_mean, with_learned_grasp_costs
-from learner.criteria import criterion
-from learner.library import LibraryStore
+from learner.library.store import LibraryStore
 from learner.runtime import RecognitionSession
-from learner.decision_tree import AmbiguousLeaf
-from learner.selection import Context, Node, rank
-from learner.matrix import DescriptionMatrix
 from learner.service.local import LocalLearner
 from tests.learner.fixtures import ANY, P, desc, hero
 

@@ -1,5 +1,5 @@
 """The ``leaf_every_row`` trait: a node is a leaf only when every description at it,
-carried ones included, shares one grasp (``decision_tree.leaf_at``).
+carried ones included, shares one grasp (``leaf.leaf_at``).
 
 The hand-worked library uses tests/learner/test_optimum.py's knowledge: Scan 40 s at
 6 in yields H and D; grasps A and B cost 90 s when they fail; from (6,0), with no
@@ -14,15 +14,15 @@ import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from robot_profile import load_knowledge
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import leaf_at
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
-from learner.decision_tree import leaf_at
-from learner.library import read_library_json
-from learner.matrix import DescriptionMatrix
+from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.optimum import optimal_cost, policy_walk
 from learner.position import Position
-from learner.selection import Context, Node
-from learner.synthetic import synthetic_library
 from tests.learner.fixtures import P
 from tests.learner.test_optimum import EST, d, matrix
 

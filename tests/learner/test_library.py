@@ -7,7 +7,8 @@ import sqlite3
 
 import pytest
 
-from learner.library import LibraryStore, descriptions_from_json, descriptions_to_json, load_library, write_library_json
+from learner.library.format import descriptions_from_json, descriptions_to_json, write_library_json
+from learner.library.store import LibraryStore, load_library
 from tests.learner.fixtures import P, desc, four_objects
 
 

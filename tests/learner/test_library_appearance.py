@@ -10,8 +10,8 @@ import pytest
 
 from learner.appearance import Appearance
 from learner.description import ObjectDescription, Observation
-from learner.library import (LibraryStore, descriptions_from_json, descriptions_to_json, load_library,
-                             read_library_json)
+from learner.library.format import descriptions_from_json, descriptions_to_json, read_library_json
+from learner.library.store import LibraryStore, load_library
 from tests.learner.fixtures import P
 
 LYING = ObjectDescription("can/lying", "Top-Vert-Grip", P(6, 0), (Observation("Width", P(6, 0), 2.5),),

@@ -14,8 +14,9 @@ from hypothesis import strategies as st
 from executive.defaults import EXAMPLE_LIBRARY
 from learner.appearance import Appearance
 from learner.description import ObjectDescription, Observation, in_order
-from learner.library import LibraryStore, read_library_json
-from learner.synthetic import synthetic_library
+from learner.library.format import read_library_json
+from learner.library.store import LibraryStore
+from learner.library.synthetic import synthetic_library
 from tests.learner.fixtures import ANY, P, hero
 
 

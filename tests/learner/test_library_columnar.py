@@ -13,9 +13,9 @@ from hypothesis import strategies as st
 from executive.defaults import EXAMPLE_LIBRARY
 from learner.appearance import Appearance
 from learner.description import ObjectDescription
-from learner.library import descriptions_from_json, descriptions_to_json, read_library_json, write_library_json
-from learner.library_columnar import columnar_to_json
-from learner.synthetic import synthetic_library
+from learner.library.columnar import columnar_to_json
+from learner.library.format import descriptions_from_json, descriptions_to_json, read_library_json, write_library_json
+from learner.library.synthetic import synthetic_library
 from tests.learner.fixtures import four_objects, hero
 
 SHIPPED = read_library_json(EXAMPLE_LIBRARY)

@@ -10,9 +10,10 @@ from hypothesis import strategies as st
 
 from executive.defaults import EXAMPLE_LIBRARY
 from learner.description import Observation, in_order
-from learner.library import LibraryStore, descriptions_from_json, read_library_json, write_library_json
+from learner.library.format import descriptions_from_json, read_library_json, write_library_json
+from learner.library.store import LibraryStore
+from learner.library.synthetic import synthetic_library
 from learner.position import Position, known_position_json, position_from_json
-from learner.synthetic import synthetic_library
 from tests.learner.fixtures import hero
 
 

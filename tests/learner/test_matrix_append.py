@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from learner.appearance import Appearance
+from learner.choosing.matrix import DescriptionMatrix
 from learner.description import Descriptions, ObjectDescription, Observation
-from learner.matrix import DescriptionMatrix
 from tests.learner.fixtures import ANY, P, desc, four_objects, hero
 
 KNOWLEDGE = hero()
@@ -167,7 +167,7 @@ def known_bytes(matrix: DescriptionMatrix) -> dict[str, tuple[str, bytes] | int]
 @given(st.lists(descriptions(), min_size=1, max_size=12), st.lists(st.lists(descriptions(), max_size=3), max_size=6))
 def test_known_values_updated_by_appends_equal_a_fresh_build_bit_for_bit(
         first: list[ObjectDescription], batches: list[list[ObjectDescription]]) -> None:
-    from learner.gain import partition_columns  # noqa: PLC0415
+    from learner.choosing.gain import partition_columns  # noqa: PLC0415
 
     matrix = DescriptionMatrix(first, KNOWLEDGE)
     matrix.known  # read before every append, so each append updates it rather than builds it

@@ -8,11 +8,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from learner.choosing.criteria import CRITERIA, criterion
+from learner.choosing.matrix import DescriptionMatrix
 from learner.costs import ModelMoveCost
-from learner.criteria import CRITERIA, criterion
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
-from learner.matrix import DescriptionMatrix
 from learner.optimum import PolicyWalk, optimal_cost, policy_cost, policy_walk
 from learner.position import Position
 from tests.learner.fixtures import ANY, P

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import pytest
 
+from learner.choosing.criteria import criterion
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.knowledge import MoveModel
 from learner.optimum import optimal_cost, policy_walk
 from tests.learner.fixtures import ANY, P

@@ -14,8 +14,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from learner.choosing.node import Node
+from learner.choosing.selection import rank
 from learner.knowledge import MoveModel
-from learner.selection import Node, rank
 from tests.learner.fixtures import P, context, desc
 
 START = P(60, 0)

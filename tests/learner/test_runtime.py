@@ -7,11 +7,11 @@ from dataclasses import replace
 import pytest
 
 from learner.appearance import Appearance
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf
+from learner.choosing.node import ScoredTest
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
 from learner.runtime import Exhausted, Matched, RecognitionSession, Unreliable
-from learner.selection import ScoredTest
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf
 from tests.learner.fixtures import P, desc, four_objects, hero
 
 

@@ -10,11 +10,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.criteria import criterion
-from learner.gain import partition_columns
-from learner.matrix import DescriptionMatrix
-from learner.partition import match, nearest, partition
-from learner.selection import Node, rank
+from learner.choosing.criteria import criterion
+from learner.choosing.gain import partition_columns
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Node
+from learner.choosing.partition import match, nearest, partition
+from learner.choosing.selection import rank
 from tests.learner import test_matrix_append as append_tests
 from tests.learner.fixtures import ANY, P, context, desc, four_objects, hero
 from tests.learner.reference import information_gain
@@ -145,7 +146,7 @@ def test_criteria_formulas() -> None:
 @given(st.lists(append_tests.descriptions(), min_size=1, max_size=14), st.data())
 def test_the_vectorised_partition_equals_the_scalar_one_column_by_column(library: list, data: st.DataObject) -> None:
     # the fast path (known values only, all columns at once, the root memoised) against
-    # learner.partition and the reference gain, one column and one row at a time
+    # learner.choosing.partition and the reference gain, one column and one row at a time
     matrix = DescriptionMatrix(library, hero())
     rows = sorted(data.draw(st.sets(st.sampled_from(range(len(library))), min_size=1)))
     columns = np.array(sorted(data.draw(st.sets(st.sampled_from(range(len(matrix.tests))), min_size=1))))

@@ -15,13 +15,15 @@ import math
 
 import pytest
 
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost, sensing_cost
-from learner.criteria import criterion
-from learner.decision_tree import AmbiguousLeaf, grow
+from learner.decision_tree import grow
 from learner.knowledge import MoveModel
 from learner.position import Position
 from learner.runtime import RecognitionSession
-from learner.selection import Context, Node, rank
 from tests.learner.fixtures import P, context, desc, four_objects, hero
 
 START = P(60, 0)

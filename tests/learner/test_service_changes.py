@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from learner.description import Descriptions
-from learner.library import write_library_json
+from learner.library.format import write_library_json
 from learner.service import LocalLearner
 from learner.service import protocol
 from learner.service.interface import LibraryChanges

@@ -16,7 +16,7 @@ import pytest
 from executive.cli import main
 from executive.grasp_attempts import attempt_costs
 from learner.costs import GraspCostRecord
-from learner.library import write_library_json
+from learner.library.format import write_library_json
 from learner.service.interface import MAX_GRASP_ATTEMPTS
 from learner.service.outbox import Outbox, OutboxLearner
 from learner.service.protocol import learner_keys

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.library import NEXT_SUFFIX, LibraryStore, load_library
+from learner.library.store import NEXT_SUFFIX, LibraryStore, load_library
 from learner.service import LibrarySnapshot, LocalLearner
 from learner.service.local import VERSION_KEY
 from learner.service.protocol import ProtocolError, decode_learn_request, encode_learn_request

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY
-from learner.library import write_library_json
+from learner.library.format import write_library_json
 from learner.service.outbox import QUEUED_PREFIX
 from learner.service.zenoh_client import ZenohLearner
 from tests.learner.fixtures import P, desc, four_objects

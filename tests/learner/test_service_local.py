@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from learner.appearance import Appearance
-from learner.library import LibraryStore, load_library
+from learner.library.store import LibraryStore, load_library
 from learner.service import LearnerService, LibrarySnapshot, LocalLearner
 from learner.service.local import VERSION_KEY
 from tests.learner.fixtures import P, desc, four_objects, hero
@@ -218,7 +218,7 @@ def test_a_stored_row_no_description_may_hold_is_quarantined_and_the_rest_served
     """A row edited by hand to a negative footprint area (the appearance check refuses
     it when the row is built) is left out and named; the other two are served."""
     from executive.defaults import EXAMPLE_LIBRARY
-    from learner.library import read_library_json
+    from learner.library.format import read_library_json
 
     store = tmp_path / "library.sqlite"
     three = read_library_json(EXAMPLE_LIBRARY)[:3]

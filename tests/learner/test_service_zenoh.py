@@ -22,7 +22,9 @@ import pytest
 
 from executive.cli import main
 from learner.description import ObjectDescription
-from learner.library import LibraryStore, check_library, descriptions_to_json, load_library, write_library_json
+from learner.library.checks import check_library
+from learner.library.format import descriptions_to_json, write_library_json
+from learner.library.store import LibraryStore, load_library
 from learner.service.protocol import learner_keys
 from learner.service.zenoh_client import ZenohLearner
 from tests.learner.fixtures import P, desc, four_objects, hero

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.synthetic import synthetic_library
+from learner.library.synthetic import synthetic_library
 from tests.learner.fixtures import four_objects, hero
 
 KNOWLEDGE = hero()

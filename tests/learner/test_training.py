@@ -12,9 +12,9 @@ from learner.costs import ModelMoveCost
 from learner.description import Observation
 from learner.knowledge import FeatureSpec, Knowledge, MoveModel, SensingProcedure
 from learner.position import Position
-from learner.training import (cluster_distances, face_normals, generalise, separation_distance, train,
-                              training_orientations)
-from learner.training_data import TrainingObject
+from learner.training.inputs import TrainingObject
+from learner.training.stage import (cluster_distances, face_normals, generalise, separation_distance, train,
+                                    training_orientations)
 from tests.learner.fixtures import HERO, P, hero
 
 
@@ -167,11 +167,11 @@ class Table:
 def test_phase_two_presents_every_object_again_until_a_pass_changes_nothing() -> None:
     """An object classified early must still be classified by the final tree (the
     review's reproduction: o0 was right in the first pass, wrong after reorganizing)."""
-    from learner.matrix import DescriptionMatrix
-    from learner.selection import Context, Node
-    from learner.criteria import criterion
-    from learner.training import TrainingLog, _Recorder, train_position
-    from learner.training_trees import _ZeroMove
+    from learner.choosing.matrix import DescriptionMatrix
+    from learner.choosing.node import Context, Node
+    from learner.choosing.criteria import criterion
+    from learner.training.stage import TrainingLog, _Recorder, train_position
+    from learner.training.trees import _ZeroMove
     from learner.decision_tree import classify, grow
 
     k = hero()
@@ -209,7 +209,7 @@ def test_the_shipped_replay_reproduces_the_shipped_library(tmp_path) -> None:  #
     them must give it back exactly (that the simulator still gives it too is checked in
     tests/executive/test_train_sim.py)."""
     from executive.cli import main
-    from learner.library import read_library_json
+    from learner.library.format import read_library_json
 
     profiles = HERO.parent
     out = tmp_path / "lib.json"

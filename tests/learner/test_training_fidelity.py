@@ -8,11 +8,10 @@ import pytest
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription, Observation
 from learner.position import Position
-from learner.training import train
-from learner.training_data import TrainingObject
-from learner.training_fidelity import check_fidelity, stands_for
-from learner.training_summary import (SECONDS_PER_YEAR, every_procedure_at_positions_s, exhaustive_training_s,
-                                      summarise)
+from learner.training.fidelity import check_fidelity, stands_for
+from learner.training.inputs import TrainingObject
+from learner.training.stage import train
+from learner.training.summary import SECONDS_PER_YEAR, every_procedure_at_positions_s, exhaustive_training_s, summarise
 from tests.learner.fixtures import P, hero
 from tests.learner.test_training import Geometry, obj, rect
 

@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 
 from learner.costs import ModelMoveCost
 from learner.position import Position
-from learner.training_data import TrainingObject
-from learner.training_grasps import GraspOutcome, GraspTrial, find_grasps, success_chance
+from learner.training.grasps import GraspOutcome, GraspTrial, find_grasps, success_chance
+from learner.training.inputs import TrainingObject
 from tests.learner.fixtures import ANY, P, hero
 
 SQUARE = ((-2.0, -1.0), (2.0, -1.0), (2.0, 1.0), (-2.0, 1.0))

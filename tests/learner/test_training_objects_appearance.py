@@ -9,7 +9,7 @@ import pytest
 
 from learner.appearance import Appearance
 from learner.position import Position
-from learner.training_data import TrainingObject, objects_document, read_objects
+from learner.training.inputs import TrainingObject, objects_document, read_objects
 
 CAN = TrainingObject("can/lying", "Top-Vert-Grip", Position(6, 0), ((-2.5, -1.0), (2.5, -1.0), (2.5, 1.0)), False,
                      Appearance(False, 13.44, 2.333))

@@ -7,12 +7,12 @@ import dataclasses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from learner import decision_tree
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription, Observation
-from learner import decision_tree
-from learner.training import TrainingLog, TrainingResult, train
-from learner.training_trees import TrainingTrees, predicted_grasp
-from learner.training_data import read_objects, read_replay
+from learner.training.inputs import read_objects, read_replay
+from learner.training.stage import TrainingLog, TrainingResult, train
+from learner.training.trees import TrainingTrees, predicted_grasp
 from tests.learner.fixtures import HERO, P, hero
 from tests.learner.test_training import Geometry, obj, rect
 

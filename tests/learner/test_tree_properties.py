@@ -10,13 +10,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
-from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
-from learner.matrix import DescriptionMatrix
-from learner.render import tree_json, tree_text
-from learner.selection import Context, Node, rank
 from learner.decision_tree import classify, grow
+from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
+from learner.render import tree_json, tree_text
 from tests.learner.fixtures import P, desc, four_objects, context
 
 GRASPS = ["Front-Wrap", "Front-Pinch", "Top-Pinch"]

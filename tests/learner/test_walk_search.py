@@ -1,5 +1,5 @@
 """``cs-id3-failure-search``: the walk rollout (``cs-id3-failure-rollout``) whose
-finishing rule searches the next nodes, grasp tests included (learner/rollout_walk.py).
+finishing rule searches the next nodes, grasp tests included (learner/choosing/rollout_walk.py).
 
 The hand-worked library uses tests/learner/test_optimum.py's knowledge: Scan 40 s at
 6 in yields H and D; grasps A and B cost 90 s when they fail; C cannot be confirmed by
@@ -14,15 +14,16 @@ import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from robot_profile import load_knowledge
-from learner import rollout_walk
+from learner.choosing import rollout_walk
+from learner.choosing.criteria import criterion
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.node import Context, Node
+from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
-from learner.criteria import criterion
-from learner.library import read_library_json
-from learner.matrix import DescriptionMatrix
+from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.optimum import optimal_cost, policy_walk
 from learner.position import Position
-from learner.synthetic import synthetic_library
-from learner.selection import Context, Node, rank
 from tests.learner.fixtures import ANY, P
 from tests.learner.test_optimum import EST, d, matrix
 

@@ -9,7 +9,7 @@ import pytest
 
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
-from learner.training import training_orientations
+from learner.training.stage import training_orientations
 from planner import look
 from planner.geometry import angle_between
 from planner.move_cost import arrived

@@ -1,6 +1,6 @@
 """Vision's regions as training footprints: faces where the object's faces are.
 
-Training orientations are the learner's (``learner.training``, docs/method.md §4 phase 1):
+Training orientations are the learner's (``learner.training.stage``, docs/method.md §4 phase 1):
 it clusters the face normals of footprints given in each object's own frame. Here the
 planner's side of that contract: a region's polygon, turned into its reference-axis
 frame, puts a box's faces along and across the axis, and a round region has none.
@@ -13,8 +13,8 @@ import math
 import pytest
 
 from learner.position import Position
-from learner.training import face_normals, training_orientations
-from learner.training_data import TrainingObject
+from learner.training.inputs import TrainingObject
+from learner.training.stage import face_normals, training_orientations
 from planner import Region, look
 from planner.geometry import angle_between
 from tests.planner.drawing import Canvas

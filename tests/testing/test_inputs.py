@@ -15,8 +15,8 @@ from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import Placement
-from learner.criteria import criterion
-from learner.library import read_library_json, write_library_json
+from learner.choosing.criteria import criterion
+from learner.library.format import read_library_json, write_library_json
 
 CATALOGUE = profile_and_catalogue()[1]
 

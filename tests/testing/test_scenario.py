@@ -13,7 +13,7 @@ from csl_testing import Scenario, ScenarioFactory, one_object, simulated_hero, t
 from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.interface import DriverError
 from hero_driver.sim.worldfile import Placement
-from learner.library import read_library_json
+from learner.library.format import read_library_json
 
 
 def test_the_same_scenario_gives_the_same_transcript(tmp_path: Path) -> None:

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
 from learner.position import Position
-from learner.training import reachable_distances, sensed_at
-from learner.training_data import MeasurementSource, TrainingObject
+from learner.training.inputs import MeasurementSource, TrainingObject
+from learner.training.stage import reachable_distances, sensed_at
 
 
 @dataclass(frozen=True)

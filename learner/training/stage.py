@@ -19,8 +19,8 @@ from learner.costs import MoveCostEstimator
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge, SensingProcedure
 from learner.position import Position
-from learner.training_data import MeasurementSource, TrainingObject
-from learner.training_trees import PhaseTree, TrainingTrees, predicted_grasp
+from learner.training.inputs import MeasurementSource, TrainingObject
+from learner.training.trees import PhaseTree, TrainingTrees, predicted_grasp
 
 ORIENTATION_TOLERANCE_DEG = 20.0  # face normals closer than this are one training orientation
 DISTANCE_TOLERANCE = 0.3  # candidate distances within 30% of a cluster's nearest are one
@@ -351,7 +351,7 @@ def train(
 
     ``reuse=False`` is the method as written: every phase-2 prediction rebuilds the
     descriptions at its position and grows its whole tree anew
-    (:mod:`learner.training_trees`). The same result, slower; kept as the reference for
+    (:mod:`learner.training.trees`). The same result, slower; kept as the reference for
     tests and the benchmark.
     """
     log = TrainingLog()

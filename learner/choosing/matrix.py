@@ -17,17 +17,14 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from learner.appearance import AXIS_TOLERANCE_IN, Appearance
+from learner.choosing.partition import Split
 from learner.description import Descriptions, ObjectDescription, Observation
 from learner.knowledge import Knowledge
 from learner.position import Position
-
-if TYPE_CHECKING:
-    from learner.gain import Split
 
 
 NODE_SPLITS_KEPT = 256
@@ -116,7 +113,7 @@ class DescriptionMatrix:
         self._rows: _Rows | None = None  # spare capacity, made by the first append
         self._known: KnownValues | None = None  # made when first read
         self.root_splits: dict[bytes, Split] = {}
-        """``learner.gain.partition_columns`` of all rows, by the columns asked (bytes):
+        """``learner.choosing.gain.partition_columns`` of all rows, by the columns asked (bytes):
         every object's session starts at the root, so it is worked out once per matrix."""
         self.node_splits: dict[bytes, Split] = {}
         """The same below the root, by a digest of the node's rows and the columns, the
@@ -164,7 +161,7 @@ class DescriptionMatrix:
         return self._labels
 
     def remember_node_split(self, key: bytes, split: Split) -> None:
-        """Keep a node's partition (``learner.gain``), dropping the oldest past
+        """Keep a node's partition (``learner.choosing.gain``), dropping the oldest past
         :data:`NODE_SPLITS_KEPT`."""
         if len(self.node_splits) >= NODE_SPLITS_KEPT:  # pop, not del: two sessions may drop the same one
             self.node_splits.pop(next(iter(self.node_splits), b""), None)
@@ -362,7 +359,7 @@ class KnownValues:
     Most descriptions lack most features, and the known ones repeat a few values (at
     100,000 synthetic descriptions 4.3 million entries hold 17,148 distinct
     (column, value) pairs), so a partition works on the distinct values, each with its
-    count per class (``learner.gain.partition_columns``).
+    count per class (``learner.choosing.gain.partition_columns``).
     """
 
     rows: np.ndarray

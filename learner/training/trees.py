@@ -21,14 +21,16 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
-from learner.criteria import criterion
-from learner.decision_tree import AmbiguousLeaf, GraspLeaf, TestNode, TreeNode, grasp_options, grow, leaf_at, object_ids
+from learner.choosing.criteria import criterion
+from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf, grasp_options, leaf_at, object_ids
+from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Node, ScoredTest, split, yielded
+from learner.choosing.partition import Range, match, nearest
+from learner.choosing.selection import rank
+from learner.decision_tree import TestNode, TreeNode, grow
 from learner.description import ObjectDescription
 from learner.knowledge import Knowledge
-from learner.matrix import DescriptionMatrix, Test
-from learner.partition import Range, match, nearest
 from learner.position import Position
-from learner.selection import Context, Node, ScoredTest, rank, split, yielded
 
 TRAINING_CRITERION = "cs-id3"  # the paper's rule: training positions as Table 6 has them (no grasps as features there)
 ORIGIN = Position(0.0, 0.0)  # where a phase-2 tree is grown from; moves cost nothing there (_ZeroMove)

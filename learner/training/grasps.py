@@ -27,7 +27,7 @@ from typing import Protocol, runtime_checkable
 from learner.costs import MoveCostEstimator
 from learner.knowledge import GraspingProcedure, Knowledge
 from learner.position import Position
-from learner.training_data import TrainingObject
+from learner.training.inputs import TrainingObject
 
 APPROACHES_DEG = (0.0, 90.0)  # end-on and from the side, relative to the reference axis
 

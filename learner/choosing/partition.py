@@ -3,15 +3,34 @@
 Sonar values wobble within a procedure's expected error, so two observations that close
 cannot be told apart: they share a branch. Merging chains (a, a+e, a+2e are one branch)
 because each neighbour is indistinguishable from the next (docs/method.md §3).
+
+A node's partition of every column at once (:class:`Split`, worked out by
+``learner.choosing.gain``) is kept by the matrix it was computed on, so the type lives
+here, below both.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
 
 Range = tuple[float, float]
 
 _EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class Split:
+    """Per-column partition of a node's rows: the ranges, whether an "unknown" subset
+    joins them, the information gain, and each range's share of the node's weight."""
+
+    ranges: list[list[Range]]
+    unknown: np.ndarray
+    gains: np.ndarray
+    n_ranges: np.ndarray
+    mass: np.ndarray  # (columns, max ranges): weight of each range / rows, missing rows spread
 
 
 def partition(values: Iterable[float], error: float) -> list[Range]:

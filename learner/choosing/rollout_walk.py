@@ -1,6 +1,6 @@
 """A rollout whose estimate follows the walk: rows weighted, a wrong grasp rebuilds from the root.
 
-The rollout of learner/rollout.py estimates what finishing with the one-step rule costs
+The rollout of learner/choosing/rollout.py estimates what finishing with the one-step rule costs
 from the learner's view of a node: every row counts as one, and after a wrong leaf grasp
 the rows of other grasps go on from that node. The session the estimate stands for
 (``RecognitionSession``, walked by learner/optimum.py) differs in two ways, and where
@@ -17,9 +17,9 @@ they matter the least estimate is not the least cost:
   cost nothing).
 
 The decision's node starts from what ``Node.likelihood`` records (a session's nodes come
-by ``selection.split``, which keeps it). What stays approximate: a row lacking a value
+by ``node.split``, which keeps it). What stays approximate: a row lacking a value
 re-used after a rebuild is spread over the branches again rather than following its
-first fork. The accounting is otherwise learner/rollout.py's: a test is paid once, its
+first fork. The accounting is otherwise learner/choosing/rollout.py's: a test is paid once, its
 procedure's siblings are then free, a grasp tried as a feature is paid only when it
 fails, a wrong leaf grasp costs its move and ``feature_cost_s``; a wrong No-Grab, which
 leaves the object behind, is priced at :data:`LEFT_BEHIND_S`.
@@ -42,12 +42,13 @@ import dataclasses
 import math
 from collections.abc import Iterator
 
+from learner.choosing.leaf import grasp_options, leaf_at
+from learner.choosing.matrix import DescriptionMatrix, Test
+from learner.choosing.node import Context, Measurements, Node, ScoredTest, procedure_range, split, yielded
+from learner.choosing.rollout import one_step, rescored, shortlisted
+from learner.choosing.scoring import rank_by_score
 from learner.costs import sensing_cost
-from learner.decision_tree import grasp_options, leaf_at
-from learner.matrix import DescriptionMatrix, Test
 from learner.position import Position
-from learner.rollout import one_step, rescored, shortlisted
-from learner.selection import Context, Measurements, Node, ScoredTest, procedure_range, rank, split, yielded
 
 _EPS = 1e-9
 LEFT_BEHIND_S = 5400.0
@@ -95,7 +96,7 @@ def shared_decisions() -> Iterator[None]:
 def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
                exclude: frozenset[Test]) -> list[ScoredTest]:
     """``ranked`` with its best few rescored by the walk's expected total cost
-    (:func:`learner.rollout.rescored`)."""
+    (:func:`learner.choosing.rollout.rescored`)."""
     if not _shared:
         return _rolled_out(node, ranked, current, ctx, measurements, exclude)
     key = (ctx.criterion, node, current, frozenset(measurements), exclude)
@@ -123,7 +124,7 @@ def _rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Co
 
 def star_fills(test: ScoredTest, current: Position, ctx: Context) -> list[ScoredTest]:
     """``test`` made elsewhere than where the learner fills its ``*`` slots (where the
-    robot is, ``selection.target_for``): at each other value the library uses for the
+    robot is, ``node.target_for``): at each other value the library uses for the
     slot within the procedure's range, priced from ``current``. Where a ``*`` column is
     made decides which concrete siblings come free after it (docs/optimum.md)."""
     slot = test.test.position
@@ -184,7 +185,7 @@ class WalkRollout:
                 failed: frozenset[str], depth: int) -> float:
         leaf = leaf_at(node, at, self.ctx)
         if leaf is None:
-            ranked = rank(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
+            ranked = rank_by_score(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
             if ranked and depth > 0 and self.searched < SEARCH_BUDGET:
                 self.searched += 1
                 return min(self.after(node, weights, test, measured, exclude, failed, depth - 1)
@@ -232,7 +233,7 @@ class WalkRollout:
 
 def weighted_split(node: Node, weights: Weights, test: ScoredTest,
                    ctx: Context) -> list[tuple[Node, float, Weights]]:
-    """Each branch of ``test`` at ``node``: its node (``selection.split``), its
+    """Each branch of ``test`` at ``node``: its node (``learner.choosing.node.split``), its
     probability, and its rows' probabilities given the branch. A row lacking the value
     goes down each of the ``k`` branches with ``1/k`` of its weight."""
     matrix = ctx.matrix

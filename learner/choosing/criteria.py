@@ -11,9 +11,9 @@ and ``-lookahead`` adds a one-step lookahead (with joint gain): the formula is a
 to the gain and the cost expected over the test and the best test after it.
 ``cs-id3-rollout`` and ``idx-rollout`` rank their rule's best few tests by the expected
 cost of taking the test and then finishing the object with the rule itself
-(learner/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its chance
+(learner/choosing/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its chance
 of failing (it is paid only then), ``cs-id3-failure-rollout`` rolls that rule out with
-an estimate that follows the session's walk (learner/rollout_walk.py), and
+an estimate that follows the session's walk (learner/choosing/rollout_walk.py), and
 ``cs-id3-failure-search`` also rolls out every grasp test and every ``*`` fill the
 library uses, then searches the best few a few nodes deep (docs/optimum.md);
 ``cs-id3-failure-search-every-row`` is that search with a node a leaf only when every
@@ -51,19 +51,19 @@ class Traits:
     ``lookahead``: a test is scored on the gain and cost expected over two steps, itself
     and the best test after it in each branch.
     ``rollout``: the best few tests by this formula are ranked by expected cost: the
-    test's, plus finishing the object with the formula alone (learner/rollout.py).
+    test's, plus finishing the object with the formula alone (learner/choosing/rollout.py).
     ``grasp_paid_on_failure``: a grasp tried as a feature is priced at what it is
     expected to cost, its failure share of the node times its move and feature cost: when
     it holds, the object's own grasp has been executed and nothing more is paid.
     ``rollout_follows_walk``: the rollout's estimate follows the session's walk (rows
     weighted by how likely they reached a node, a wrong grasp rebuilding from the root:
-    learner/rollout_walk.py) rather than the learner's view of a node.
+    learner/choosing/rollout_walk.py) rather than the learner's view of a node.
     ``rollout_searches``: the rollout's finishing rule searches the next few nodes (the
     least expected cost over the best few tests at each, as the session walks them)
     before the one-step rule takes over, within a budget of searched nodes per decision
-    (learner/rollout_walk.py).
+    (learner/choosing/rollout_walk.py).
     ``leaf_every_row``: a node is a leaf only when every description at it, carried ones
-    included, shares one grasp (``decision_tree.leaf_at``). Without it the descriptions
+    included, shares one grasp (``leaf.leaf_at``). Without it the descriptions
     carried down a test they lack do not decide a leaf, and the leaf's grasp is executed
     blind where a carried description of another grasp is still as likely as a measured
     one; with it the session tests on while a test still tells them apart

@@ -14,7 +14,7 @@ The estimate uses the accounting of docs/optimum.md as far as the learner sees i
 - every row at a node is equally likely (the learner's view: a carried row counts as
   one like the others); a row lacking the tested value follows each branch with ``1/k``;
 - a test costs its move and its procedure's time, once; its procedure's siblings at its
-  position are free after it (``selection.yielded``);
+  position are free after it (``node.yielded``);
 - a grasp tried as a feature is paid (move plus ``feature_cost_s``) only when it fails;
   when it holds, the object's own grasp has been executed and nothing more is counted;
 - at a leaf (or the first option of an ambiguous one, as the session takes it) the
@@ -35,10 +35,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from learner.decision_tree import grasp_options, leaf_at
-from learner.matrix import Test
+from learner.choosing.leaf import grasp_options, leaf_at
+from learner.choosing.matrix import Test
+from learner.choosing.node import Context, Measurements, Node, ScoredTest, split, yielded
+from learner.choosing.scoring import rank_by_score
 from learner.position import Position
-from learner.selection import Context, Measurements, Node, ScoredTest, rank, split, yielded
 
 ROLLOUT_WIDTH = 8
 """How many of the best tests by one step are rolled out: each costs a run of the greedy
@@ -114,7 +115,7 @@ class _Rollout:
                 exclude: frozenset[Test]) -> float:
         leaf = leaf_at(node, at, self.ctx)
         if leaf is None:
-            ranked = rank(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
+            ranked = rank_by_score(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
             if ranked:
                 return self.after(node, ranked[0], measured, exclude)
             leaf = grasp_options(node, at, self.ctx)[0]  # ambiguous: its first option, as the session

@@ -15,26 +15,13 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
-from learner.matrix import DescriptionMatrix
-from learner.partition import Range
+from learner.choosing.matrix import DescriptionMatrix
+from learner.choosing.partition import Range, Split
 
 _EPS = 1e-9
-
-
-@dataclass(frozen=True)
-class Split:
-    """Per-column partition of a node's rows: the ranges, whether an "unknown" subset
-    joins them, the information gain, and each range's share of the node's weight."""
-
-    ranges: list[list[Range]]
-    unknown: np.ndarray
-    gains: np.ndarray
-    n_ranges: np.ndarray
-    mass: np.ndarray  # (columns, max ranges): weight of each range / rows, missing rows spread
 
 
 def partition_columns(rows: Sequence[int], matrix: DescriptionMatrix, columns: np.ndarray) -> Split:

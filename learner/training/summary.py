@@ -14,8 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from learner.knowledge import Knowledge
-from learner.training import TrainingResult
-from learner.training_data import TrainingObject
+from learner.training.inputs import TrainingObject
+from learner.training.stage import TrainingResult
 
 SECONDS_PER_HOUR = 3600.0
 SECONDS_PER_YEAR = 365.25 * 24 * SECONDS_PER_HOUR
