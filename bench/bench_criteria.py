@@ -21,7 +21,7 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
-from executive.report import Truth, rows  # noqa: E402
+from reporting.report import Truth, rows  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
 from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402

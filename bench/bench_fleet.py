@@ -55,7 +55,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-CSL = (sys.executable, "-m", "executive.cli")
+CSL = (sys.executable, "-m", "csl_cli")
 LEARNER = "default"
 START_S = 60.0  # a node that has not said it serves by then is a failed start
 RESET_S = 60.0

@@ -57,7 +57,7 @@ def free_endpoint() -> str:
 def serve(db: Path, endpoint: str) -> subprocess.Popen[str]:
     """``csl learner serve`` on ``db``; returns once it printed its serving line."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
-    process = subprocess.Popen([sys.executable, "-m", "executive.cli", "learner", "serve", "--name", "bench",
+    process = subprocess.Popen([sys.executable, "-m", "csl_cli", "learner", "serve", "--name", "bench",
                                 "--db", str(db), "--listen", endpoint], cwd=ROOT, env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert process.stdout is not None

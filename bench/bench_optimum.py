@@ -72,11 +72,11 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
 
 def noisy(seeds: int, jobs: int) -> None:
     """cs-id3 against the failure-priced rules in the experiment's noisy execution episodes."""
-    from executive.experiment.conditions import EXECUTION_NOISE
-    from executive.experiment.episodes import EpisodeSpec, install_worker
-    from executive.experiment.paper import perform
-    from executive.experiment.runner import run_all
-    from executive.experiment.study_training import run_training
+    from experiments.conditions import EXECUTION_NOISE
+    from experiments.episodes import EpisodeSpec, install_worker
+    from experiments.paper import perform
+    from experiments.runner import run_all
+    from experiments.study_training import run_training
     from robot_profile import load_profile
 
     profile = load_profile()

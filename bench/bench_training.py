@@ -11,7 +11,7 @@ keeps one noise-free world per object, the old one builds a world per measuremen
 ``SimulatorSource(reuse=...)``). Runs alternate
 between the two paths; figures are medians. Both paths must learn the same library.
 
-Last, ``csl demo``'s library (``executive/demo_library.py``): trained (``--retrain``)
+Last, ``csl demo``'s library (``csl_cli/demo_library.py``): trained (``--retrain``)
 against reused from the content-hash cache, in a temporary folder.
 
     python bench/bench_training.py [--repeat 7]
@@ -32,7 +32,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from executive.demo_library import trained_library  # noqa: E402
+from csl_cli.demo_library import trained_library  # noqa: E402
 from executive.training_sources import SimulatorSource, camera_objects  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.training.inputs import read_objects, read_replay  # noqa: E402

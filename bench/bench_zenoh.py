@@ -67,7 +67,7 @@ def main() -> int:
     endpoint = free_endpoint()
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     driver = subprocess.Popen(
-        [sys.executable, "-m", "executive.cli", "driver", "sim", "--robot", ROBOT, "--listen", endpoint],
+        [sys.executable, "-m", "csl_cli", "driver", "sim", "--robot", ROBOT, "--listen", endpoint],
         cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
         driver.stdout.readline()  # the ready line

@@ -12,7 +12,7 @@ import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from executive.args import shipped_worlds
+from hero_driver.shipped import shipped_worlds
 from executive.defaults import EXAMPLE_LIBRARY
 from hero_driver.sim.catalogue import CatalogueEntry
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig

@@ -67,7 +67,7 @@ def _json_safe(value: object) -> object:
 
 class IsRecording(ValueError):
     """The file is a ``--record`` MCAP recording, not an ``episode.jsonl``: the recording
-    package reads it (:func:`executive.recording.reader.read_events`), which the
+    package reads it (:func:`recording.reader.read_events`), which the
     executive, below it, does not import."""
 
 

@@ -4,7 +4,7 @@ The executive drives its robot through wrappers that each change one thing about
 verb: sending a verb again while the robot finishes an overdue one
 (``behaviours.overdue``), shifting poses into the overhead camera's frame
 (``behaviours.localisation``), recording what the robot answered
-(``executive.recording.driver``). Each used to list the verbs by hand, so a verb it
+(``recording.driver``). Each used to list the verbs by hand, so a verb it
 did not list slipped past it. A :class:`DriverDecorator` lists none: every name in
 :data:`~hero_driver.interface.VERB_BY_NAME` goes through :meth:`DriverDecorator.call`
 with its row of the table, which says which arguments and result fields carry poses,

@@ -18,6 +18,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
+from hero_driver.shipped import WORLDS_DIR
 from hero_driver.sim.battery import Charge, Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
 from hero_driver.sim.events import Disturbance, parse_events
@@ -26,7 +27,6 @@ from hero_driver.sim.noise import NoiseConfig
 
 log = logging.getLogger(__name__)
 
-WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
 DEFAULT_WORLD = "lab"
 WORLD_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
 """What ``reset`` accepts as a world: a name, never a path (no '/', no '.', so no '..')."""

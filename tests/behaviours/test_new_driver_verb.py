@@ -17,7 +17,7 @@ import pytest
 
 from behaviours.localisation import CameraLocalised
 from behaviours.overdue import OverdueRobot
-from executive.recording.driver import RecordingDriver
+from recording.driver import RecordingDriver
 from hero_driver import interface
 from hero_driver.interface import BUSY, TIMEOUT, DriverError, DriverVerb, Pose, RobotState
 

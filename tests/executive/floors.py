@@ -9,9 +9,9 @@ from pathlib import Path
 
 from behaviours.services import Params
 from executive.executive import Executive
-from executive.experiment.floor import play
-from executive.experiment.study_training import run_training
-from executive.experiment.worlds import write_floor
+from experiments.floor import play
+from experiments.study_training import run_training
+from experiments.worlds import write_floor
 from hero_driver.interface import OUT_OF_RANGE
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero

@@ -14,7 +14,7 @@ import pytest
 
 from behaviours.appearance import appearance_of
 from executive.defaults import EXAMPLE_LIBRARY
-from executive.experiment.worlds import random_floor
+from experiments.worlds import random_floor
 from executive.training_sources import camera_objects
 from hero_driver.sim.noise import NOISE_PRESETS
 from hero_driver.sim.catalogue import profile_and_catalogue

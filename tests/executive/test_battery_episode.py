@@ -12,7 +12,7 @@ import pytest
 
 from behaviours.services import Params
 from executive import defaults
-from executive.cli import main
+from csl_cli.main import main
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import episode_status

@@ -1,4 +1,4 @@
-"""The battery study's plumbing (executive.experiment.study_battery) without running
+"""The battery study's plumbing (experiments.study_battery) without running
 episodes: its settings, its floors and its summary on rows made up by hand. The
 ``--quick`` run itself takes over 20 s on 2 cores and is not in the suite."""
 
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.experiment.study_battery import (
+from experiments.study_battery import (
     DOCK, DRAIN_LEVEL, QUICK_DRAINS, QUICK_LEVELS, SETTINGS, BatteryJob, ObjectRow, cell, params_for, plan,
     learned_after_flat, summarise, write_docked_floor,
 )
@@ -54,9 +54,9 @@ def test_the_summary_counts_by_hand() -> None:
 
 def test_one_floor_from_a_nearly_flat_battery_with_the_guard_off_and_on() -> None:
     from executive import defaults
-    from executive.experiment.situation import install
-    from executive.experiment.study_battery import run_job
-    from executive.experiment.worlds import set_members
+    from experiments.situation import install
+    from experiments.study_battery import run_job
+    from experiments.worlds import set_members
     from learner.library.format import read_library_json
     from robot_profile import load_profile
 

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.node import DriverNode
 from planner.segmentation import load_camera

@@ -25,7 +25,7 @@ HANG_GUARD_S = 120.0  # a cold interpreter and an episode on a busy box; not a t
 def csl(*argv: str, home: Path) -> subprocess.CompletedProcess[str]:
     env = {**os.environ, "CSL_HOME": str(home),
            "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
-    return subprocess.run([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=env, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=env, capture_output=True,
                           text=True, timeout=HANG_GUARD_S, check=False)
 
 
@@ -33,7 +33,7 @@ def test_driver_calibrate_and_run_as_three_processes(tmp_path: Path) -> None:
     endpoint = free_endpoint()
     calibration = tmp_path / "camera" / "r1.json"
     out = tmp_path / "out"
-    argv = ["-m", "executive.cli", "driver", "sim", "--camera", "realistic", "--listen", endpoint]
+    argv = ["-m", "csl_cli", "driver", "sim", "--camera", "realistic", "--listen", endpoint]
     with DriverProcess(argv) as driver:
         driver.ready()
         calibrated = csl("camera", "calibrate", "--connect", endpoint, "--out", str(calibration), home=tmp_path)

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
-from executive.commands.camera import default_calibration
+from csl_cli.main import main
+from csl_cli.commands.camera import default_calibration
 from tests.executive.test_camera_processes import csl
 from tests.executive.test_camera_wiring import LAB_OBJECTS, assert_every_object_located, calibration_file, report_rows
 from tests.hero_driver.test_zenoh_support import DriverProcess
@@ -45,7 +45,7 @@ def test_a_real_camera_over_zenoh_needs_a_calibration_then_uses_the_saved_one(tm
     out = tmp_path / "out"
     run = ("run", "--driver", "zenoh", "--connect", endpoint, "--no-plots", "--library",
            str(tmp_path / "library.sqlite"), "--out", str(out))
-    argv = ["-m", "executive.cli", "driver", "sim", "--camera", "realistic", "--listen", endpoint]
+    argv = ["-m", "csl_cli", "driver", "sim", "--camera", "realistic", "--listen", endpoint]
     with DriverProcess(argv) as driver:
         driver.ready()
         refused = csl(*run, home=tmp_path)

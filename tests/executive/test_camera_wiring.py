@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
 
@@ -137,7 +137,7 @@ def test_a_world_without_a_board_says_so(tmp_path: Path, capsys: pytest.CaptureF
 
 
 def test_the_map_is_drawn_on_the_rectified_image(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from executive.commands.episode import _as_mapped
+    from csl_cli.commands.episode import _as_mapped
     from hero_driver.sim_driver import SimulatedHero
     from planner.segmentation import load_camera
 

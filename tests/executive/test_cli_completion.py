@@ -15,7 +15,7 @@ import pytest
 from argcomplete import io as argcomplete_io
 
 from executive import defaults
-from executive.cli import build_parser
+from csl_cli.main import build_parser
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -88,7 +88,7 @@ def test_the_installed_command_completes(tmp_path: Path) -> None:
     out = tmp_path / "completions"
     env = {**os.environ, "_ARGCOMPLETE": "1", "COMP_LINE": "csl dr", "COMP_POINT": "6", "_ARGCOMPLETE_IFS": "\n",
            "_ARGCOMPLETE_STDOUT_FILENAME": str(out), "PYTHONPATH": str(REPO)}
-    done = subprocess.run([sys.executable, "-m", "executive.cli"], cwd=tmp_path, env=env, capture_output=True,
+    done = subprocess.run([sys.executable, "-m", "csl_cli"], cwd=tmp_path, env=env, capture_output=True,
                           text=True, timeout=60)
     assert done.returncode == 0 and done.stdout == "" and out.read_text().strip() == "driver"
     script = Path(sys.executable).with_name("csl")

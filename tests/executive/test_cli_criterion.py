@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from executive.args import add_criterion_options, criterion_from_args
-from executive.cli import main
+from csl_cli.args import add_criterion_options, criterion_from_args
+from csl_cli.main import main
 from learner.choosing.criteria import CRITERIA
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 
 
 def test_every_object_taken_away_is_reported_gone_and_the_run_succeeds(tmp_path: Path,

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.zenoh_link.codec import decode_state
 from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 from tests.zenoh_rpc.support import free_endpoint
@@ -37,7 +37,7 @@ def _env() -> dict[str, str]:
 
 
 def _csl(*argv: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=_env(),
+    return subprocess.run([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=_env(),
                           capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
 
 
@@ -57,7 +57,7 @@ class Sim:
 def sim() -> Iterator[Sim]:
     """``csl -v driver sim --noise clean`` as a child process."""
     endpoint = free_endpoint()
-    process = subprocess.Popen([sys.executable, "-m", "executive.cli", "-v", "driver", "sim", "--robot", ROBOT,
+    process = subprocess.Popen([sys.executable, "-m", "csl_cli", "-v", "driver", "sim", "--robot", ROBOT,
                                 "--noise", "clean", "--listen", endpoint], cwd=REPO, env=_env(),
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 
 
 def test_demo_handles_every_test_object_and_draws_it(tmp_path: Path, capsys) -> None:  # noqa: ANN001

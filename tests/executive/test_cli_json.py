@@ -9,7 +9,7 @@ from collections import Counter
 from pathlib import Path
 
 from executive import defaults
-from executive.cli import main
+from csl_cli.main import main
 from learner.library.format import descriptions_from_json, descriptions_to_json, read_library_json
 
 LAB_OBJECTS = ["closed-box-2x2x2/upright", "tumbler-20oz/upside-down", "soda-bottle-16oz/upright",

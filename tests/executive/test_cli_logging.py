@@ -8,7 +8,7 @@ import logging
 
 import pytest
 
-from executive.cli import build_parser, log_level, main
+from csl_cli.main import build_parser, log_level, main
 
 
 @pytest.mark.parametrize(

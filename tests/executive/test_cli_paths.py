@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from executive import defaults
-from executive.cli import main
+from csl_cli.main import main
 from tests.zenoh_rpc.support import free_endpoint
 
 
@@ -96,7 +96,7 @@ def test_learner_serve_says_when_its_library_is_new(tmp_path: Path) -> None:
     db = tmp_path / "shared.sqlite"
     env = {**os.environ, "PYTHONPATH": str(repo)}
     for new in (True, False):
-        serve = subprocess.Popen([sys.executable, "-m", "executive.cli", "learner", "serve", "--db", str(db),
+        serve = subprocess.Popen([sys.executable, "-m", "csl_cli", "learner", "serve", "--db", str(db),
                                   "--listen", free_endpoint()], cwd=repo, env=env, stdout=subprocess.PIPE,
                                  stderr=subprocess.PIPE, text=True)
         try:

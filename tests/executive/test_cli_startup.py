@@ -14,7 +14,7 @@ HEAVY = ("matplotlib", "ompl", "pymunk", "cv2", "zenoh", "py_trees", "scipy")
 
 
 def test_building_the_parser_imports_no_heavy_stack() -> None:
-    code = ("import json, sys\nfrom executive.cli import build_parser\nbuild_parser()\n"
+    code = ("import json, sys\nfrom csl_cli.main import build_parser\nbuild_parser()\n"
             f"print(json.dumps(sorted(m for m in {HEAVY!r} if m in sys.modules)))")
     out = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, check=True)
     assert json.loads(out.stdout) == []

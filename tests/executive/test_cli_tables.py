@@ -22,9 +22,9 @@ from rich.cells import cell_len
 from rich.console import Console
 
 from executive import defaults
-from executive.cli import main
-from executive.commands.offline import MEASURED_COLUMNS
-from executive.tables import Column, plain_lines, rich_table
+from csl_cli.main import main
+from csl_cli.commands.offline import MEASURED_COLUMNS
+from reporting.tables import Column, plain_lines, rich_table
 from learner.library.format import read_library_json
 
 REPO = Path(__file__).resolve().parents[2]
@@ -41,7 +41,7 @@ def _in_terminal(argv: list[str], columns: int = 80, timeout_s: float = 120.0) -
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, columns, 0, 0))
     env = {**os.environ, "COLUMNS": str(columns), "TERM": "xterm", "PYTHONPATH": str(REPO)}
-    process = subprocess.Popen([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=env, stdin=slave,
+    process = subprocess.Popen([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=env, stdin=slave,
                                stdout=slave, stderr=subprocess.DEVNULL)
     os.close(slave)
     chunks = []

@@ -12,10 +12,10 @@ import json
 from pathlib import Path
 
 from behaviours.services import Params
-from executive.cli import main
+from csl_cli.main import main
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import ALL_HANDLED, SOME_FAILED
-from executive.experiment.study_clutter import WatchedHero, floor
+from experiments.study_clutter import WatchedHero, floor
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import load_world
 from hero_driver.sim_driver import SimulatedHero

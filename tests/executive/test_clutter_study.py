@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from executive.cli import main
-from executive.experiment.study_clutter import APART, ClutterJob, ObjectRow, plan, summarise
+from csl_cli.main import main
+from experiments.study_clutter import APART, ClutterJob, ObjectRow, plan, summarise
 
 
 def row(gap: float, check: bool, correct: bool, robot_s: float, readings: int, bad: int,

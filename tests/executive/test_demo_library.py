@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 import executive.sim_training
-from executive.demo_library import DemoLibrary, trained_folder, trained_library, training_key
+from csl_cli.demo_library import DemoLibrary, trained_folder, trained_library, training_key
 from executive.sim_training import SimTraining, train_in_simulator
 from learner.library.format import read_library_json
 from robot_profile import load_profile
@@ -84,7 +84,7 @@ def test_the_training_code_is_part_of_the_key(tmp_path: Path, monkeypatch: pytes
     for source in ("learner/training/stage.py", "executive/sim_training.py"):
         (repository / source).parent.mkdir(parents=True, exist_ok=True)
         (repository / source).write_text("# version 1\n", encoding="utf-8")
-    monkeypatch.setattr("executive.demo_library.REPOSITORY", repository)
+    monkeypatch.setattr("csl_cli.demo_library.REPOSITORY", repository)
     one = training_key(profile, "lab", 0)
     (repository / "learner" / "training.py").write_text("# version 2\n", encoding="utf-8")
     assert len({before, one, training_key(profile, "lab", 0)}) == 3

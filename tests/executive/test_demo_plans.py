@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 
 
 def _events(out: Path) -> list[dict[str, object]]:

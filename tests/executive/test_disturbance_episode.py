@@ -18,11 +18,11 @@ import pytest
 
 from behaviours.services import Params
 from executive import defaults
-from executive.cli import main
+from csl_cli.main import main
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import ALL_HANDLED, SOME_FAILED, episode_status
-from executive.experiment.disturbed import saved_from_disturbed, unnoticed
+from experiments.disturbed import saved_from_disturbed, unnoticed
 from hero_driver.sim.events import DisturbPreset, parse_disturb
 from hero_driver.sim.world import ObjectTruth
 from hero_driver.sim_driver import SimulatedHero

@@ -1,6 +1,6 @@
-"""The disturbance study's arithmetic (executive.experiment.study_disturbance) and its
+"""The disturbance study's arithmetic (experiments.study_disturbance) and its
 ground-truth count of descriptions saved from disturbed attempts
-(executive.experiment.disturbed), on hand-made rows, records and events."""
+(experiments.disturbed), on hand-made rows, records and events."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ from types import SimpleNamespace
 import pytest
 
 from executive import defaults
-from executive.experiment.disturbed import saved_from_disturbed, sim_index, unnoticed
-from executive.experiment.situation import install
-from executive.experiment.study_disturbance import DisturbanceJob, ObjectRow, cell, plan, preset, run_job, summarise
-from executive.experiment.worlds import set_members
+from experiments.disturbed import saved_from_disturbed, sim_index, unnoticed
+from experiments.situation import install
+from experiments.study_disturbance import DisturbanceJob, ObjectRow, cell, plan, preset, run_job, summarise
+from experiments.worlds import set_members
 from hero_driver.sim.disturber import Happened
 from learner.library.format import read_library_json
 from robot_profile import load_profile

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from behaviours.events import RECOVERIES, Event
-from executive.commands.log import EVENT_KINDS
+from csl_cli.commands.log import EVENT_KINDS
 from executive.episode_log import EpisodeLog
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "executive.md"

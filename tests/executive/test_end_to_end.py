@@ -62,7 +62,7 @@ def test_csl_run_with_driver_and_learner_as_zenoh_nodes(tmp_path: Path) -> None:
             node.ready()
             env = {**os.environ, "PYTHONPATH": str(REPO)}
             proc = subprocess.run(
-                [sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--robot", "r7",
+                [sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--robot", "r7",
                  "--connect", driver_ep, "--learner", "zenoh", "--learner-name", "lab",
                  "--learner-connect", learner_ep, "--out", str(tmp_path / "out"), "--no-plots"],
                 cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
@@ -87,7 +87,7 @@ def test_a_driver_vanishing_mid_episode_stops_the_run_with_one_line(tmp_path: Pa
     with DriverProcess.sim(endpoint, robot="gone") as node:
         node.ready()
         run = subprocess.Popen(
-            [sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--robot", "gone",
+            [sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--robot", "gone",
              "--connect", endpoint, "--out", str(tmp_path / "out"), "--no-plots"],
             cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         # Killed as soon as work on the first object starts: seven objects' worth of

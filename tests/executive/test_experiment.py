@@ -13,15 +13,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from executive.cli import main
-from executive.experiment import study_appearance, study_execution
-from executive.experiment.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control, CostScale, noise_config
-from executive.experiment.config import ExperimentConfig
-from executive.experiment.csvfile import read_episodes, write_episodes
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec, _object_stats
-from executive.experiment.exhaustive import measure_everything_s, positions
-from executive.experiment.table import markdown_table, paired_difference, ratio
-from executive.experiment.worlds import random_floor, set_members
+from csl_cli.main import main
+from experiments import study_appearance, study_execution
+from experiments.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control, CostScale, noise_config
+from experiments.config import ExperimentConfig
+from experiments.csvfile import read_episodes, write_episodes
+from experiments.episodes import EpisodeRow, EpisodeSpec, _object_stats
+from experiments.exhaustive import measure_everything_s, positions
+from experiments.table import markdown_table, paired_difference, ratio
+from experiments.worlds import random_floor, set_members
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import parse_world

@@ -7,12 +7,12 @@ from pathlib import Path
 
 import pytest
 
-from executive.experiment import study_execution
-from executive.experiment.conditions import STRATEGIES_OFF, STRATEGIES_ON
-from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import EpisodeRow
-from executive.experiment.study_execution import first_grasp_right, recoveries_per_object
-from executive.experiment.study_trends import root_gain_by_distance
+from experiments import study_execution
+from experiments.conditions import STRATEGIES_OFF, STRATEGIES_ON
+from experiments.config import ExperimentConfig
+from experiments.episodes import EpisodeRow
+from experiments.study_execution import first_grasp_right, recoveries_per_object
+from experiments.study_trends import root_gain_by_distance
 from learner.choosing.criteria import DEFAULT_CRITERION
 from tests.learner.fixtures import ANY, P, desc, hero
 

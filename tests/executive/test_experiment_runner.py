@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 
-from executive.experiment.runner import run_all
+from experiments.runner import run_all
 
 
 def slow_square(n: int) -> int:

@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 import pytest
 
-from executive.history import (_KINDS, CurvePoint, Run, append_run, default_history, episode_run, learning_curve,
+from reporting.history import (_KINDS, CurvePoint, Run, append_run, default_history, episode_run, learning_curve,
                                read_history, wrong_grasps)
 
 EVENTS = [

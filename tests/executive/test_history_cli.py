@@ -11,9 +11,9 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from executive.episode_log import read_log
-from executive.history import Run, append_run, default_history, read_history, wrong_grasps
+from reporting.history import Run, append_run, default_history, read_history, wrong_grasps
 from learner.library.store import LibraryStore
 
 

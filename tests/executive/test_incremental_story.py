@@ -7,8 +7,8 @@ held as the lying tumbler teaches nothing about it upside down, so it is counted
 
 from __future__ import annotations
 
-from executive.experiment.episodes import EpisodeRow
-from executive.experiment.study_incremental import TUMBLER, Tally, TumblerStory, own_grasps, tumbler_story
+from experiments.episodes import EpisodeRow
+from experiments.study_incremental import TUMBLER, Tally, TumblerStory, own_grasps, tumbler_story
 
 OWN = frozenset({"Top-Vert-Grip"})
 

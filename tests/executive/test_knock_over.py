@@ -40,8 +40,8 @@ from behaviours.records import GraspAttempt
 from behaviours.recovery import CheckSideEffects, StartOver
 from behaviours.services import Params
 from executive.executive import Executive
-from executive.experiment.conditions import noise_config
-from executive.experiment.floor import play
+from experiments.conditions import noise_config
+from experiments.floor import play
 from hero_driver.sim_driver import SimulatedHero
 from learner.appearance import Appearance
 from learner.choosing.criteria import DEFAULT_CRITERION, criterion

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "knowledge-format.md"
 

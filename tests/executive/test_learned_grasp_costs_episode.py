@@ -21,9 +21,9 @@ import pytest
 
 from behaviours.services import Params
 from executive import defaults
-from executive.cli import main
+from csl_cli.main import main
 from executive.executive import Executive
-from executive.experiment.study_grasp_costs import slowed
+from experiments.study_grasp_costs import slowed
 from executive.grasp_attempts import attempt_costs
 from hero_driver.sim_driver import SimulatedHero
 from learner.choosing.matrix import Test as Column

@@ -13,9 +13,9 @@ from collections.abc import Iterator
 
 import pytest
 
-import executive.experiment.episodes as episodes
-from executive.experiment.episodes import EpisodeRow, EpisodeSpec, install_worker
-from executive.report import match_truth
+import experiments.episodes as episodes
+from experiments.episodes import EpisodeRow, EpisodeSpec, install_worker
+from reporting.report import match_truth
 from robot_profile import load_profile
 from tests.executive.floors import trained
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from behaviours.services import Params
-from executive.experiment.conditions import EXECUTION_NOISE, noise_config
+from experiments.conditions import EXECUTION_NOISE, noise_config
 from tests.executive.floors import play_floor, refused_for_range
 
 FLOOR_SEED = 24_000  # the experiment's floor of seed 24: drift past 1.5 in, one object lost trusting it

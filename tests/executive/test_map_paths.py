@@ -14,7 +14,7 @@ import numpy as np
 from camera_model.image import CameraImage
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
-from executive.plots import Leg, legs, plot_map
+from reporting.plots import Leg, legs, plot_map
 from hero_driver.sim_driver import SimulatedHero
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner

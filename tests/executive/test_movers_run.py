@@ -12,7 +12,7 @@ import pytest
 
 from behaviours.blocked import branch_off_notice
 from behaviours.services import Params
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.node import DriverNode
 from robot_profile import load_profile, profile_stamp

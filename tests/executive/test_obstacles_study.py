@@ -1,4 +1,4 @@
-"""The moving-obstacles study's arithmetic (executive.experiment.study_obstacles) on
+"""The moving-obstacles study's arithmetic (experiments.study_obstacles) on
 hand-made floors, and one real floor run in this process."""
 
 from __future__ import annotations
@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from executive import defaults
-from executive.experiment.situation import install
-from executive.experiment.study_obstacles import Floor, ObstaclesJob, cell, plan, run_job, summarise
+from experiments.situation import install
+from experiments.study_obstacles import Floor, ObstaclesJob, cell, plan, run_job, summarise
 from learner.library.format import read_library_json
 from robot_profile import load_profile
 

@@ -3,8 +3,8 @@ object twice (the quick run once wrote 15 rows for a 14-object floor)."""
 
 from __future__ import annotations
 
-from executive.experiment.episodes import one_row_per_object
-from executive.report import Row, Truth
+from experiments.episodes import one_row_per_object
+from reporting.report import Row, Truth
 
 TUMBLER = Truth("tumbler", ("Pinch-Top",), 10.0, 20.0)
 CUP = Truth("cup", ("Pinch-Side",), 40.0, 20.0)

@@ -15,7 +15,7 @@ from behaviours.records import ObjectRecord
 from camera_model.image import CameraImage
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
-from executive.plots import Ending, endings, map_image, plot_map
+from reporting.plots import Ending, endings, map_image, plot_map
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
 from learner.library.format import read_library_json

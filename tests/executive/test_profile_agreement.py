@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.node import DriverNode
 from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
@@ -40,7 +40,7 @@ def _env() -> dict[str, str]:
 
 
 def _csl(*argv: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=_env(),
+    return subprocess.run([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=_env(),
                           capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
 
 
@@ -48,7 +48,7 @@ def _csl(*argv: str) -> subprocess.CompletedProcess[str]:
 def rover_driver() -> Iterator[str]:
     """``csl driver sim --profile rover.toml`` as a child process; its endpoint."""
     endpoint = free_endpoint()
-    process = subprocess.Popen([sys.executable, "-m", "executive.cli", "driver", "sim", "--profile", str(ROVER),
+    process = subprocess.Popen([sys.executable, "-m", "csl_cli", "driver", "sim", "--profile", str(ROVER),
                                 "--listen", endpoint], cwd=REPO, env=_env(), stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
     try:

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from behaviours.services import Params
-from executive.experiment.conditions import noise_config
+from experiments.conditions import noise_config
 from tests.executive.floors import play_floor, refused_for_range
 
 FLOOR_SEED = 13_000  # the floor of the experiment's seed 13; measured: 9 refusals the old way, 1 re-approaching

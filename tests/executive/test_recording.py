@@ -15,8 +15,8 @@ from mcap.reader import make_reader
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
-from executive.recording import topics
-from executive.recording.session import Recording
+from recording import topics
+from recording.session import Recording
 from hero_driver.sim_driver import SimulatedHero
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner

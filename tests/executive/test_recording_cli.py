@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from executive.args import add_recording_options
-from executive.cli import build_parser, main
-from executive.recording.options import check_recording_options
+from csl_cli.args import add_recording_options
+from csl_cli.main import build_parser, main
+from csl_cli.recording_options import check_recording_options
 
 
 def _run_args(out: Path, **recording: object) -> argparse.Namespace:
@@ -77,14 +77,14 @@ def test_bad_recording_flags_are_refused_while_parsing(argv, message, capsys) ->
 
 
 def test_a_run_without_recording_loads_no_foxglove_nor_mcap() -> None:
-    code = ("import sys, executive.commands.episode, executive.commands.log; "
+    code = ("import sys, csl_cli.commands.episode, csl_cli.commands.log; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('foxglove', 'mcap')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
 
 
 def test_a_file_recording_runs_flat_out(tmp_path: Path) -> None:
-    from executive.recording.options import open_recording
+    from csl_cli.recording_options import open_recording
     from robot_profile import load_profile
 
     recording = open_recording(_run_args(tmp_path, record=tmp_path / "x.mcap"), load_profile())

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from executive.recording import topics
+from recording import topics
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "recording.md"
 

@@ -8,7 +8,7 @@ import struct
 import threading
 from pathlib import Path
 
-from executive.recording import topics
+from recording import topics
 from tests.executive.test_recording import record_episode
 from tests.executive.ws_client import MESSAGE_DATA, FoxgloveClient
 

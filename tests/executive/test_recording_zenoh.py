@@ -12,8 +12,8 @@ from mcap.reader import make_reader
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.episode_log import EpisodeLog
 from executive.executive import Executive
-from executive.recording import topics
-from executive.recording.session import Recording
+from recording import topics
+from recording.session import Recording
 from hero_driver.zenoh_link.client import ZenohDriver
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
@@ -39,7 +39,7 @@ def test_an_episode_over_zenoh_is_recorded_whole(tmp_path: Path) -> None:
     mcap = tmp_path / "zenoh.mcap"
     recording = Recording(load_profile().robot.geometry, mcap=mcap)
     log = EpisodeLog()
-    with DriverProcess(["-m", "executive.cli", "driver", "sim", "--robot", "rec", "--listen", endpoint,
+    with DriverProcess(["-m", "csl_cli", "driver", "sim", "--robot", "rec", "--listen", endpoint,
                         "--world", str(_two_objects(tmp_path))]) as node:
         node.ready()
         zenoh_driver = ZenohDriver("rec", connect=[endpoint], discover_s=5.0)

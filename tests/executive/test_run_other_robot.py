@@ -1,6 +1,6 @@
 """``csl run --knowledge OTHER.toml`` from a fresh install: the shipped example library
 serves only the HERO 2000, so a new library for another robot starts from one trained
-for it in the simulator, kept under the demo's hash (executive/demo_library.py)."""
+for it in the simulator, kept under the demo's hash (csl_cli/demo_library.py)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from executive.defaults import EXAMPLE_LIBRARY
-from executive.demo_library import trained_folder
+from csl_cli.demo_library import trained_folder
 from learner.library.checks import check_library
 from learner.library.format import read_library_json
 from robot_profile import load_profile

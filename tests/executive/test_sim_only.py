@@ -1,6 +1,6 @@
 """``csl run`` refuses every option given out of its mode (a simulator option with
 ``--driver zenoh``, a library with ``--learner zenoh``...) with one line and exit 2
-(executive/commands/modes.py), before anything connects."""
+(csl_cli/commands/modes.py), before anything connects."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import build_parser, main
-from executive.commands import modes
+from csl_cli.main import build_parser, main
+from csl_cli.commands import modes
 
 # A valid value for the simulator-only options that take one and offer no choices.
 GIVEN = {"--world": "lab", "--seed": "0", "--disturb": "nudge:0.2", "--movers": "2"}

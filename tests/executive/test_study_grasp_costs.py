@@ -10,10 +10,10 @@ import pytest
 from behaviours.services import Params
 from executive import defaults
 from executive.executive import Executive
-from executive.experiment.config import ExperimentConfig
-from executive.experiment.episodes import install_worker
-from executive.experiment.study_grasp_costs import GraspCostJob, GraspCostRow, plan, slowed, summarise
-from executive.experiment.worlds import set_members
+from experiments.config import ExperimentConfig
+from experiments.episodes import install_worker
+from experiments.study_grasp_costs import GraspCostJob, GraspCostRow, plan, slowed, summarise
+from experiments.worlds import set_members
 from hero_driver.sim_driver import SimulatedHero
 from learner.library.store import load_library
 from learner.service.local import LocalLearner

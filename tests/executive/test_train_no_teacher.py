@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from robot_profile import load_knowledge
 from executive.sim_training import train_in_simulator
 from executive.training_sources import SimulatorGrasps, camera_objects

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from robot_profile import load_knowledge
 from executive.sim_training import SimTraining, ground_truth, train_in_simulator
 from executive.training_sources import SimulatorSource, camera_objects

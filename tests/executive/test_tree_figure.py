@@ -15,8 +15,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from behaviours.records import ObjectRecord
-from executive.plots import plot_object_tree, plot_tree_layout
-from executive.tree_figure import (LABEL_H, Branch, Line, Shape, TreeLayout, box_size, label_width, layout,
+from reporting.plots import plot_object_tree, plot_tree_layout
+from reporting.tree_figure import (LABEL_H, Branch, Line, Shape, TreeLayout, box_size, label_width, layout,
                                    object_figure)
 from learner.choosing.criteria import criterion
 from learner.costs import ModelMoveCost

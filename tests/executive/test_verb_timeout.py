@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 from hypothesis import given, strategies as st
 
-from executive.args import add_verb_timeout_option, verb_timeout
-from executive.cli import build_parser
-from executive.commands.episode import _unanswered, _verb_timeouts, run_run
+from csl_cli.args import add_verb_timeout_option, verb_timeout
+from csl_cli.main import build_parser
+from csl_cli.commands.episode import _unanswered, _verb_timeouts, run_run
 from executive.episode_log import read_log
 from executive.exit_status import SOME_FAILED
 from hero_driver.zenoh_link.client import VerbTimeouts

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import build_parser
+from csl_cli.main import build_parser
 from executive.exit_status import ALL_HANDLED, BAD_INPUT, LOST
 from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
 from tests.zenoh_rpc.support import free_endpoint, wait_until
@@ -27,7 +27,7 @@ HANG_GUARD_S = 90.0  # a whole episode on the simulator takes seconds; this only
 
 def csl_run(endpoint: str, wait_s: float, out: Path) -> subprocess.Popen[str]:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
-    return subprocess.Popen([sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--connect", endpoint,
+    return subprocess.Popen([sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--connect", endpoint,
                              "--wait-driver", f"{wait_s:g}", "--out", str(out), "--no-plots",
                              "--library", str(out.parent / "library.sqlite")],
                             cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

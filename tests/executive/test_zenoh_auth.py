@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from learner.service.interface import LearnerUnavailable
 from tests.zenoh_rpc.support import free_endpoint
 from zenoh_rpc.config import UserConfig
@@ -56,7 +56,7 @@ class Node:
     """A ``csl`` serving command as a child process; :meth:`close` always ends it."""
 
     def __init__(self, argv: list[str], config: Path) -> None:
-        self.process = subprocess.Popen([sys.executable, "-m", "executive.cli", *argv, "--zenoh-config", str(config)],
+        self.process = subprocess.Popen([sys.executable, "-m", "csl_cli", *argv, "--zenoh-config", str(config)],
                                         cwd=REPO, env=_env(None), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                         text=True)
         assert self.process.stdout is not None
@@ -88,7 +88,7 @@ def driver(configs: dict[str, Path]) -> Iterator[str]:
 
 
 def _run(endpoint: str, out: Path, config: Path | None) -> subprocess.CompletedProcess[str]:
-    argv = [sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--connect", endpoint,
+    argv = [sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--connect", endpoint,
             "--out", str(out), "--no-plots", "--library", str(out / "lib.sqlite")]
     return subprocess.run(argv, cwd=REPO, env=_env(config), capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
 
@@ -112,7 +112,7 @@ def test_only_the_matching_password_drives_the_robot(driver: str, configs: dict[
 
 @pytest.mark.zenoh
 def test_the_conformance_suite_reaches_a_driver_only_with_the_password(driver: str, configs: dict[str, Path]) -> None:
-    argv = [sys.executable, "-m", "executive.cli", "driver", "check", "--connect", driver, "--timeout", "5"]
+    argv = [sys.executable, "-m", "csl_cli", "driver", "check", "--connect", driver, "--timeout", "5"]
     refused = subprocess.run(argv, cwd=REPO, env=_env(None), capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
     assert refused.returncode == 1 and "nothing serves robot r1" in refused.stdout
     admitted = subprocess.run(argv, cwd=REPO, env=_env(configs["right"]), capture_output=True, text=True,

@@ -323,9 +323,9 @@ def check_library(case: tuple[str, Any], bench: Workbench) -> str:
 
 
 def run_cli(argv: list[str], bench: Workbench) -> tuple[int, str, str]:
-    """``executive.cli.main`` in this process, in the workbench folder: (exit status,
+    """``csl_cli.main.main`` in this process, in the workbench folder: (exit status,
     stdout, stderr). A SystemExit is taken as its status, the way the shell would."""
-    from executive.cli import main
+    from csl_cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     with inside(bench.folder), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -373,7 +373,7 @@ def _recording(bench: Workbench) -> bytes:
     events channel), made once per workbench."""
     path = bench.folder / "pristine.mcap"
     if not path.exists():
-        from executive.recording.session import Recording
+        from recording.session import Recording
         from robot_profile.reader import load_profile
 
         recording = Recording(load_profile(PROFILE).robot.geometry, mcap=path)
@@ -432,7 +432,7 @@ _VALUES = ["0", "1", "-1", "3", "nan", "inf", "-inf", "1e308", "-1e308", "1e308,
 @functools.cache
 def _option_table() -> dict[tuple[str, ...], list[str]]:
     """The real parser's commands and options, built once (not inside a draw)."""
-    from executive.cli import build_parser
+    from csl_cli.main import build_parser
 
     return _options(build_parser())
 
@@ -485,8 +485,8 @@ def _without_names(out: str, argv: list[str], folder: Path) -> str:
 
 
 def check_cli(argv: list[str], bench: Workbench) -> str:
-    """``executive.cli.main``: quick commands run to the end, the rest are parsed."""
-    from executive.cli import build_parser
+    """``csl_cli.main.main``: quick commands run to the end, the rest are parsed."""
+    from csl_cli.main import build_parser
 
     _prepare_cli(bench)
     text = [a.replace("\x00", "") for a in argv]  # an argv from a shell cannot hold NUL

@@ -311,7 +311,7 @@ def test_log_recording_damaged_at_every_byte(tmp_path: Path) -> None:
     naming it, never another exception. Before the fix the mcap reader's own errors
     escaped: zstd's "data corruption", a KeyError for a damaged channel id, OverflowError,
     MemoryError, struct.error (``read_recorded_events``, through ``read_events``)."""
-    from executive.recording.reader import read_events
+    from recording.reader import read_events
     from tests.fuzz.surfaces import _recording
 
     bench = Workbench(tmp_path)

@@ -44,7 +44,7 @@ class Node:
 
     def __init__(self, argv: list[str]) -> None:
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
-        self.process = subprocess.Popen([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=env,
+        self.process = subprocess.Popen([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=env,
                                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
 
     def ready(self) -> None:

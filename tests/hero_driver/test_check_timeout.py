@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from executive.cli import main
+from csl_cli.main import main
 from zenoh_rpc.argtypes import positive_seconds
 
 

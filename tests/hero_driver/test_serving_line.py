@@ -52,7 +52,7 @@ def test_a_client_mode_driver_prints_where_it_connected(tmp_path: Path) -> None:
     env = {k: v for k, v in os.environ.items() if k != CONFIG_ENV}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
     with open_session(listen=[router]) as session:
-        process = subprocess.Popen([sys.executable, "-m", "executive.cli", "driver", "sim", "--robot", "r7",
+        process = subprocess.Popen([sys.executable, "-m", "csl_cli", "driver", "sim", "--robot", "r7",
                                     "--zenoh-config", str(config)], cwd=tmp_path, env=env, text=True,
                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         try:

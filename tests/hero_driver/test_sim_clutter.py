@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from executive.experiment.worlds import random_floor
+from experiments.worlds import random_floor
 from hero_driver.sim.clutter import Clutter, cluttered, footprint_gap, pairs_of
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.probe import approach_pose

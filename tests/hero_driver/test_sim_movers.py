@@ -118,7 +118,7 @@ def test_with_the_feature_the_base_never_touches_a_mover(tmp_path, seed, count, 
 
 
 def test_driver_sim_takes_movers_and_refuses_a_bad_value_in_one_line(capsys: pytest.CaptureFixture[str]) -> None:
-    from executive.cli import main
+    from csl_cli.main import main
 
     assert main(["driver", "sim", "--movers", "2:fast"]) == 2
     err = capsys.readouterr().err.strip().splitlines()

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.interface import Pose
 from hero_driver.sim import sonar
 from hero_driver.sim.camera import YawErrors

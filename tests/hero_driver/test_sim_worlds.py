@@ -116,7 +116,7 @@ def test_a_driver_process_serves_its_folder_and_its_start_world_by_name(tmp_path
     own.write_text(json.dumps(small_world("kitchen", 3)))
     (tmp_path / "secret.json").write_text(json.dumps(SECRET))
     endpoint = free_endpoint()
-    argv = ["-m", "executive.cli", "driver", "sim", "--listen", endpoint, "--world", str(own),
+    argv = ["-m", "csl_cli", "driver", "sim", "--listen", endpoint, "--world", str(own),
             "--worlds-dir", str(folder)]
     with DriverProcess(argv) as driver, ZenohDriver("r1", connect=[endpoint], discover_s=20.0) as client:
         driver.ready()
@@ -130,7 +130,7 @@ def test_a_driver_process_serves_its_folder_and_its_start_world_by_name(tmp_path
 
 
 def test_a_worlds_dir_that_is_not_a_folder_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from executive.cli import main
+    from csl_cli.main import main
 
     assert main(["driver", "sim", "--worlds-dir", str(tmp_path / "nowhere")]) == 2
     assert capsys.readouterr().err.strip() == f"csl: error: --worlds-dir {tmp_path / 'nowhere'}: not a folder"

@@ -33,7 +33,7 @@ BEFORE_THE_FIX_S = 10.0  # zenoh's default handshake timeout, which every close 
 def csl(*argv: str, home: Path) -> subprocess.Popen[str]:
     env = {**os.environ, "CSL_HOME": str(home),
            "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
-    return subprocess.Popen([sys.executable, "-m", "executive.cli", *argv], cwd=REPO, env=env,
+    return subprocess.Popen([sys.executable, "-m", "csl_cli", *argv], cwd=REPO, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
@@ -93,7 +93,7 @@ def test_csl_run_with_a_frozen_driver_exits_lost_in_one_line(tmp_path: Path, fro
 def test_csl_run_with_a_frozen_learner_finishes_and_closes_quietly(tmp_path: Path, frozen: list[int]) -> None:
     driver_at, learner_at = free_endpoint(), free_endpoint()
     out = tmp_path / "out"
-    learner_argv = ["-m", "executive.cli", "learner", "serve", "--name", "t", "--listen", learner_at,
+    learner_argv = ["-m", "csl_cli", "learner", "serve", "--name", "t", "--listen", learner_at,
                     "--db", str(tmp_path / "library.sqlite")]
     with DriverProcess.sim(driver_at) as driver, DriverProcess(learner_argv) as learner:
         driver.ready()

@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from hero_driver.zenoh_link.conformance import Procedures, known_world
 from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
@@ -102,7 +102,7 @@ def test_a_driver_of_another_robot_profile_stops_the_suite_in_one_line(capsys: p
 
 def test_a_driver_of_the_given_profile_passes_with_its_procedures(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
-    argv = ["-m", "executive.cli", "driver", "sim", "--robot", "rover", "--listen", endpoint, "--profile", str(ROVER)]
+    argv = ["-m", "csl_cli", "driver", "sim", "--robot", "rover", "--listen", endpoint, "--profile", str(ROVER)]
     with DriverProcess(argv) as process:
         process.ready()
         status, verdicts, details = run_check_detailed(endpoint, "rover", capsys, 10.0, "--profile", str(ROVER))
@@ -189,7 +189,7 @@ def test_a_realistic_camera_is_checked_through_its_calibration(tmp_path, capsys:
     executive's vision; without one its image checks say why they were not run."""
     endpoint = free_endpoint()
     calibration = tmp_path / "rz.json"
-    argv = ["-m", "executive.cli", "driver", "sim", "--camera", "realistic", "--robot", "rz", "--listen", endpoint]
+    argv = ["-m", "csl_cli", "driver", "sim", "--camera", "realistic", "--robot", "rz", "--listen", endpoint]
     with DriverProcess(argv) as process:
         process.ready()
         status, verdicts, details = run_check_detailed(endpoint, "rz", capsys)

@@ -20,7 +20,7 @@ def test_the_simulator_stopped_on_request_passes_shutdown_order(endpoint: str) -
     env = {**os.environ, "PYTHONPATH": str(REPO)}
     with DriverProcess.sim(endpoint, robot="sd") as driver:
         driver.ready()
-        check = subprocess.Popen([sys.executable, "-m", "executive.cli", "driver", "check", "--robot", "sd",
+        check = subprocess.Popen([sys.executable, "-m", "csl_cli", "driver", "check", "--robot", "sd",
                                   "--connect", endpoint, "--timeout", "20", "--shutdown-order", "--json"],
                                  cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:

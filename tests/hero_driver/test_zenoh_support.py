@@ -45,7 +45,7 @@ class DriverProcess:
 
     @classmethod
     def sim(cls, endpoint: str, robot: str = "r1") -> DriverProcess:
-        return cls(["-m", "executive.cli", "driver", "sim", "--robot", robot, "--listen", endpoint])
+        return cls(["-m", "csl_cli", "driver", "sim", "--robot", robot, "--listen", endpoint])
 
     @classmethod
     def fake(cls, kind: str, endpoint: str, robot: str = "r1") -> DriverProcess:

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from learner.library.format import write_library_json
 from tests.learner.fixtures import four_objects
 
@@ -69,7 +69,7 @@ def test_library_commands_and_a_failed_import_keeps_the_library(tmp_path, lib, c
 def test_the_console_script_never_shows_a_traceback(tmp_path) -> None:  # noqa: ANN001
     bad = tmp_path / "k.toml"
     bad.write_text("[move]\nseconds_per_inch = -2\n")
-    proc = subprocess.run([sys.executable, "-m", "executive.cli", "tree", "--knowledge", str(bad)],
+    proc = subprocess.run([sys.executable, "-m", "csl_cli", "tree", "--knowledge", str(bad)],
                           capture_output=True, text=True)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr and "'seconds_per_inch' must not be negative" in proc.stderr

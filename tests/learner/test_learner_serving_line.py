@@ -32,7 +32,7 @@ def test_a_client_mode_learner_prints_where_it_connected(tmp_path: Path) -> None
     env = {k: v for k, v in os.environ.items() if k != CONFIG_ENV}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
     with open_session(listen=[router]) as session:
-        process = subprocess.Popen([sys.executable, "-m", "executive.cli", "learner", "serve", "--name", "shared",
+        process = subprocess.Popen([sys.executable, "-m", "csl_cli", "learner", "serve", "--name", "shared",
                                     "--db", str(db), "--zenoh-config", str(config)], cwd=tmp_path, env=env,
                                    text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         try:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from executive.cli import main
+from csl_cli.main import main
 from learner.library.format import read_library_json, write_library_json
 from learner.library.store import LibraryStore
 from tests.learner.fixtures import four_objects

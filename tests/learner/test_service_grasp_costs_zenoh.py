@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from executive.grasp_attempts import attempt_costs
 from learner.costs import GraspCostRecord
 from learner.library.format import write_library_json

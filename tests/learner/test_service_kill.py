@@ -36,7 +36,7 @@ MUG = desc("mug", "Front-Wrap", ("Width-Degree-1°", P(24, 0), 10), ("Front-Hole
 def start_run(out: Path, endpoint: str, outbox: Path, seed: int) -> subprocess.Popen[str]:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
     return subprocess.Popen(
-        [sys.executable, "-m", "executive.cli", "run", "--learner", "zenoh", "--learner-name", "test",
+        [sys.executable, "-m", "csl_cli", "run", "--learner", "zenoh", "--learner-name", "test",
          "--learner-connect", endpoint, "--outbox", str(outbox), "--seed", str(seed), "--no-plots",
          "--out", str(out),
          # sensing first, so that most objects send a description: the kills need learns to interrupt

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from executive.cli import main
+from csl_cli.main import main
 from learner.description import ObjectDescription
 from learner.library.checks import check_library
 from learner.library.format import descriptions_to_json, write_library_json
@@ -47,7 +47,7 @@ class ServiceProcess:
         self.name = name
         env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "executive.cli", "learner", "serve", "--name", name, "--db", str(db),
+            [sys.executable, "-m", "csl_cli", "learner", "serve", "--name", name, "--db", str(db),
              "--seed-library", str(seed), "--listen", endpoint, *extra],
             cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 

@@ -208,7 +208,7 @@ def test_the_shipped_replay_reproduces_the_shipped_library(tmp_path) -> None:  #
     """The example library is what training on the recorded measurements gives: replaying
     them must give it back exactly (that the simulator still gives it too is checked in
     tests/executive/test_train_sim.py)."""
-    from executive.cli import main
+    from csl_cli.main import main
     from learner.library.format import read_library_json
 
     profiles = HERO.parent

@@ -13,7 +13,7 @@ import json
 import math
 from pathlib import Path
 
-from executive.cli import main
+from csl_cli.main import main
 from robot_profile import DEFAULT_PROFILE
 
 VISION_S = 60.0

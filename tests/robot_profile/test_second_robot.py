@@ -11,7 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from executive.cli import main
+from csl_cli.main import main
 from robot_profile import DEFAULT_PROFILE, load_profile
 
 ROVER = DEFAULT_PROFILE.parent / "rover.toml"

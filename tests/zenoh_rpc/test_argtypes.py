@@ -11,15 +11,15 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import executive.args
+import csl_cli.args
 import zenoh_rpc.argtypes
-from executive.cli import main
+from csl_cli.main import main
 from zenoh_rpc.argtypes import non_negative_int, positive_int
 
 
 def test_the_executive_uses_the_one_copy() -> None:
-    assert executive.args.non_negative_int is non_negative_int
-    assert not hasattr(executive.args, "positive_int") or executive.args.positive_int is positive_int
+    assert csl_cli.args.non_negative_int is non_negative_int
+    assert not hasattr(csl_cli.args, "positive_int") or csl_cli.args.positive_int is positive_int
 
 
 def test_argtypes_imports_nothing_of_ours() -> None:

@@ -126,8 +126,8 @@ def deployment(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Deployment]
     running = Deployment(folder, port)
     try:
         running.start(["-m", "zenoh_rpc.router", "router.json5"], "routing on")
-        running.start(["-m", "executive.cli", "driver", "sim", "--zenoh-config", "driver.json5"], "serving hero/r1")
-        running.start(["-m", "executive.cli", "learner", "serve", "--zenoh-config", "learner.json5",
+        running.start(["-m", "csl_cli", "driver", "sim", "--zenoh-config", "driver.json5"], "serving hero/r1")
+        running.start(["-m", "csl_cli", "learner", "serve", "--zenoh-config", "learner.json5",
                        "--db", str(folder / "library.sqlite")], "serving learner 'default'")
         yield running
     finally:
@@ -208,7 +208,7 @@ def test_the_monitor_watches_but_cannot_move_the_robot_or_learn(in_folder: Deplo
 
 
 def test_the_monitor_reads_the_state_with_csl_driver_state(in_folder: Deployment) -> None:
-    watched = subprocess.run([sys.executable, "-m", "executive.cli", "driver", "state", "r1", "--zenoh-config",
+    watched = subprocess.run([sys.executable, "-m", "csl_cli", "driver", "state", "r1", "--zenoh-config",
                               "monitor.json5", "--count", "1", "--timeout", "10"],
                              cwd=in_folder.folder, env=_env(), capture_output=True, text=True, timeout=60)
     assert watched.returncode == 0, watched.stderr
@@ -239,7 +239,7 @@ def test_a_whole_episode_runs_through_the_router(in_folder: Deployment, tmp_path
         version = learner.version()
     finally:
         learner.close()
-    run = subprocess.run([sys.executable, "-m", "executive.cli", "run", "--driver", "zenoh", "--learner", "zenoh",
+    run = subprocess.run([sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--learner", "zenoh",
                           "--zenoh-config", "executive.json5", "--out", str(tmp_path / "out"), "--no-plots",
                           "--outbox", str(tmp_path / "outbox.sqlite")],
                          cwd=in_folder.folder, env=_env(), capture_output=True, text=True, timeout=180)

@@ -1,0 +1,219 @@
+# PYTHON_ARGCOMPLETE_OK  (argcomplete's global completion looks for this mark in an entry point's module)
+"""The ``csl`` command: one entry point, one module per group of subcommands.
+
+Each command module exposes ``register(subparsers)``, adding its parser(s) with a
+``handler`` default: a function taking the parsed namespace and returning an exit
+status (``executive/exit_status.py``). Bad input anywhere (files, arguments) is raised
+as ``ValueError`` or ``OSError`` with a one-line message naming what is wrong; ``main``
+prints it as ``csl: error: ...`` and exits 2, never with a traceback (set
+``CSL_DEBUG=1`` to see one). A robot or learner service that cannot be reached or
+vanishes mid-run stops it with ``csl: robot error: ...`` or ``csl: learner error: ...``,
+exit 3.
+
+``-v``/``--log-level`` is accepted by ``csl`` and by every command (before or after its
+name) and sets the level of Python's ``logging`` for the whole process; the default,
+warnings only, keeps a run quiet.
+
+Shell completion is argcomplete's (README): commands and options, and, on every
+``--world``, the shipped worlds (an unknown name is refused listing them), on every
+``--knowledge`` and ``--profile`` the shipped robot profiles. Completion runs only when
+the shell's hook sets ``_ARGCOMPLETE``; otherwise argcomplete is not even imported.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.metadata
+import logging
+import os
+import sys
+from collections.abc import Sequence
+from typing import NoReturn, TextIO
+
+from csl_cli import commands
+from executive import defaults
+from csl_cli.args import world_argument
+from hero_driver.shipped import shipped_worlds
+from executive.exit_status import BAD_INPUT, LOST
+from hero_driver.interface import DriverError
+from learner.service.interface import LearnerUnavailable
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a bad argument is one line (and where to read more), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        """One line even when the message quotes an argument holding a newline (argparse
+        names unrecognised arguments as they are): control characters are escaped."""
+        line = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+        self.exit(BAD_INPUT, f"{self.prog}: error: {line} (see '{self.prog} --help')\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full ``csl`` parser with every subcommand registered."""
+    parser = _Parser(
+        prog="csl",
+        description=(
+            "csl-executive: cost-sensitive approach-and-recognize (CSL, Tan & Schlimmer "
+            "1991) as a py_trees executive. A robot finds objects on a floor, learns which "
+            "grasp picks each one up, and senses as cheaply as it can."
+        ),
+        epilog="Run 'csl COMMAND --help' for a command's options.",
+    )
+    parser.add_argument("--version", action="version", version=f"csl-executive {_version()}")
+    _add_log_options(parser, default=None)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in commands.MODULES:
+        module.register(sub)
+    for command in _commands(parser):
+        _add_log_options(command, default=argparse.SUPPRESS)
+        _add_completers(command)
+    return parser
+
+
+LOG_LEVELS = ("debug", "info", "warning", "error", "critical")
+
+
+def _add_log_options(parser: argparse.ArgumentParser, default: object) -> None:
+    """``-v`` (repeatable) and ``--log-level``; a command's copy defaults to SUPPRESS so
+    that ``csl -v demo`` is not undone by the command's own default."""
+    parser.add_argument("-v", "--verbose", action="count", default=0 if default is None else default,
+                        help="log more on standard error: -v for info (each request served), -vv for debug")
+    parser.add_argument("--log-level", choices=LOG_LEVELS, type=str.lower, default=default, metavar="LEVEL",
+                        help=f"logging level, one of {', '.join(LOG_LEVELS)} (default: warning; "
+                             "overrides -v)")
+
+
+def _commands(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """Every command and sub-command parser below ``parser``, each once."""
+    found: list[argparse.ArgumentParser] = []
+    for action in parser._actions:  # noqa: SLF001 - argparse has no public walk of its subparsers
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            for child in dict.fromkeys(action.choices.values()):
+                found += [child, *_commands(child)]
+    return found
+
+
+def _add_completers(command: argparse.ArgumentParser) -> None:
+    """World and robot-profile options, wherever a command declares them, check and
+    complete the same way (``action.completer`` is argcomplete's hook)."""
+    for action in command._actions:  # noqa: SLF001
+        options = set(action.option_strings)
+        if "--world" in options:
+            action.type = world_argument
+            action.completer = complete_world  # type: ignore[attr-defined]
+        elif options & {"--knowledge", "--profile"}:
+            action.completer = complete_profile  # type: ignore[attr-defined]
+
+
+def complete_world(prefix: str, **_kwargs: object) -> list[str]:
+    """The shipped worlds' names, then world files, that start with ``prefix``."""
+    return [w for w in shipped_worlds() if w.startswith(prefix)] + _files(prefix, ".json")
+
+
+def complete_profile(prefix: str, **_kwargs: object) -> list[str]:
+    """The shipped robot profiles (``hero_driver/profiles/*.toml``), then TOML files,
+    that start with ``prefix``."""
+    shipped = [str(p) for p in sorted(defaults.PROFILES.glob("*.toml"))]
+    return [p for p in shipped if p.startswith(prefix)] + [f for f in _files(prefix, ".toml") if f not in shipped]
+
+
+def _files(prefix: str, suffix: str) -> list[str]:
+    """Folders and ``*.suffix`` files that start with ``prefix`` (argcomplete's own file
+    completer; imported only while completing)."""
+    from argcomplete.completers import FilesCompleter
+
+    return list(FilesCompleter(allowednames=(suffix.lstrip("."),), directories=True)(prefix))
+
+
+def log_level(args: argparse.Namespace) -> int:
+    """The ``logging`` level the options ask for: --log-level, else one step per -v
+    below warning."""
+    if args.log_level is not None:
+        return logging.getLevelNamesMapping()[args.log_level.upper()]
+    return max(logging.WARNING - 10 * args.verbose, logging.DEBUG)
+
+
+class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
+    """Writes to whatever ``sys.stderr`` is when a record comes (a redirected or captured
+    stream), not to the one there was when ``csl`` started."""
+
+    @property  # type: ignore[override]
+    def stream(self) -> TextIO:
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, _value: object) -> None:
+        pass
+
+
+def configure_logging(level: int) -> None:
+    """Set the process's logging level, with one handler writing to standard error
+    (added once: ``main`` may run many times in one process, as in the tests)."""
+    root = logging.getLogger()
+    root.setLevel(level)
+    if not any(isinstance(h, _StderrHandler) for h in root.handlers):
+        handler = _StderrHandler()
+        handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
+        root.addHandler(handler)
+
+
+def _version() -> str:
+    try:
+        return importlib.metadata.version("csl-executive")
+    except importlib.metadata.PackageNotFoundError:
+        return "(not installed)"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``csl``; returns the process exit status."""
+    parser = build_parser()
+    if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: print them and exit
+        import argcomplete
+
+        argcomplete.autocomplete(parser)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a bad argument (already reported)
+        return int(exc.code or 0)
+    configure_logging(log_level(args))
+    try:
+        return int(args.handler(args) or 0)
+    except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
+    except (LearnerUnavailable, DriverError, ValueError, OSError, KeyError) as exc:
+        if os.environ.get("CSL_DEBUG"):
+            raise
+        line, status = _error(exc)
+        print(line, file=sys.stderr)
+        return status
+    except KeyboardInterrupt:
+        print("csl: interrupted", file=sys.stderr)
+        return 130
+
+
+def _error(exc: Exception) -> tuple[str, int]:
+    """The one line for an error ``csl`` expects, and its exit status: a learner service
+    or robot lost is exit 3, anything else a bad input (exit 2)."""
+    if isinstance(exc, LearnerUnavailable):  # the learner service could not be reached or vanished
+        return f"csl: learner error: {_one_line(exc)} (is one serving? start it with 'csl learner serve')", LOST
+    if isinstance(exc, DriverError):  # the robot refused or vanished while the executive ran
+        return f"csl: robot error: {exc}", LOST
+    return f"csl: error: {_one_line(exc)}", BAD_INPUT
+
+
+def _one_line(exc: BaseException) -> str:
+    """The first line of an error, naming the file for an OS error."""
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror.lower()}"
+    if isinstance(exc, KeyError) and exc.args:
+        text = str(exc.args[0])
+    else:
+        text = str(exc)
+    text = text.strip()
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
