@@ -1,7 +1,7 @@
 """``csl driver``: run the simulated HERO as a driver process, or check any driver
 process against the protocol (docs/driver-protocol.md).
 
-Registered into ``csl`` by ``executive/commands``; this module imports nothing from
+Registered into ``csl`` by ``csl_cli/commands``; this module imports nothing from
 the executive, so the driver side stays usable on a robot's own computer.
 """
 
