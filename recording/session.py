@@ -19,6 +19,10 @@ from hero_driver.interface import Driver
 from robot_profile.model import RobotGeometry
 
 LIVE_HOST = "127.0.0.1"
+LINGER_S = 2.0
+"""Wall seconds the live view stays up after the episode while a viewer watches: the
+server drops what it still queues for a client when it stops, so a viewer behind by a
+few messages (a loaded machine) would never see the episode's end."""
 
 
 class _Viewers:
@@ -104,5 +108,7 @@ class Recording:
             self._writer.close()
             self._writer = None
         if self.server is not None:
+            if self._viewers.subscribed.is_set():
+                time.sleep(LINGER_S)
             self.server.stop()
             self.server = None
