@@ -28,7 +28,7 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
 from executive.training_sources import catalogue_objects  # noqa: E402
 from hero_driver.sim.probe import probe  # noqa: E402
-from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from experiments.ablations import MEASURED, criterion  # noqa: E402
 from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.choosing.node import Context, Node  # noqa: E402
@@ -95,7 +95,7 @@ def main() -> None:
     library = exhaustive_library(objects, k) if args.exhaustive else read_library_json(EXAMPLE_LIBRARY)
     start = parse_position(args.pose)
     results = {}
-    for name in CRITERIA:
+    for name in MEASURED:
         ctx = Context(DescriptionMatrix(library, k, not args.no_grasp_features), criterion(name), ModelMoveCost(k.move))
         tree = grow(Node.root(len(library)), start, ctx)
         results[name] = [walk(tree, o.object_id, o.grasp) for o in objects]

@@ -23,7 +23,7 @@ from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
 from reporting.report import Truth, rows  # noqa: E402
 from hero_driver.sim_driver import SimulatedHero  # noqa: E402
-from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from experiments.ablations import MEASURED, criterion  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 
@@ -44,7 +44,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=5)
     args = ap.parse_args()
-    results = {c: [r for s in range(args.seeds) for r in episode(c, s)] for c in CRITERIA}
+    results = {c: [r for s in range(args.seeds) for r in episode(c, s)] for c in MEASURED}
     base = statistics.mean(r.robot_s for r in results["id3"])
     print(f"lab, 7 test objects x {args.seeds} seeds per criterion")
     print("| criterion | robot min / object (mean) | median | sensing s | moving s | correct | vs id3 |")

@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
-from learner.choosing.criteria import CRITERIA, criterion  # noqa: E402
+from experiments.ablations import MEASURED, criterion  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
@@ -49,11 +49,11 @@ STUDY_STARTS = [Position(d, o) for d, o in ((24, 0), (60, 90), (100, 180))]  # E
 def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed: int,
           starts: list[Position]) -> None:
     print(f"\n{title}: {len(matrix.descriptions)} descriptions, {len(matrix.tests)} tests")
-    print("| start | optimum s | search s | " + " | ".join(CRITERIA) + " |")
-    print("|---" * (3 + len(CRITERIA)) + "|")
-    root_ms = dict.fromkeys(CRITERIA, 0.0)
+    print("| start | optimum s | search s | " + " | ".join(MEASURED) + " |")
+    print("|---" * (3 + len(MEASURED)) + "|")
+    root_ms = dict.fromkeys(MEASURED, 0.0)
     for start in starts:
-        for name in CRITERIA:
+        for name in MEASURED:
             began = time.perf_counter()
             RecognitionSession(matrix, criterion(name), estimator, start, seed=seed).decide()
             root_ms[name] = max(root_ms[name], (time.perf_counter() - began) * 1000)
@@ -61,7 +61,7 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
         best = optimal_cost(matrix, estimator, start)
         took = time.perf_counter() - began
         cells = []
-        for name in CRITERIA:
+        for name in MEASURED:
             walk = policy_walk(matrix, criterion(name), estimator, start, seed=seed)
             ratio = walk.expected_cost / best if best > 0 else float("nan")
             left = f", {walk.missed:.0%} left" if walk.missed else ""

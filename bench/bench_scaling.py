@@ -54,7 +54,8 @@ sys.path.insert(0, str(ROOT))
 
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
-from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion, criterion  # noqa: E402
+from experiments.ablations import MEASURED, criterion  # noqa: E402
+from learner.choosing.criteria import DEFAULT_CRITERION, Criterion  # noqa: E402
 from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.choosing.node import Context, Node, ScoredTest, measured_value  # noqa: E402
@@ -263,8 +264,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0, help="seed of the synthetic libraries and of the objects")
     ap.add_argument("--cpu", action="store_true",
                     help="time in CPU seconds of this process (steadier on a shared machine) instead of wall time")
-    ap.add_argument("--criterion", default=DEFAULT_CRITERION, choices=sorted(CRITERIA), metavar="NAME",
-                    help=f"the learner's test-selection rule (default: {DEFAULT_CRITERION}, the executive's)")
+    ap.add_argument("--criterion", default=DEFAULT_CRITERION, choices=sorted(MEASURED), metavar="NAME",
+                    help=f"the learner's test-selection rule, a product criterion or an ablation "
+                         f"(default: {DEFAULT_CRITERION}, the executive's)")
     args = ap.parse_args()
     if args.cpu:
         global CLOCK

@@ -4,6 +4,7 @@ the optimum, measured in the simulator in one run.
 One module, one idea:
 
 - :mod:`~experiments.figures`: the paper's numbers we compare against;
+- :mod:`~experiments.ablations`: the criteria measured besides the product's;
 - :mod:`~experiments.worlds`: floors with objects at random poses;
 - :mod:`~experiments.floor`: one floor played to its end in the simulator,
   with the ground truth before and after (what every study's job does);

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 from executive.executive import Executive
+from experiments.ablations import criterion
 from experiments.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
 from experiments.floor import play
 from experiments.table import mean
@@ -23,7 +24,7 @@ from experiments.worlds import write_floor
 from executive.exit_status import HANDLED_OUTCOMES
 from reporting.report import Row, Truth, match_truth, rows
 from hero_driver.sim_driver import SimulatedHero
-from learner.choosing.criteria import DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile
@@ -57,7 +58,7 @@ class EpisodeSpec:
     variant: str = field(compare=False)
     seed: int = 0
     objects: str = "test"
-    criterion: str = DEFAULT_CRITERION
+    criterion: str = DEFAULT_CRITERION  # a name in experiments.ablations.MEASURED
     noise: str = DEFAULT_NOISE
     noise_factor: float = 1.0
     control: Control = STRATEGIES_ON

@@ -2,10 +2,10 @@
 
 Execution: the trained library meets the training objects and the unseen test objects,
 each floor laid out at random per seed, under the execution noise (the simulator's
-``paper`` preset). Baselines, on the same test floors and seeds:
-every registered criterion (the cost-blind ``id3`` among them), the control strategies
-switched off, and the library from exhaustive training; and measuring every feature,
-priced from the knowledge.
+``paper`` preset). Baselines, on the same test floors and seeds: every measured
+criterion, the product's and the ablations (``experiments.ablations``; the cost-blind
+``id3`` among them), the control strategies switched off, and the library from
+exhaustive training; and measuring every feature, priced from the knowledge.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from experiments import figures
+from experiments.ablations import MEASURED
 from experiments.conditions import EXECUTION_NOISE, STRATEGIES_OFF
 from experiments.config import ExperimentConfig
 from experiments.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
@@ -24,7 +25,7 @@ from experiments.exhaustive import measure_everything_s
 from experiments.plots import bars
 from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent, ratio
 from executive.training_sources import catalogue_objects
-from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION
+from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.knowledge import Knowledge
 from learner.training.stage import TrainingLog
 
@@ -58,9 +59,10 @@ def criteria_seeds(config: ExperimentConfig) -> list[int]:
 
 
 def criteria_run(config: ExperimentConfig) -> list[str]:
-    """The registry's criteria, all of them; a quick run leaves out those that look ahead
-    (each test choice grows a second level, so they cost the most computation)."""
-    return [name for name, spec in CRITERIA.items() if not (config.quick and spec.lookahead)]
+    """Every measured criterion (the product's and the ablations); a quick run leaves out
+    those that look ahead (each test choice grows a second level, so they cost the most
+    computation)."""
+    return [name for name, spec in MEASURED.items() if not (config.quick and spec.lookahead)]
 
 
 def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
@@ -179,7 +181,7 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
             continue
         saving = 1.0 - cost / robot_minutes(blind)
         classify = 1.0 - mean(r.sensing_s + r.moving_s for r in crs) / mean(r.sensing_s + r.moving_s for r in blind)
-        cost_sensitive = CRITERIA[name].cost_sensitive
+        cost_sensitive = MEASURED[name].cost_sensitive
         rows.append(ResultRow(
             f"`{name}` vs `{COST_BLIND}`: robot time saved (sensing + moving saved)",
             f">= {percent(figures.COST_SENSITIVE_SAVING)}" if cost_sensitive else "-",
@@ -205,7 +207,7 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
     groups["exhaustive lib."] = {"robot min / object": (robot_minutes(exhaustive), _stderr_min(exhaustive))}
     bars(out / "baselines.png", f"robot minutes per test object (noise {EXECUTION_NOISE}, ± s.e.)", "minutes",
          groups)
-    left_out = sorted(set(CRITERIA) - set(by_criterion))
+    left_out = sorted(set(MEASURED) - set(by_criterion))
     notes = (f"Every criterion runs the same {len(seeds)} test floor(s) under noise `{EXECUTION_NOISE}`"
              + (f" (quick: {', '.join(left_out)} left out)" if left_out else "") + "; "
              f"`{COST_BLIND}` is the registry's cost-blind ID3. Saving = 1 - ours / `{COST_BLIND}`'s mean robot "

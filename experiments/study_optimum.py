@@ -16,11 +16,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from executive.defaults import EXAMPLE_LIBRARY
+from experiments.ablations import MEASURED, criterion
 from experiments.config import ExperimentConfig
 from experiments.episodes import installed_profile
 from experiments.plots import bars
 from experiments.table import ResultRow, StudyResult, num
-from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.choosing.matrix import DescriptionMatrix
 from learner.costs import ModelMoveCost
 from learner.library.format import read_library_json
@@ -77,7 +78,7 @@ class OptimumJob:
         estimator = ModelMoveCost(knowledge.move)
         best = optimal_cost(matrix, estimator, self.start)
         rows = []
-        for name in CRITERIA:
+        for name in MEASURED:
             try:
                 cost, error = policy_cost(matrix, criterion(name), estimator, self.start, seed=0), None
             except RuntimeError as exc:  # one criterion's failed walk is a finding, not the end of the run
@@ -105,12 +106,12 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
 
     rows = []
     for lib in measured_on:
-        for name in CRITERIA:
+        for name in MEASURED:
             mine = ratios(name, lib)
             span = f"{min(mine):.3f} - {max(mine):.3f}" if mine else "-"
             rows.append(ResultRow(f"`{name}` / optimum, {lib} library ({len(mine)} starts)", "-", span,
                                   num(max(mine), 3) if mine else "-"))
-    walked = [name for name in CRITERIA if ratios(name)]
+    walked = [name for name in MEASURED if ratios(name)]
     if walked:
         best = min(walked, key=lambda n: max(ratios(n)))
         rows.append(ResultRow("best criterion by its worst ratio (every library)", "-", f"`{best}`"))

@@ -82,7 +82,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     paper = studies.add_parser(
         "paper", help="the paper's experiment and every baseline, in one run",
         description=("Train on the Table 3 objects, execute on training and unseen test objects at random poses, "
-                     "compare every criterion (cost-blind ID3 among them), the control strategies on and off, "
+                     "compare every criterion (cost-blind ID3 among them, and ablations --criterion does not offer), "
+                     "the control strategies on and off, "
                      "exhaustive training, cost and noise sweeps, a learning curve and the distance to the "
                      "optimum. Writes DIR/results.md, PNG plots and the raw per-episode CSV under DIR/results/."))
     paper.add_argument("--quick", action="store_true",

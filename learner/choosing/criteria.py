@@ -5,21 +5,21 @@ compared side by side: ``id3`` is truly cost-blind (gain only; ties and ``*`` po
 left to chance), ``id3-cost-ties`` is gain with ties settled by cost, ``idx`` is
 ``I / C`` (Norton 1989), and ``eg2`` is Nunez's ``(2^I - 1) / (C + 1)^w``.
 
-Each cost-sensitive entry also comes in two refined forms (docs/method.md §3.5):
-``-joint`` scores a procedure application by the joint gain of every feature it yields,
-and ``-lookahead`` adds a one-step lookahead (with joint gain): the formula is applied
-to the gain and the cost expected over the test and the best test after it.
+A rule is refined by traits (:class:`Traits`), each added by a public builder
+(``with_...``) so that forms can be composed wherever they are needed:
 ``cs-id3-rollout`` and ``idx-rollout`` rank their rule's best few tests by the expected
 cost of taking the test and then finishing the object with the rule itself
-(learner/choosing/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its chance
-of failing (it is paid only then), ``cs-id3-failure-rollout`` rolls that rule out with
-an estimate that follows the session's walk (learner/choosing/rollout_walk.py), and
-``cs-id3-failure-search`` also rolls out every grasp test and every ``*`` fill the
-library uses, then searches the best few a few nodes deep (docs/optimum.md);
-``cs-id3-failure-search-every-row`` is that search with a node a leaf only when every
-description at it, carried ones included, shares one grasp (``leaf_every_row``).
+(learner/choosing/rollout.py). ``cs-id3-failure`` prices a grasp tried as a feature by its
+chance of failing (it is paid only then); ``cs-id3-failure-search-every-row`` rolls that
+rule out with an estimate that follows the session's walk, also rolls out every grasp
+test and every ``*`` fill the library uses, searches the best few a few nodes deep
+(learner/choosing/rollout_walk.py, docs/optimum.md), and makes a node a leaf only when
+every description at it, carried ones included, shares one grasp (``leaf_every_row``).
+The builders also make the forms only the experiments measure, as ablations (joint
+gain, a one-step lookahead, the walk rollout and search on their own; docs/optimum.md,
+"Which criteria the product offers").
 
-:data:`CRITERIA` is the one registry of them: command-line help, the benches and the
+:data:`CRITERIA` is the product's registry: command-line help, ``--criterion`` and the
 tests iterate it, so a criterion added here reaches all of them, with its formula,
 its help line and its parameters, without anyone re-typing them. How a criterion
 chooses besides its formula (ties, ``*`` slots, joint gain, lookahead) is part of the
@@ -170,49 +170,60 @@ def _eg2(gain: float, cost: float, *, w: float) -> float:
     return (2.0**gain - 1.0) / (cost + 1.0) ** w
 
 
-def _refined(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
-    """``base`` scored by joint gain, and by joint gain with a one-step lookahead. (Help
-    lines stay short: ``--help`` lists every entry on one line.)"""
-    joint = dataclasses.replace(base, name=f"{base.name}-joint", formula=f"{base.formula}, joint I",
-                                help="I of every feature one procedure run yields", joint_gain=True)
-    ahead = dataclasses.replace(joint, name=f"{base.name}-lookahead", formula=f"{base.formula}, joint I, 2 steps",
-                                help="I and C with the best next test", lookahead=True)
-    return joint, ahead
+def with_joint_gain(base: CriterionSpec) -> CriterionSpec:
+    """``base`` scoring a procedure application by the joint gain of every feature it
+    yields (``joint_gain``). (Help lines stay short: ``--help`` lists every entry on one
+    line.)"""
+    return dataclasses.replace(base, name=f"{base.name}-joint", formula=f"{base.formula}, joint I",
+                               help="I of every feature one procedure run yields", joint_gain=True)
 
 
-def _rolled_out(base: CriterionSpec) -> CriterionSpec:
+def with_lookahead(base: CriterionSpec) -> CriterionSpec:
+    """``base`` by joint gain with a one-step lookahead (``lookahead``): the formula is
+    given the gain and cost expected over the test and the best test after it."""
+    return dataclasses.replace(with_joint_gain(base), name=f"{base.name}-lookahead",
+                               formula=f"{base.formula}, joint I, 2 steps", help="I and C with the best next test",
+                               lookahead=True)
+
+
+def with_rollout(base: CriterionSpec) -> CriterionSpec:
     """``base`` rolled out, on its own gain: the rule it finishes with is ``base`` itself."""
     return dataclasses.replace(base, name=f"{base.name}-rollout", formula=f"{base.formula}, rollout",
                                help="least expected cost", rollout=True)
 
 
-_BASES = (
-    CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3),
-    CriterionSpec("id3", "I", "cost-blind ID3, Quinlan 1986: ties and * slots at random", False, _id3,
-                  cost_blind_choices=True),
-    CriterionSpec("id3-cost-ties", "I", "ID3, ties to the nearer test, * slots where the robot is", False, _id3),
-    CriterionSpec("idx", "I / C", "Norton 1989", True, _idx),
-    CriterionSpec("eg2", "(2^I - 1) / (C + 1)^w", "Nunez 1991, w weighs the cost", True, _eg2,
-                  (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
-)
+def with_grasp_paid_on_failure(base: CriterionSpec) -> CriterionSpec:
+    """``base`` with a grasp test priced at its chance of failing (docs/method.md §3.7)."""
+    return dataclasses.replace(base, name=f"{base.name}-failure", formula=f"{base.formula}, grasp C x P(fail)",
+                               help="a grasp test costs only when it fails", grasp_paid_on_failure=True)
 
 
-def _failure_priced(base: CriterionSpec) -> tuple[CriterionSpec, ...]:
-    """``base`` with a grasp test priced at its chance of failing, alone, rolled out with
-    an estimate that follows the session's walk (docs/method.md §3.7), and with that
-    walk searched a few nodes deep before the rollout (docs/optimum.md), and that search
-    with a node a leaf only when every row at it, carried ones included, shares a grasp."""
-    priced = dataclasses.replace(base, name=f"{base.name}-failure", formula=f"{base.formula}, grasp C x P(fail)",
-                                 help="a grasp test costs only when it fails", grasp_paid_on_failure=True)
-    rolled = dataclasses.replace(priced, name=f"{priced.name}-rollout", formula=f"{priced.formula}, walk rollout",
-                                 help="least expected cost, as walked", rollout=True, rollout_follows_walk=True)
-    searched = dataclasses.replace(rolled, name=f"{priced.name}-search", formula=f"{priced.formula}, walk search",
-                                   help="least expected cost, walk searched", rollout_searches=True)
-    every_row = dataclasses.replace(searched, name=f"{searched.name}-every-row",
-                                    formula=f"{searched.formula}, leaf when every row agrees",
-                                    help="walk searched, carried rows decide leaves too", leaf_every_row=True)
-    return priced, rolled, searched, every_row
+def with_walk_rollout(priced: CriterionSpec) -> CriterionSpec:
+    """``priced`` (a failure-priced rule) rolled out with an estimate that follows the
+    session's walk (``rollout_follows_walk``, learner/choosing/rollout_walk.py)."""
+    return dataclasses.replace(priced, name=f"{priced.name}-rollout", formula=f"{priced.formula}, walk rollout",
+                               help="least expected cost, as walked", rollout=True, rollout_follows_walk=True)
 
+
+def with_walk_search(priced: CriterionSpec) -> CriterionSpec:
+    """``priced``'s walk rollout with that walk searched a few nodes deep before the
+    one-step rule takes over (``rollout_searches``, docs/optimum.md)."""
+    return dataclasses.replace(with_walk_rollout(priced), name=f"{priced.name}-search",
+                               formula=f"{priced.formula}, walk search", help="least expected cost, walk searched",
+                               rollout_searches=True)
+
+
+def with_leaf_every_row(searched: CriterionSpec) -> CriterionSpec:
+    """``searched`` (a walk search) with a node a leaf only when every row at it, carried
+    ones included, shares a grasp (``leaf_every_row``)."""
+    return dataclasses.replace(searched, name=f"{searched.name}-every-row",
+                               formula=f"{searched.formula}, leaf when every row agrees",
+                               help="walk searched, carried rows decide leaves too", leaf_every_row=True)
+
+
+_CS_ID3 = CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3)
+_IDX = CriterionSpec("idx", "I / C", "Norton 1989", True, _idx)
+_FAILURE_PRICED = with_grasp_paid_on_failure(_CS_ID3)
 
 DEFAULT_CRITERION = "cs-id3-failure"
 """The executive's rule. Cheaper under noise than ``cs-id3`` (docs/optimum.md, "Under
@@ -222,21 +233,35 @@ opt-in (docs/optimum.md, "The default stays")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
-        *_BASES, *(refined for base in _BASES if base.cost_sensitive for refined in _refined(base)),
-        *(_rolled_out(base) for base in _BASES if base.name in ("cs-id3", "idx")),
-        *_failure_priced(_BASES[0]))
+        _CS_ID3,
+        CriterionSpec("id3", "I", "cost-blind ID3, Quinlan 1986: ties and * slots at random", False, _id3,
+                      cost_blind_choices=True),
+        CriterionSpec("id3-cost-ties", "I", "ID3, ties to the nearer test, * slots where the robot is", False, _id3),
+        _IDX,
+        CriterionSpec("eg2", "(2^I - 1) / (C + 1)^w", "Nunez 1991, w weighs the cost", True, _eg2,
+                      (Parameter("w", 1.0, "how much cost counts: 0 ignores it, 1 counts it fully"),)),
+        with_rollout(_CS_ID3),
+        with_rollout(_IDX),
+        _FAILURE_PRICED,
+        with_leaf_every_row(with_walk_search(_FAILURE_PRICED)),
+    )
 })
-"""Every criterion by name, in the order help and benches list them (the bases, the
-refined forms of the cost-sensitive ones, then the rollouts of CSL's rule and Norton's;
-eg2's would not fit the one help line; last CSL's rule with grasp tests priced by their
-failure, alone, rolled out, searched, and searched with carried rows deciding leaves).
-Iterating it gives the names, so it also serves as argparse ``choices``."""
+"""The criteria the product offers, by name, in the order help lists them: the paper's
+baselines, the rollouts of CSL's rule and Norton's, the default, and the default's walk
+search with carried rows deciding leaves (docs/optimum.md, "Which criteria the product
+offers", says why these). Iterating it gives the names, so it also serves as argparse
+``choices``. The other forms the builders above make are the experiments' to measure."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:
-    """The criterion called ``name`` with its parameters (see :meth:`CriterionSpec.build`);
-    unknown names are rejected with the valid ones."""
-    spec = CRITERIA.get(name)
+    """The product's criterion called ``name`` with its parameters (see
+    :meth:`CriterionSpec.build`); unknown names are rejected with the valid ones."""
+    return criterion_in(CRITERIA, name, *values, **given)
+
+
+def criterion_in(registry: Mapping[str, CriterionSpec], name: str, *values: float, **given: float) -> Criterion:
+    """:func:`criterion` in another registry of specs (the experiments' own)."""
+    spec = registry.get(name)
     if spec is None:
-        raise ValueError(f"unknown criterion {name!r} (choose from: {', '.join(CRITERIA)})")
+        raise ValueError(f"unknown criterion {name!r} (choose from: {', '.join(registry)})")
     return spec.build(*values, **given)

@@ -10,6 +10,7 @@ import pytest
 
 from csl_cli.args import add_criterion_options, criterion_from_args
 from csl_cli.main import main
+from experiments.ablations import ABLATIONS
 from learner.choosing.criteria import CRITERIA
 
 
@@ -40,6 +41,19 @@ def test_help_lists_every_criterion_with_its_formula(command: str, capsys, monke
         assert f"{name} = {spec.formula} ({spec.help})" in text
         for parameter in spec.parameters:
             assert f"--{name}-{parameter.name}" in text and parameter.help in text
+    for name in ABLATIONS:  # the experiments' criteria are not the product's
+        assert f"{name} = " not in text and f"--{name}-" not in text
+
+
+@pytest.mark.parametrize("command", ["run", "tree"])
+@pytest.mark.parametrize("name", sorted(ABLATIONS))
+def test_an_ablation_is_not_a_choice(tmp_path: Path, capsys, command: str, name: str) -> None:  # noqa: ANN001
+    out = ["--out", str(tmp_path)] if command != "tree" else []
+    assert main([command, "--criterion", name, *out]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"csl {command}: error: argument --criterion: invalid choice: '{name}'")
+    offered = err[0].partition("(choose from ")[2].partition(")")[0]
+    assert offered == ", ".join(f"'{n}'" for n in CRITERIA)
 
 
 def test_parsed_options_build_the_criterion() -> None:

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 from csl_cli.main import main
 from experiments import study_appearance, study_execution
+from experiments.ablations import ABLATIONS, MEASURED
 from experiments.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control, CostScale, noise_config
 from experiments.config import ExperimentConfig
 from experiments.csvfile import read_episodes, write_episodes
@@ -278,3 +279,12 @@ def test_quick_run_no_policy_is_cheaper_than_the_optimum(quick_run: Path) -> Non
     ratios = [float(m) for m in re.findall(r"\| (\d+\.\d+) \|\s*$", optimum, flags=re.M)]
     assert ratios
     assert all(r >= 1.0 - 1e-9 for r in ratios)
+
+
+def test_quick_run_measures_the_ablations_beside_the_product(quick_run: Path) -> None:
+    sections = _sections((quick_run / "results.md").read_text(encoding="utf-8"))
+    baselines, optimum = sections["Baselines in the same run"], sections["Distance to the optimum (noise-free)"]
+    quick = [n for n in MEASURED if not MEASURED[n].lookahead]  # a quick run leaves the lookaheads out
+    assert all(f"| `{name}` vs `id3`: robot time saved" in baselines for name in quick if name != "id3")
+    assert all(f"| `{name}` / optimum, shipped library" in optimum for name in MEASURED)
+    assert any(name in quick for name in ABLATIONS)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from robot_profile import load_knowledge
-from learner.choosing.criteria import criterion
+from learner.choosing.criteria import CriterionSpec, criterion
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context
 from learner.costs import ModelMoveCost
@@ -45,7 +45,10 @@ def four_objects() -> list[ObjectDescription]:
     ]
 
 
-def context(library: list[ObjectDescription], knowledge: Knowledge | None = None, name: str = "cs-id3",
+def context(library: list[ObjectDescription], knowledge: Knowledge | None = None, name: str | CriterionSpec = "cs-id3",
             grasps: bool = True, move: MoveModel | None = None) -> Context:
+    """``name``: a product criterion's name, or a spec composed with the learner's
+    builders (``with_joint_gain`` ...) for a form the product does not offer."""
     k = knowledge or hero()
-    return Context(DescriptionMatrix(library, k, grasps), criterion(name), ModelMoveCost(move or k.move))
+    rule = name.build() if isinstance(name, CriterionSpec) else criterion(name)
+    return Context(DescriptionMatrix(library, k, grasps), rule, ModelMoveCost(move or k.move))

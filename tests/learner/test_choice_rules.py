@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from learner import decision_tree
-from learner.choosing.criteria import criterion
+from learner.choosing.criteria import CRITERIA, criterion, with_joint_gain, with_lookahead
 from learner.choosing.gain import joint_gain, partition_columns
 from learner.choosing.leaf import GraspLeaf
 from learner.choosing.matrix import DescriptionMatrix
@@ -31,6 +31,10 @@ from learner.runtime import RecognitionSession
 from tests.learner.fixtures import ANY, P, context, desc, hero
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix
+
+
+CS_ID3_JOINT = with_joint_gain(CRITERIA["cs-id3"])  # forms the experiments measure, not the product's
+CS_ID3_LOOKAHEAD = with_lookahead(CRITERIA["cs-id3"])
 
 
 def H(*p: float) -> float:  # noqa: N802 - entropy in bits, as the paper writes it
@@ -148,14 +152,14 @@ def test_joint_gain_of_a_multi_feature_procedure_beats_a_single_feature_one() ->
     single = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3", grasps=False), {})
     assert str(single[0].test) == "Width-Degree-5°(6,*)"
     assert single[0].score == pytest.approx(sweep_gain**2 / 45)
-    joint = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3-joint", grasps=False), {})
+    joint = rank(Node.root(4), P(6, 0), context(lib, name=CS_ID3_JOINT, grasps=False), {})
     assert [str(s.test) for s in joint] == ["Height(6,*)", "Top-Hole?(6,*)", "Width-Degree-5°(6,*)"]
     assert joint[0].scored_on == pytest.approx((2.0, 84.0)) and joint[0].gain == pytest.approx(1.0)
     assert joint[0].score == pytest.approx(4 / 84)
     assert joint[2].scored_on == pytest.approx((sweep_gain, 45.0))  # one feature: its own gain
     # over two steps the scan's information is counted once: Height's own bit, then in
     # each branch Top-Hole?'s bit for free; every branch is then a leaf (I = 2, C = 84)
-    ahead = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3-lookahead", grasps=False), {})
+    ahead = rank(Node.root(4), P(6, 0), context(lib, name=CS_ID3_LOOKAHEAD, grasps=False), {})
     assert str(ahead[0].test) == "Height(6,*)" and ahead[0].scored_on == pytest.approx((2.0, 84.0))
     # the sweep: 0.811 bits, then in its branch {tumbler, box, closed} (3/4 of the node,
     # H = log2 3) the scan, whose joint I there is log2 3, for 84 s:
@@ -163,7 +167,7 @@ def test_joint_gain_of_a_multi_feature_procedure_beats_a_single_feature_one() ->
     sweep = next(s for s in ahead if str(s.test) == "Width-Degree-5°(6,*)")
     assert sweep.scored_on == pytest.approx((sweep_gain + 0.75 * math.log2(3), 45 + 0.75 * 84))
     # the tree: Height first, then Top-Hole? comes free from the same scan
-    tree = grow(Node.root(4), P(6, 0), context(lib, name="cs-id3-joint", grasps=False))
+    tree = grow(Node.root(4), P(6, 0), context(lib, name=CS_ID3_JOINT, grasps=False))
     assert isinstance(tree, decision_tree.TestNode) and str(tree.test.test) == "Height(6,*)"
     for _, child in tree.branches:
         assert isinstance(child, decision_tree.TestNode)
@@ -249,7 +253,7 @@ def test_lookahead_takes_the_42_s_sweep_over_the_90_s_grasp() -> None:
     myopic = rank(Node.root(5), P(6, 0), context(lib, name="cs-id3"), {})[0]
     assert myopic.test.is_grasp and myopic.test.feature == "Front-Wrap" and myopic.cost == 90
     assert myopic.score == pytest.approx(h**2 / 90)
-    ranked = rank(Node.root(5), P(6, 0), context(lib, name="cs-id3-lookahead"), {})
+    ranked = rank(Node.root(5), P(6, 0), context(lib, name=CS_ID3_LOOKAHEAD), {})
     ahead = ranked[0]
     assert str(ahead.test) == "Height-Degree-5°(6,*)" and ahead.cost == 42 and ahead.gain == pytest.approx(h - 0.4)
     assert ahead.scored_on == pytest.approx((h, 42 + 0.4 * 63))
@@ -266,7 +270,7 @@ def test_the_session_walks_the_lookahead_route_for_67_s_on_average() -> None:
     costs = []
     for obj in lib:
         truth = {(o.feature, o.position.distance_in): o.value for o in obj.observations}
-        s = RecognitionSession.for_library(lib, k, criterion("cs-id3-lookahead"), ModelMoveCost(k.move), P(6, 0))
+        s = RecognitionSession.for_library(lib, k, CS_ID3_LOOKAHEAD.build(), ModelMoveCost(k.move), P(6, 0))
         spent = 0.0
         while isinstance(step := s.decide(), ScoredTest):
             spent += step.cost

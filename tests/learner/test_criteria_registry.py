@@ -3,11 +3,14 @@ the checks on its parameters."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
 
-from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, criterion
+from learner.choosing.criteria import (CRITERIA, DEFAULT_CRITERION, CriterionSpec, Traits, criterion, with_joint_gain,
+                                       with_grasp_paid_on_failure, with_leaf_every_row, with_lookahead, with_rollout,
+                                       with_walk_rollout, with_walk_search)
 
 # (name, gain in bits, cost in s, expected score), worked by hand from each formula.
 HAND_WORKED = [
@@ -19,25 +22,22 @@ HAND_WORKED = [
     ("idx", 2.0, 8.0, 0.25),  # 2 / 8
     ("eg2", 1.0, 10.0, 1 / 11),  # (2^1 - 1) / (10 + 1)^1, the default w = 1
     ("eg2", 2.0, 3.0, 3 / 4),  # (2^2 - 1) / (3 + 1)^1
-    # the refined forms keep their base's formula; what changes is the (I, C) it is given
-    ("cs-id3-joint", 2.0, 8.0, 0.5),
-    ("cs-id3-lookahead", 2.0, 8.0, 0.5),
-    ("idx-joint", 2.0, 8.0, 0.25),
-    ("idx-lookahead", 2.0, 8.0, 0.25),
-    ("eg2-joint", 2.0, 3.0, 3 / 4),
-    ("eg2-lookahead", 2.0, 3.0, 3 / 4),
     # a rollout ranks its rule's best few by expected cost; the formula is its rule's
     ("cs-id3-rollout", 2.0, 8.0, 0.5),
     ("idx-rollout", 2.0, 8.0, 0.25),
     # the failure-priced forms keep I^2 / C; what changes is the C a grasp test is given
     ("cs-id3-failure", 2.0, 8.0, 0.5),
-    ("cs-id3-failure-rollout", 2.0, 8.0, 0.5),
-    ("cs-id3-failure-search", 2.0, 8.0, 0.5),
     ("cs-id3-failure-search-every-row", 2.0, 8.0, 0.5),
 ]
 
+PRODUCT = ["cs-id3", "id3", "id3-cost-ties", "idx", "eg2", "cs-id3-rollout", "idx-rollout", "cs-id3-failure",
+           "cs-id3-failure-search-every-row"]
+"""The paper's baselines, the rollouts (cheapest robot time in the execution study), the
+default and its opt-in (docs/optimum.md, "Which criteria the product offers")."""
+
 
 def test_every_entry_is_hand_worked_and_documented() -> None:
+    assert list(CRITERIA) == PRODUCT
     assert {name for name, *_ in HAND_WORKED} == set(CRITERIA)
     assert DEFAULT_CRITERION == "cs-id3-failure" and DEFAULT_CRITERION in CRITERIA  # chosen from the noisy data
     for name, spec in CRITERIA.items():
@@ -51,42 +51,56 @@ def test_scores_match_the_formula(name: str, gain: float, cost: float, expected:
     assert CRITERIA[name].build().score(gain, cost) == pytest.approx(expected)
 
 
+@pytest.mark.parametrize(("form", "suffix"), [(with_joint_gain, "-joint"), (with_lookahead, "-lookahead"),
+                                              (with_rollout, "-rollout"), (with_grasp_paid_on_failure, "-failure")])
+@pytest.mark.parametrize(("base", "gain", "cost", "expected"), [("cs-id3", 2.0, 8.0, 0.5), ("idx", 2.0, 8.0, 0.25),
+                                                                ("eg2", 2.0, 3.0, 3 / 4)])
+def test_a_built_form_keeps_its_base_formula(form, suffix: str, base: str, gain: float, cost: float,  # noqa: ANN001
+                                             expected: float) -> None:
+    # what a trait changes is the (I, C) the formula is given, not the formula
+    spec = form(CRITERIA[base])
+    assert spec.name == base + suffix and spec.formula.startswith(CRITERIA[base].formula + ", ")
+    assert spec.help and "\n" not in spec.help and spec.parameters == CRITERIA[base].parameters
+    assert spec.build().score(gain, cost) == pytest.approx(expected)
+
+
 def test_cost_sensitivity_flags() -> None:
     assert {n for n, s in CRITERIA.items() if not s.cost_sensitive} == {"id3", "id3-cost-ties"}
     assert criterion("id3").cost_sensitive is False and criterion("cs-id3").cost_sensitive is True
 
 
+def _traits(spec: CriterionSpec) -> set[str]:
+    return {f.name for f in dataclasses.fields(Traits) if getattr(spec, f.name)}
+
+
 def test_how_each_entry_chooses_besides_its_formula() -> None:
-    """Only id3 leaves ties and * slots to chance; every cost-sensitive base has a joint
-    and a lookahead form (the lookahead one scores by joint gain too); cs-id3 and idx
-    also have a rollout; the default is the plain I^2 / C."""
-    chance = {n for n, s in CRITERIA.items() if s.cost_blind_choices}
-    joint = {n for n, s in CRITERIA.items() if s.joint_gain}
-    ahead = {n for n, s in CRITERIA.items() if s.lookahead}
-    assert chance == {"id3"}
-    assert joint == {"cs-id3-joint", "cs-id3-lookahead", "idx-joint", "idx-lookahead", "eg2-joint", "eg2-lookahead"}
-    assert ahead == {"cs-id3-lookahead", "idx-lookahead", "eg2-lookahead"}
-    # a rollout finishes with its base rule itself: plain gain, no lookahead inside
-    assert {n for n, s in CRITERIA.items() if s.rollout} == {"cs-id3-rollout", "idx-rollout", "cs-id3-failure-rollout",
-                                                             "cs-id3-failure-search",
-                                                             "cs-id3-failure-search-every-row"}
-    rolled = criterion("idx-rollout")
-    assert rolled.rollout and not (rolled.joint_gain or rolled.lookahead or rolled.cost_blind_choices
-                                   or rolled.grasp_paid_on_failure or rolled.rollout_follows_walk)
-    # only the failure-priced forms price a grasp test by its failure, and only their
-    # rollout follows the walk
-    assert {n for n, s in CRITERIA.items() if s.grasp_paid_on_failure} == {"cs-id3-failure", "cs-id3-failure-rollout",
-                                                                           "cs-id3-failure-search",
-                                                                           "cs-id3-failure-search-every-row"}
-    assert {n for n, s in CRITERIA.items() if s.rollout_follows_walk} == {"cs-id3-failure-rollout",
-                                                                          "cs-id3-failure-search",
-                                                                          "cs-id3-failure-search-every-row"}
-    # only the searches' rollouts search the nodes below a candidate, and only the last
-    # lets carried rows decide a leaf: every other criterion keeps the learner's leaf rule
-    searching = {n for n, s in CRITERIA.items() if s.rollout_searches}
-    assert searching == {"cs-id3-failure-search", "cs-id3-failure-search-every-row"}
-    assert {n for n, s in CRITERIA.items() if s.leaf_every_row} == {"cs-id3-failure-search-every-row"}
-    built = criterion("eg2-lookahead", w=2.0)
+    """Only id3 leaves ties and * slots to chance; cs-id3 and idx have a rollout; the
+    default is the plain I^2 / C with grasps priced by their failure, and its opt-in
+    adds the walk's search and the leaf every row decides."""
+    assert {n: _traits(s) for n, s in CRITERIA.items()} == {
+        "cs-id3": set(), "id3": {"cost_blind_choices"}, "id3-cost-ties": set(), "idx": set(), "eg2": set(),
+        # a rollout finishes with its base rule itself: plain gain, no lookahead inside
+        "cs-id3-rollout": {"rollout"}, "idx-rollout": {"rollout"},
+        "cs-id3-failure": {"grasp_paid_on_failure"},
+        "cs-id3-failure-search-every-row": {"grasp_paid_on_failure", "rollout", "rollout_follows_walk",
+                                            "rollout_searches", "leaf_every_row"},
+    }
+
+
+def test_each_builder_adds_its_traits_and_no_other() -> None:
+    base, priced = CRITERIA["cs-id3"], CRITERIA["cs-id3-failure"]
+    assert _traits(with_joint_gain(base)) == {"joint_gain"}
+    assert _traits(with_lookahead(base)) == {"joint_gain", "lookahead"}  # the lookahead scores by joint gain too
+    assert _traits(with_rollout(base)) == {"rollout"}
+    assert _traits(with_grasp_paid_on_failure(base)) == {"grasp_paid_on_failure"}
+    walked, searched = with_walk_rollout(priced), with_walk_search(priced)
+    assert (walked.name, _traits(walked)) == ("cs-id3-failure-rollout",
+                                              {"grasp_paid_on_failure", "rollout", "rollout_follows_walk"})
+    assert (searched.name, _traits(searched)) == ("cs-id3-failure-search", _traits(walked) | {"rollout_searches"})
+    # the product's opt-in is exactly these builders composed
+    assert with_leaf_every_row(searched) == CRITERIA["cs-id3-failure-search-every-row"]
+    assert with_grasp_paid_on_failure(base) == priced
+    built = with_lookahead(CRITERIA["eg2"]).build(w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
     default = criterion(DEFAULT_CRITERION)
@@ -129,7 +143,7 @@ def test_parameters_are_checked_by_name() -> None:
     with pytest.raises(ValueError, match="takes 1 parameter"):
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
-                       r"cs-id3-joint, cs-id3-lookahead, idx-joint, idx-lookahead, eg2-joint, eg2-lookahead, "
-                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-rollout, cs-id3-failure-search, "
-                       r"cs-id3-failure-search-every-row\)"):
+                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-search-every-row\)"):
         criterion("c4.5")
+    with pytest.raises(ValueError, match=r"unknown criterion 'cs-id3-joint' \(choose from: cs-id3, "):
+        criterion("cs-id3-joint")  # an ablation: the experiments' (experiments/ablations.py), not the product's

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from learner.choosing.criteria import criterion
+from learner.choosing.criteria import CRITERIA, criterion, with_walk_rollout
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, Node, split
 from learner.choosing.rollout import finishing_cost
@@ -28,6 +28,9 @@ from learner.optimum import optimal_cost, policy_walk
 from tests.learner.fixtures import ANY, P, context, desc, hero
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix
+
+
+WALK_ROLLOUT = with_walk_rollout(CRITERIA["cs-id3-failure"])  # cs-id3-failure-rollout: the experiments' ablation
 
 
 def H(*p: float) -> float:  # noqa: N802 - entropy in bits, as the paper writes it
@@ -115,7 +118,7 @@ def test_the_walk_rollout_estimates_what_the_walk_pays() -> None:
 def test_the_failure_rollout_takes_the_grasp_at_its_expected_price() -> None:
     # Three wraps and a tumbler: the walk rollout ranks Front-Wrap 1/4 x 90 = 22.5 s first,
     # the sweep at 42 s, Top-Pinch 3/4 x 103 = 77.25 s.
-    ranked = rank(Node.root(4), P(6, 0), context(_three_wraps_and_a_tumbler(), name="cs-id3-failure-rollout"), {})
+    ranked = rank(Node.root(4), P(6, 0), context(_three_wraps_and_a_tumbler(), name=WALK_ROLLOUT), {})
     totals = {str(s.test): s.scored_on[1] for s in ranked}
     assert totals == pytest.approx({"Front-Wrap(6,*)": 22.5, "Height-Degree-5°(6,*)": 42.0, "Top-Pinch(6,*)": 77.25})
     assert str(ranked[0].test) == "Front-Wrap(6,*)"
@@ -127,11 +130,11 @@ def test_the_walk_rollout_is_never_worse_than_its_rule_on_its_own_estimate_nor_b
         library: list, start: object, grasps: bool) -> None:
     move = MoveModel(2.0, 0.1, 0.0)
     m, est = optimum_matrix(library, grasps, move), ModelMoveCost(move)
-    ranked = rank(Node.root(len(library)), start, Context(m, criterion("cs-id3-failure-rollout"), est), {})
+    ranked = rank(Node.root(len(library)), start, Context(m, WALK_ROLLOUT.build(), est), {})
     if ranked:
         base = rank(Node.root(len(library)), start, Context(m, criterion("cs-id3-failure"), est), {})[0]
         own = next(s for s in ranked if s.test == base.test and s.target == base.target)
         assert ranked[0].scored_on[1] <= own.scored_on[1] + 1e-9
-    walk = policy_walk(m, criterion("cs-id3-failure-rollout"), est, start)
+    walk = policy_walk(m, WALK_ROLLOUT.build(), est, start)
     if walk.missed == 0:
         assert optimal_cost(m, est, start) <= walk.expected_cost + 1e-9

@@ -15,7 +15,7 @@ import pytest
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from robot_profile import load_knowledge
 from learner.choosing import rollout_walk
-from learner.choosing.criteria import criterion
+from learner.choosing.criteria import CRITERIA, criterion, with_walk_rollout, with_walk_search
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, Node
 from learner.choosing.selection import rank
@@ -26,6 +26,10 @@ from learner.optimum import optimal_cost, policy_walk
 from learner.position import Position
 from tests.learner.fixtures import ANY, P
 from tests.learner.test_optimum import EST, d, matrix
+
+
+WALK_ROLLOUT = with_walk_rollout(CRITERIA["cs-id3-failure"])  # the experiments' ablations of the product's
+WALK_SEARCH = with_walk_search(CRITERIA["cs-id3-failure"])  # cs-id3-failure-search-every-row
 
 
 def _a_carried_row_meets_a_blind_grasp() -> list:
@@ -52,15 +56,15 @@ def test_the_search_sees_past_the_free_test_that_leads_to_a_blind_grasp() -> Non
     # optimum.
     lib = _a_carried_row_meets_a_blind_grasp()
     m = matrix(lib)
-    totals = {name: {str(s.test): s.scored_on[1]
-                     for s in rank(Node.root(4), P(6, 0), Context(m, criterion(name), EST), {})}
-              for name in ("cs-id3-failure-rollout", "cs-id3-failure-search")}  # H(6,0), B(6,0): no * to fill
+    totals = {spec.name: {str(s.test): s.scored_on[1]
+                          for s in rank(Node.root(4), P(6, 0), Context(m, spec.build(), EST), {})}
+              for spec in (WALK_ROLLOUT, WALK_SEARCH)}  # H(6,0), B(6,0): no * to fill
     assert totals["cs-id3-failure-rollout"]["H(6,0)"] == pytest.approx(40 + 0.75 * (1 / 6) * rollout_walk.LEFT_BEHIND_S)
     assert totals["cs-id3-failure-rollout"]["B(6,0)"] == pytest.approx(65.0)
     assert totals["cs-id3-failure-search"]["H(6,0)"] == pytest.approx(62.5)
     assert totals["cs-id3-failure-search"]["B(6,0)"] == pytest.approx(65.0)
-    rolled = policy_walk(m, criterion("cs-id3-failure-rollout"), EST, P(6, 0))
-    searched = policy_walk(m, criterion("cs-id3-failure-search"), EST, P(6, 0))
+    rolled = policy_walk(m, WALK_ROLLOUT.build(), EST, P(6, 0))
+    searched = policy_walk(m, WALK_SEARCH.build(), EST, P(6, 0))
     assert [o.cost_s for o in rolled.outcomes] == pytest.approx([130, 0, 130, 0])
     assert [o.cost_s for o in searched.outcomes] == pytest.approx([40, 40, 130, 40])
     assert searched.expected_cost == pytest.approx(optimal_cost(m, EST, P(6, 0))) == pytest.approx(62.5)
@@ -70,7 +74,7 @@ def test_the_search_is_bounded_by_its_budget(monkeypatch: pytest.MonkeyPatch) ->
     # With a budget of no searched node the search is the plain walk rollout, as priced.
     monkeypatch.setattr(rollout_walk, "SEARCH_BUDGET", 0)
     m = matrix(_a_carried_row_meets_a_blind_grasp())
-    ranked = rank(Node.root(4), P(6, 0), Context(m, criterion("cs-id3-failure-search"), EST), {})
+    ranked = rank(Node.root(4), P(6, 0), Context(m, WALK_SEARCH.build(), EST), {})
     assert {str(s.test): s.scored_on[1] for s in ranked}["H(6,0)"] == pytest.approx(715.0)
 
 
@@ -79,8 +83,8 @@ def _ratio(descriptions: list, start: Position) -> tuple[float, float]:
     knowledge = load_knowledge(KNOWLEDGE)
     m, estimator = DescriptionMatrix(descriptions, knowledge), ModelMoveCost(knowledge.move)
     best = optimal_cost(m, estimator, start)
-    return tuple(policy_walk(m, criterion(name), estimator, start).expected_cost / best
-                 for name in ("cs-id3-failure-search", "cs-id3-failure-rollout"))
+    return tuple(policy_walk(m, spec.build(), estimator, start).expected_cost / best
+                 for spec in (WALK_SEARCH, WALK_ROLLOUT))
 
 
 def test_within_two_percent_of_the_optimum_on_the_shipped_library() -> None:
@@ -107,7 +111,7 @@ def test_a_star_slot_is_also_tried_where_the_library_measured_it() -> None:
     # fill of (*,0): its orientation is fixed.
     lib = [d("o0", "A", ("W", P(ANY, 0), 10), ("W", P(20, 0), 30), ("H", P(6, 90), 1)),
            d("o1", "B", ("W", P(ANY, 0), 50))]
-    ctx = Context(matrix(lib), criterion("cs-id3-failure-search"), EST)
+    ctx = Context(matrix(lib), WALK_SEARCH.build(), EST)
     [sweep] = [s for s in rank(Node.root(2), P(6, 0), Context(ctx.matrix, criterion("cs-id3"), EST), {})
                if str(s.test) == "W(*,0)"]
     assert sweep.target == P(6, 0) and sweep.cost == 10
