@@ -92,6 +92,9 @@ def test_the_template_passes_every_conformance_check(template: tuple[str, str],
     assert details["profile"] == f"serves hero2000 (sha256 {stamp.sha256[:12]}), as given"
     assert details["reset-objects"].startswith("not checked: the driver cannot restore world 'lab'")
     assert details["charge"] == "not checked: the driver does not offer the battery feature"
+    # it serves the verbs of version 1 without a feature, strictly; its hello lists neither battery nor blocked_moves
+    assert details["every-verb"] == ("8 verbs refuse a JSON array bad_request: move, sense, grasp, release, camera, "
+                                     "reset, noop, hello; not served (optional here): charge, wait")
     assert "refused busy during a" in details["busy"]  # exercised, not skipped as too short
     # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
     # a long sweep runs, the 6 in procedures are out of range
