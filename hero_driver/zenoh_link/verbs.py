@@ -22,7 +22,15 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any
 
-from hero_driver.interface import UNKNOWN_VERB, VERB_BY_NAME, BlockedMoves, Charger, DriverError, DriverVerb
+from hero_driver.interface import (
+    PROTOCOLS,
+    UNKNOWN_VERB,
+    VERB_BY_NAME,
+    BlockedMoves,
+    Charger,
+    DriverError,
+    DriverVerb,
+)
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (
     EMPTY,
@@ -47,8 +55,15 @@ OFFERS: Mapping[str, Callable[[Any], bool]] = {
     BATTERY: lambda driver: isinstance(driver, Charger),
     BLOCKED_MOVES: lambda driver: isinstance(driver, BlockedMoves) and driver.safety_in() is not None,
 }
-"""Whether a driver offers an optional feature, so its verbs are served; a feature not
-listed here is offered by a driver that has the verb's method."""
+"""Whether a driver offers an optional feature that brings a field of ``hello`` too, so
+its verbs are served; any other feature (:data:`.versions.VERB_FEATURES`) is offered by
+a driver that has the feature's protocol, as the node's ``hello`` lists it."""
+
+
+def offers(driver: Any, feature: str) -> bool:
+    """Whether ``driver`` offers the optional ``feature``."""
+    check = OFFERS.get(feature)
+    return check(driver) if check is not None else isinstance(driver, PROTOCOLS[feature])
 
 
 @dataclass(frozen=True)
@@ -87,15 +102,15 @@ class Verb:
     def call(self, driver: Any, request: Request) -> Future[Any]:
         """Start the verb: a robot verb on ``driver`` (a ``Driver``), its method given
         the request's fields of the same names, in the order the driver's row lists
-        its arguments; a node verb answers from ``driver``, the
-        node's Greeting, at once. ``unknown_verb`` for a feature's verb on a driver
+        its arguments; a node verb answers from ``driver``, the node's Greeting, at
+        once. ``unknown_verb`` for a feature's verb on a driver
         without the feature (what a driver from before the feature answers)."""
         if self.answer is not None:
             return settled(self.answer(driver))
         feature = self.driver_verb.feature
-        method = getattr(driver, self.name, None)
-        if feature is not None and not OFFERS.get(feature, lambda _driver: callable(method))(driver):
+        if feature is not None and not offers(driver, feature):
             raise DriverError(UNKNOWN_VERB, f"{self.name}: this driver has no {feature} feature (see its hello)")
+        method = getattr(driver, self.name)
         return method(*(getattr(request, name) for name in self.driver_verb.args))
 
     def encode_request(self, request: Request) -> bytes:
