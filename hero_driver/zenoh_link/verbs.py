@@ -7,8 +7,9 @@ its name, the message shapes of its request and reply (:class:`.codec.Message`),
 default timeout and the driver's bound; everything else about it comes from its row
 of the driver's own table (``hero_driver.interface.DRIVER_VERBS``): the node calls
 the driver's method of the same name with the request's fields as its arguments,
-refuses a feature's verb on a driver without the feature, and the client's method is
-made from the row (:mod:`.client`). The node, the client, the schemas and the
+refuses a feature's verb on a driver without the feature (and lists in ``hello`` a
+feature that brings only verbs, :data:`.versions.VERB_FEATURES`), and the client's
+method is made from the row (:mod:`.client`). The node, the client, the schemas and the
 conformance suite read this table; ``tests/hero_driver/test_zenoh_verbs.py`` holds
 ``docs/driver-protocol.md`` to it and ``tests/hero_driver/test_driver_verbs.py`` holds
 it to the driver's table (docs/conventions.md, "Adding a driver verb"). A verb the
@@ -103,8 +104,8 @@ class Verb:
         """Start the verb: a robot verb on ``driver`` (a ``Driver``), its method given
         the request's fields of the same names, in the order the driver's row lists
         its arguments; a node verb answers from ``driver``, the node's Greeting, at
-        once. ``unknown_verb`` for a feature's verb on a driver
-        without the feature (what a driver from before the feature answers)."""
+        once. ``unknown_verb`` for a feature's verb on a driver without the feature
+        (what a driver from before the feature answers)."""
         if self.answer is not None:
             return settled(self.answer(driver))
         feature = self.driver_verb.feature
