@@ -18,7 +18,7 @@ Geometry conventions shared with the planner are in ``docs/conventions.md``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
@@ -252,3 +252,10 @@ DRIVER_VERBS: tuple[DriverVerb, ...] = (
 each (``tests/hero_driver/test_driver_verbs.py`` holds the protocols to it)."""
 
 VERB_BY_NAME: dict[str, DriverVerb] = {verb.name: verb for verb in DRIVER_VERBS}
+PROTOCOLS: Mapping[str | None, type] = {None: Driver, "battery": Charger, "blocked_moves": BlockedMoves}
+"""The protocol that declares a row's method, by the row's ``feature``."""
+
+
+def protocol_method(verb: DriverVerb) -> Callable[..., object]:
+    """The protocol's declaration of ``verb``: its signature and its docstring."""
+    return getattr(PROTOCOLS[verb.feature], verb.name)

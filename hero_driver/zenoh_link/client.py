@@ -19,6 +19,7 @@ never wait on another verb's future there.
 
 from __future__ import annotations
 
+import inspect
 import logging
 import threading
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -29,15 +30,21 @@ from typing import Any
 
 import zenoh
 
-from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, INTERNAL, TIMEOUT, UNAVAILABLE, UNKNOWN_VERB, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
+    BAD_REQUEST,
+    INTERNAL,
+    TIMEOUT,
+    UNAVAILABLE,
+    UNKNOWN_VERB,
+    DriverError,
+    Pose,
+    RobotState,
+    protocol_method,
 )
 from hero_driver.zenoh_link import codec
-from hero_driver.zenoh_link.codec import (CodecError, EmptyRequest, MoveRequest, ProcedureRequest, Request,
-                                          ResetRequest, WaitRequest)
+from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, Request
 from hero_driver.zenoh_link.keys import robot_keys
-from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
+from hero_driver.zenoh_link.verbs import BY_NAME, VERBS, Verb
 from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
 from robot_profile import ProfileStamp
 from zenoh_rpc.client import Reply, RpcClient
@@ -89,6 +96,40 @@ class VerbTimeouts:
         return self._by_verb[verb]
 
 
+def _robot_verbs(cls: type) -> type:
+    """Give the client one method per robot verb of the verb table, so a verb added to
+    the table needs no method written here: each has the signature and the docstring
+    of the ``Driver`` protocol's declaration (``hero_driver.interface``), which makes
+    the client a ``Driver`` (and a ``Charger``, a ``BlockedMoves``) method for method."""
+    for verb in VERBS:
+        if verb.touches_robot:
+            setattr(cls, verb.name, _verb_method(cls, verb))
+    return cls
+
+
+def _verb_method(cls: type, verb: Verb) -> Callable[..., Future[Any]]:
+    """``cls``'s method for ``verb``: its arguments, checked against the protocol's
+    signature as a written method's would be (TypeError at the call), become the
+    fields of the same names of the verb's request, sent by :meth:`ZenohDriver._call`."""
+    declared = protocol_method(verb.driver_verb)
+    signature = inspect.signature(declared)
+    names = verb.driver_verb.args
+
+    def method(self: ZenohDriver, *args: Any, **kwargs: Any) -> Future[Any]:
+        given = signature.bind(self, *args, **kwargs)
+        given.apply_defaults()
+        return self._call(verb.name, lambda: verb.request.value(**{name: given.arguments[name] for name in names}))
+
+    method.__name__ = verb.name
+    method.__qualname__ = f"{cls.__name__}.{verb.name}"
+    method.__module__ = cls.__module__
+    method.__doc__ = declared.__doc__
+    method.__signature__ = signature  # type: ignore[attr-defined]
+    method.__annotations__ = dict(declared.__annotations__)
+    return method
+
+
+@_robot_verbs
 class ZenohDriver:
     """Drives the robot served on ``hero/<robot>/...`` by some driver process.
 
@@ -294,32 +335,8 @@ class ZenohDriver:
             return self._state
 
     # --------------------------------------------------------------------- verbs
-
-    def move(self, waypoints: Sequence[Pose], face: tuple[float, float] | None = None) -> Future[MoveResult]:
-        return self._call("move", lambda: MoveRequest(tuple(waypoints), None if face is None else tuple(face)))
-
-    def sense(self, procedure: str) -> Future[SenseResult]:
-        return self._call("sense", lambda: ProcedureRequest(procedure))
-
-    def grasp(self, procedure: str) -> Future[GraspResult]:
-        return self._call("grasp", lambda: ProcedureRequest(procedure))
-
-    def release(self) -> Future[RobotState]:
-        return self._call("release", EmptyRequest)
-
-    def camera(self) -> Future[CameraImage]:
-        return self._call("camera", EmptyRequest)
-
-    def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
-        return self._call("reset", lambda: ResetRequest(world, seed))
-
-    def charge(self) -> Future[RobotState]:
-        """The ``battery`` feature: with the base at the dock, charge until full."""
-        return self._call("charge", EmptyRequest)
-
-    def wait(self, seconds: float) -> Future[RobotState]:
-        """The ``blocked_moves`` feature: stand still ``seconds`` of robot time."""
-        return self._call("wait", lambda: WaitRequest(seconds))
+    # The robot verbs (move, sense, grasp, release, camera, reset, charge, wait) are
+    # made from the verb table by _robot_verbs; the node's own verbs are written here.
 
     def noop(self) -> Future[None]:
         """Round trip to the driver node without touching the robot (health, benchmark)."""

@@ -21,7 +21,7 @@ import json
 import math
 import numbers
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -56,8 +56,15 @@ class CodecError(ValueError):
 
 @dataclass(frozen=True)
 class MoveRequest:
+    """``move``'s arguments; the sequences are kept as tuples whatever the caller
+    passed (a list of poses), so a request is a value."""
+
     waypoints: tuple[Pose, ...]
     face: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "waypoints", tuple(self.waypoints))
+        object.__setattr__(self, "face", None if self.face is None else tuple(self.face))
 
 
 @dataclass(frozen=True)
@@ -613,6 +620,41 @@ def noop_out(result: object) -> Json:
 
 def noop_in(message: Json) -> None:
     _fields(message, "", ())
+
+
+# ------------------------------------------------------------------------ message shapes
+
+
+@dataclass(frozen=True)
+class Message:
+    """One message shape of the protocol: the value it carries and the pair of codec
+    functions between that value and the message's JSON body (``v`` aside).
+
+    Verbs share shapes (``sense`` and ``grasp`` send a :class:`ProcedureRequest`, five
+    verbs answer a :class:`RobotState`), so a new verb that sends and answers known
+    shapes names two of these in its row of the verb table and adds no codec; the
+    published schemas (:mod:`.schemas`) are keyed by the same ``value`` types.
+    """
+
+    value: type
+    read: Callable[[Json], Any]
+    write: Callable[[Any], Json]
+
+
+# requests
+MOVE = Message(MoveRequest, move_request_in, move_request_out)
+PROCEDURE = Message(ProcedureRequest, procedure_request_in, procedure_request_out)
+RESET = Message(ResetRequest, reset_request_in, reset_request_out)
+WAIT = Message(WaitRequest, wait_request_in, wait_request_out)
+EMPTY = Message(EmptyRequest, empty_request_in, empty_request_out)
+# replies
+MOVED = Message(MoveResult, move_result_in, move_result_out)
+SENSED = Message(SenseResult, sense_result_in, sense_result_out)
+GRASPED = Message(GraspResult, grasp_result_in, grasp_result_out)
+STATE = Message(RobotState, state_in, state_out)
+IMAGE = Message(CameraImage, camera_in, camera_out)
+GREETING = Message(Greeting, hello_in, hello_out)
+NOTHING = Message(type(None), noop_in, noop_out)
 
 
 # ------------------------------------------------------------------------------- errors

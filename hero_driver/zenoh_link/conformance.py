@@ -47,7 +47,7 @@ from hero_driver.zenoh_link.camera_check import (MappingError, PlacedObject, Sig
                                                  check_objects_seen, check_robot_drawn, check_robot_seen, undistorted)
 from hero_driver.zenoh_link.codec import CodecError
 from hero_driver.zenoh_link.keys import robot_keys
-from hero_driver.zenoh_link.verbs import BY_NAME
+from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
@@ -248,6 +248,7 @@ class _Suite:
             ("malformed-json", self.malformed_json),
             ("not-utf8", self.not_utf8),
             ("not-an-object", self.not_an_object),
+            ("every-verb", self.every_verb),
             ("wildcard-silence", self.wildcard_silence),
             ("wrong-types", self.wrong_types),
             ("missing-field", self.missing_field),
@@ -538,6 +539,30 @@ class _Suite:
         detail = self.probe.refusal("sense", b'[1, "H-Sweep-5"]', (BAD_REQUEST,))
         self.probe.refusal("noop", b'"noop"', (BAD_REQUEST,))
         return detail
+
+    def every_verb(self) -> str:
+        """Every verb of the verb table (:mod:`.verbs`) has its queryable, which reads
+        its request strictly: a JSON array, which no verb could run, is refused
+        ``bad_request``. A verb the driver need not serve may be ``unknown_verb``: an
+        optional feature's verb when ``hello`` does not list the feature, and ``hello``
+        itself for a driver from before it. So a verb added to the table is asked of
+        every driver with no check of its own; what its answer means is for a check of
+        its own, where the verb has meaning worth checking."""
+        features = () if self.greeting is None else self.greeting.served.features
+        served, absent = [], []
+        for verb in VERBS:
+            feature = verb.driver_verb.feature if verb.touches_robot else None
+            optional = (feature is not None and feature not in features) or (
+                verb.name == "hello" and self.greeting is None)
+            codes = (BAD_REQUEST, UNKNOWN_VERB) if optional else (BAD_REQUEST,)
+            try:
+                refused = self.probe.refusal(verb.name, b"[]", codes)
+            except CheckFailed as exc:  # named by the verb, once
+                text = str(exc)
+                raise CheckFailed(text if text.startswith(f"{verb.name}: ") else f"{verb.name}: {text}") from None
+            (absent if refused.startswith(UNKNOWN_VERB) else served).append(verb.name)
+        not_served = f"; not served (optional here): {', '.join(absent)}" if absent else ""
+        return f"{len(served)} verbs refuse a JSON array bad_request: {', '.join(served)}{not_served}"
 
     def wildcard_silence(self) -> str:
         """A wildcard query reaches every verb's queryable: exactly one reply, an error,

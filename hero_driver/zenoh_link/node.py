@@ -48,8 +48,8 @@ from hero_driver.interface import (
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, Request
 from hero_driver.zenoh_link.keys import robot_keys
-from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, VERBS, Verb
-from hero_driver.zenoh_link.versions import Greeting, greeting
+from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, VERBS, Verb, offers
+from hero_driver.zenoh_link.versions import VERB_FEATURES, Greeting, greeting
 from robot_profile import ProfileStamp
 from zenoh_rpc.server import JSON, RpcServer, payload_of, reply
 from zenoh_rpc.config import UserConfig
@@ -189,7 +189,8 @@ class DriverNode:
         robot in a world with another charging dock, or none (no ``battery`` feature)."""
         dock = self.driver.dock() if isinstance(self.driver, Charger) else None
         safety = self.driver.safety_in() if isinstance(self.driver, BlockedMoves) else None
-        return greeting(self.profile, dock, safety)
+        offered = [feature for feature in VERB_FEATURES if offers(self.driver, feature)]
+        return greeting(self.profile, dock, safety, offered)
 
     def _finish(self, action: _Action) -> None:
         """The driver completed ``action``: answer it, unless its bound already did."""

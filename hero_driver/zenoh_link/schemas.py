@@ -20,7 +20,18 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from hero_driver.interface import ERROR_CODES, PROTOCOL_VERSION
+from hero_driver.interface import (
+    ERROR_CODES,
+    PROTOCOL_VERSION,
+    CameraImage,
+    GraspResult,
+    MoveResult,
+    RobotState,
+    SenseResult,
+)
+from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
+from hero_driver.zenoh_link.verbs import VERBS, Verb
+from hero_driver.zenoh_link.versions import Greeting
 
 Schema = dict[str, Any]
 DIALECT = "https://json-schema.org/draft/2020-12/schema"
@@ -59,50 +70,57 @@ IMAGE = _object({
     "data": {"type": "string", "pattern": "^[A-Za-z0-9+/]*={0,2}$"},
 })
 
-# verb -> (request fields, optional ones), (reply fields, optional ones)
-VERB_FIELDS: Mapping[str, tuple[tuple[Mapping[str, Schema], Sequence[str]],
-                                tuple[Mapping[str, Schema], Sequence[str]]]] = {
-    "move": (({"waypoints": {"type": "array", "items": POSE, "minItems": 1},
-               "face": _or_null(_numbers(2))}, ("face",)),
-             ({"pose": POSE, "duration_s": NOT_NEGATIVE, "collided": BOOLEAN, "centred": BOOLEAN,
-               "blocked": _object({"x_in": NUMBER, "y_in": NUMBER, "radius_in": NOT_NEGATIVE})}, ("blocked",))),
-    "sense": (({"procedure": NAME}, ()),
-              ({"procedure": NAME,
-                "values": {"type": "object", "propertyNames": NAME,
-                           "additionalProperties": _or_null(NUMBER)},
-                "duration_s": NOT_NEGATIVE, "distance_in": NOT_NEGATIVE}, ())),
-    "grasp": (({"procedure": NAME}, ()),
-              ({"procedure": NAME, "success": BOOLEAN, "duration_s": NOT_NEGATIVE}, ())),
-    "release": (({}, ()), (STATE_FIELDS, ())),
-    "camera": (({}, ()),
-               ({"image": IMAGE, "inches_per_pixel": {"type": "number", "exclusiveMinimum": 0},
-                 "origin_x_in": NUMBER, "origin_y_in": NUMBER,
-                 "camera_matrix": _or_null({"type": "array", "items": _numbers(3), "minItems": 3, "maxItems": 3}),
-                 "fisheye": _or_null(_numbers(4)), "clock_s": NOT_NEGATIVE, "meta": {"type": "object"}},
-                ("camera_matrix", "fisheye", "clock_s", "meta"))),
-    "reset": (({"world": _or_null(NAME), "seed": _or_null(INTEGER)}, ("world", "seed")), (STATE_FIELDS, ())),
-    "charge": (({}, ()), (STATE_FIELDS, ())),
-    "wait": (({"seconds": {"type": "number", "minimum": 0, "maximum": 3600}}, ()), (STATE_FIELDS, ())),
-    "noop": (({}, ()), ({}, ())),
-    "hello": (({}, ()),
-              ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
+Fields = tuple[Mapping[str, Schema], Sequence[str]]  # a body's fields, and which of them are optional
+
+# A message shape's fields (codec.Message.value): the verb table says which shape
+# each verb sends and answers, so a verb of known shapes needs nothing added here.
+REQUEST_FIELDS: Mapping[type, Fields] = {
+    MoveRequest: ({"waypoints": {"type": "array", "items": POSE, "minItems": 1},
+                   "face": _or_null(_numbers(2))}, ("face",)),
+    ProcedureRequest: ({"procedure": NAME}, ()),
+    EmptyRequest: ({}, ()),
+    ResetRequest: ({"world": _or_null(NAME), "seed": _or_null(INTEGER)}, ("world", "seed")),
+    WaitRequest: ({"seconds": {"type": "number", "minimum": 0, "maximum": 3600}}, ()),
+}
+REPLY_FIELDS: Mapping[type, Fields] = {
+    MoveResult: ({"pose": POSE, "duration_s": NOT_NEGATIVE, "collided": BOOLEAN, "centred": BOOLEAN,
+                  "blocked": _object({"x_in": NUMBER, "y_in": NUMBER, "radius_in": NOT_NEGATIVE})}, ("blocked",)),
+    SenseResult: ({"procedure": NAME,
+                   "values": {"type": "object", "propertyNames": NAME,
+                              "additionalProperties": _or_null(NUMBER)},
+                   "duration_s": NOT_NEGATIVE, "distance_in": NOT_NEGATIVE}, ()),
+    GraspResult: ({"procedure": NAME, "success": BOOLEAN, "duration_s": NOT_NEGATIVE}, ()),
+    RobotState: (STATE_FIELDS, ()),
+    CameraImage: ({"image": IMAGE, "inches_per_pixel": {"type": "number", "exclusiveMinimum": 0},
+                   "origin_x_in": NUMBER, "origin_y_in": NUMBER,
+                   "camera_matrix": _or_null({"type": "array", "items": _numbers(3), "minItems": 3, "maxItems": 3}),
+                   "fisheye": _or_null(_numbers(4)), "clock_s": NOT_NEGATIVE, "meta": {"type": "object"}},
+                  ("camera_matrix", "fisheye", "clock_s", "meta")),
+    type(None): ({}, ()),
+    Greeting: ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
                              "minItems": 1, "uniqueItems": True},
                 "features": {"type": "array", "items": NAME, "uniqueItems": True},
                 "profile": _object({"name": NAME, "sha256": {"type": "string", "pattern": "^[0-9a-f]{64}$"}}),
                 "dock": POSE, "safety_in": NOT_NEGATIVE},
-               ("profile", "dock", "safety_in"))),
+               ("profile", "dock", "safety_in")),
 }
 # The ``profile`` field comes exactly when the ``profile`` feature is listed, ``dock``
 # exactly when ``battery`` is, ``safety_in`` exactly when ``blocked_moves`` is.
 LISTS_PROFILE: Schema = {"properties": {"features": {"contains": {"const": "profile"}}}}
 LISTS_BATTERY: Schema = {"properties": {"features": {"contains": {"const": "battery"}}}}
 LISTS_BLOCKED_MOVES: Schema = {"properties": {"features": {"contains": {"const": "blocked_moves"}}}}
-CONDITIONS: Mapping[str, Schema] = {
-    "hello.reply": {"allOf": [
+CONDITIONS: Mapping[type, Schema] = {
+    Greeting: {"allOf": [
         {"if": {"required": ["profile"]}, "then": LISTS_PROFILE, "else": {"not": LISTS_PROFILE}},
         {"if": {"required": ["dock"]}, "then": LISTS_BATTERY, "else": {"not": LISTS_BATTERY}},
         {"if": {"required": ["safety_in"]}, "then": LISTS_BLOCKED_MOVES, "else": {"not": LISTS_BLOCKED_MOVES}}]},
 }
+"""What a reply of a shape must say beyond its fields."""
+
+
+def verb_fields(verb: Verb) -> tuple[Fields, Fields]:
+    """The fields of ``verb``'s request and of its reply, from its message shapes."""
+    return REQUEST_FIELDS[verb.request.value], REPLY_FIELDS[verb.reply.value]
 
 
 def message(title: str, fields: Mapping[str, Schema], optional: Sequence[str] = ()) -> Schema:
@@ -112,15 +130,15 @@ def message(title: str, fields: Mapping[str, Schema], optional: Sequence[str] = 
 
 
 def all_schemas() -> dict[str, Schema]:
-    """Every message's schema by file stem: ``<verb>.request``, ``<verb>.reply``,
-    ``state`` and ``error``."""
+    """Every message's schema by file stem: ``<verb>.request``, ``<verb>.reply``
+    (every verb of the table), ``state`` and ``error``."""
     schemas: dict[str, Schema] = {}
-    for verb, ((request, request_optional), (reply, reply_optional)) in VERB_FIELDS.items():
-        schemas[f"{verb}.request"] = message(f"{verb} request (query payload on hero/<robot>/rpc/{verb})",
-                                             request, request_optional)
-        schemas[f"{verb}.reply"] = message(f"{verb} reply (query.reply payload)", reply, reply_optional)
-    for name, condition in CONDITIONS.items():
-        schemas[name].update(condition)
+    for verb in VERBS:
+        (request, request_optional), (reply, reply_optional) = verb_fields(verb)
+        schemas[f"{verb.name}.request"] = message(
+            f"{verb.name} request (query payload on hero/<robot>/rpc/{verb.name})", request, request_optional)
+        schemas[f"{verb.name}.reply"] = message(f"{verb.name} reply (query.reply payload)", reply, reply_optional)
+        schemas[f"{verb.name}.reply"].update(CONDITIONS.get(verb.reply.value, {}))
     schemas["state"] = message("state publication on hero/<robot>/state", STATE_FIELDS)
     schemas["error"] = message("error reply (query.reply_err payload) of any verb",
                                {"code": {"enum": sorted(ERROR_CODES)}, "message": TEXT})

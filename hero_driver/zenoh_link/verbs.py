@@ -1,15 +1,19 @@
-"""The verb table of the driver protocol: one row per verb, everything about it.
+"""The verb table of the driver protocol: one row per verb, everything the wire needs.
 
 A verb used to be spread over the key list, the codec's dispatch tables, the
-client's timeouts and the node's driver call, and adding one meant finding all four.
-Here a row holds its name, its request type, the codecs of its request and reply,
-its default timeout and how the node calls the driver; the node, the client and the
-conformance suite read the table, and ``tests/hero_driver/test_zenoh_verbs.py``
-holds ``docs/driver-protocol.md`` to it. A new verb is a row here plus its method and
-its row on the ``Driver`` side (``hero_driver.interface``: the protocol and
-``DRIVER_VERBS``, which ``tests/hero_driver/test_driver_verbs.py`` holds this table
-to) and its ``ZenohDriver`` method (docs/conventions.md, "Adding a driver verb"); a
-verb the node answers itself (``noop``, ``hello``) has no ``Driver`` method.
+client's timeouts, the node's driver call, the client's method, the schema fields
+and the conformance suite, and adding one meant finding them all. Here a row holds
+its name, the message shapes of its request and reply (:class:`.codec.Message`), its
+default timeout and the driver's bound; everything else about it comes from its row
+of the driver's own table (``hero_driver.interface.DRIVER_VERBS``): the node calls
+the driver's method of the same name with the request's fields as its arguments,
+refuses a feature's verb on a driver without the feature (and lists in ``hello`` a
+feature that brings only verbs, :data:`.versions.VERB_FEATURES`), and the client's
+method is made from the row (:mod:`.client`). The node, the client, the schemas and the
+conformance suite read this table; ``tests/hero_driver/test_zenoh_verbs.py`` holds
+``docs/driver-protocol.md`` to it and ``tests/hero_driver/test_driver_verbs.py`` holds
+it to the driver's table (docs/conventions.md, "Adding a driver verb"). A verb the
+node answers itself (``noop``, ``hello``) has no ``Driver`` method.
 """
 
 from __future__ import annotations
@@ -17,32 +21,61 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any
 
-from hero_driver.interface import UNKNOWN_VERB, BlockedMoves, Charger, DriverError
+from hero_driver.interface import (
+    PROTOCOLS,
+    UNKNOWN_VERB,
+    VERB_BY_NAME,
+    BlockedMoves,
+    Charger,
+    DriverError,
+    DriverVerb,
+)
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import (
+    EMPTY,
+    GRASPED,
+    GREETING,
+    IMAGE,
+    MOVE,
+    MOVED,
+    NOTHING,
+    PROCEDURE,
+    RESET,
+    SENSED,
+    STATE,
+    WAIT,
     CodecError,
-    EmptyRequest,
-    Json,
-    MoveRequest,
-    ProcedureRequest,
+    Message,
     Request,
-    ResetRequest,
-    WaitRequest,
 )
+from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, Greeting
 
-T = TypeVar("T")
+OFFERS: Mapping[str, Callable[[Any], bool]] = {
+    BATTERY: lambda driver: isinstance(driver, Charger),
+    BLOCKED_MOVES: lambda driver: isinstance(driver, BlockedMoves) and driver.safety_in() is not None,
+}
+"""Whether a driver offers an optional feature that brings a field of ``hello`` too, so
+its verbs are served; any other feature (:data:`.versions.VERB_FEATURES`) is offered by
+a driver that has the feature's protocol, as the node's ``hello`` lists it."""
+
+
+def offers(driver: Any, feature: str) -> bool:
+    """Whether ``driver`` offers the optional ``feature``."""
+    check = OFFERS.get(feature)
+    return check(driver) if check is not None else isinstance(driver, PROTOCOLS[feature])
 
 
 @dataclass(frozen=True)
 class Verb:
     """One verb: ``hero/<robot>/rpc/<name>``.
 
-    ``call`` starts the verb on a driver with the decoded request. A verb whose
-    ``touches_robot`` is false is the node's own: its call is given the node's
-    :class:`~.versions.Greeting` instead of the driver, and the node answers it at once,
-    even while a robot verb runs, and never refuses it as ``busy``.
+    ``request`` and ``reply`` are the message shapes it sends and answers; a robot
+    verb's request carries exactly its ``Driver`` method's arguments as fields, by
+    name. A verb whose ``touches_robot`` is false is the node's own: ``answer`` gives
+    its reply from the node's :class:`~.versions.Greeting`, and the node answers it at
+    once, even while a robot verb runs, and never refuses it as ``busy``.
 
     ``timeout_s`` is how long a client waits by default; ``bound_s`` how long the
     driver node lets the robot work on it before it cancels the action, answers
@@ -52,86 +85,76 @@ class Verb:
     """
 
     name: str
-    request: type
-    request_in: Callable[[Json], Request]
-    request_out: Callable[[Any], Json]
-    result_out: Callable[[Any], Json]
-    result_in: Callable[[Json], Any]
+    request: Message
+    reply: Message
     timeout_s: float
-    call: Callable[[Any, Any], Future[Any]]  # (the Driver, or the node's Greeting; the request)
     bound_s: float | None = None  # None: the node answers at once (noop, hello)
-    touches_robot: bool = True
+    answer: Callable[[Greeting], object] | None = None  # a node verb's reply; None: a robot verb
+
+    @property
+    def touches_robot(self) -> bool:
+        return self.answer is None
+
+    @property
+    def driver_verb(self) -> DriverVerb:
+        """The row of the driver's table this robot verb carries."""
+        return VERB_BY_NAME[self.name]
+
+    def call(self, driver: Any, request: Request) -> Future[Any]:
+        """Start the verb: a robot verb on ``driver`` (a ``Driver``), its method given
+        the request's fields of the same names, in the order the driver's row lists
+        its arguments; a node verb answers from ``driver``, the node's Greeting, at
+        once. ``unknown_verb`` for a feature's verb on a driver without the feature
+        (what a driver from before the feature answers)."""
+        if self.answer is not None:
+            return settled(self.answer(driver))
+        feature = self.driver_verb.feature
+        if feature is not None and not offers(driver, feature):
+            raise DriverError(UNKNOWN_VERB, f"{self.name}: this driver has no {feature} feature (see its hello)")
+        method = getattr(driver, self.name)
+        return method(*(getattr(request, name) for name in self.driver_verb.args))
 
     def encode_request(self, request: Request) -> bytes:
         """The query payload (the verb is the key, not part of the body)."""
-        if not isinstance(request, self.request):
-            raise CodecError(f"message: expected a {self.request.__name__}, got {type(request).__name__}")
-        return codec.dumps(self.request_out(request))
+        if not isinstance(request, self.request.value):
+            raise CodecError(f"message: expected a {self.request.value.__name__}, got {type(request).__name__}")
+        return codec.dumps(self.request.write(request))
 
     def decode_request(self, data: bytes) -> Request:
         """The request a query carried; CodecError (``bad_request``) for one that is
         too large (:data:`~.codec.MAX_REQUEST_BYTES`) or breaks the protocol."""
-        return self.request_in(codec.loads_request(data))
+        return self.request.read(codec.loads_request(data))
 
     def encode_result(self, result: object) -> bytes:
         """The reply body for what the driver returned."""
-        return codec.dumps(self.result_out(result))
+        return codec.dumps(self.reply.write(result))
 
     def decode_result(self, data: bytes) -> Any:
         """The interface value a reply carries."""
-        return self.result_in(codec.loads(data))
+        return self.reply.read(codec.loads(data))
 
 
 VERBS: tuple[Verb, ...] = (
-    Verb("move", MoveRequest, codec.move_request_in, codec.move_request_out,
-         codec.move_result_out, codec.move_result_in, 900.0,
-         lambda driver, request: driver.move(list(request.waypoints), request.face), bound_s=870.0),
-    Verb("sense", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
-         codec.sense_result_out, codec.sense_result_in, 300.0,
-         lambda driver, request: driver.sense(request.procedure), bound_s=285.0),
-    Verb("grasp", ProcedureRequest, codec.procedure_request_in, codec.procedure_request_out,
-         codec.grasp_result_out, codec.grasp_result_in, 300.0,
-         lambda driver, request: driver.grasp(request.procedure), bound_s=285.0),
-    Verb("release", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.state_out, codec.state_in, 120.0,
-         lambda driver, _request: driver.release(), bound_s=110.0),
-    Verb("camera", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.camera_out, codec.camera_in, 30.0,
-         lambda driver, _request: driver.camera(), bound_s=25.0),
-    Verb("reset", ResetRequest, codec.reset_request_in, codec.reset_request_out,
-         codec.state_out, codec.state_in, 120.0,
-         lambda driver, request: driver.reset(request.world, request.seed), bound_s=110.0),
+    Verb("move", MOVE, MOVED, 900.0, 870.0),
+    Verb("sense", PROCEDURE, SENSED, 300.0, 285.0),
+    Verb("grasp", PROCEDURE, GRASPED, 300.0, 285.0),
+    Verb("release", EMPTY, STATE, 120.0, 110.0),
+    Verb("camera", EMPTY, IMAGE, 30.0, 25.0),
+    Verb("reset", RESET, STATE, 120.0, 110.0),
     # The battery feature: with the base at the dock, charge until full.
-    Verb("charge", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.state_out, codec.state_in, 7200.0, lambda driver, _request: _charge(driver), bound_s=7170.0),
+    Verb("charge", EMPTY, STATE, 7200.0, 7170.0),
     # The blocked_moves feature: stand still while a moving obstacle passes (at most an hour).
-    Verb("wait", WaitRequest, codec.wait_request_in, codec.wait_request_out,
-         codec.state_out, codec.state_in, 3660.0, lambda driver, request: _wait(driver, request.seconds),
-         bound_s=3630.0),
+    Verb("wait", WAIT, STATE, 3660.0, 3630.0),
     # The health ping and the round-trip benchmark.
-    Verb("noop", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.noop_out, codec.noop_in, 5.0, lambda _greeting, _request: _settled(None), touches_robot=False),
+    Verb("noop", EMPTY, NOTHING, 5.0, answer=lambda _greeting: None),
     # Which protocol versions and optional features this node serves, and which robot profile.
-    Verb("hello", EmptyRequest, codec.empty_request_in, codec.empty_request_out,
-         codec.hello_out, codec.hello_in, 5.0, lambda greeting, _request: _settled(greeting), touches_robot=False),
+    Verb("hello", EMPTY, GREETING, 5.0, answer=lambda greeting: greeting),
 )
 
-def _charge(driver: Any) -> Future[Any]:
-    """``charge`` on a driver without the battery feature is a verb it does not have."""
-    if not isinstance(driver, Charger):
-        raise DriverError(UNKNOWN_VERB, "charge: this driver has no battery feature (see its hello)")
-    return driver.charge()
 
-
-def _wait(driver: Any, seconds: float) -> Future[Any]:
-    """``wait`` on a driver without the blocked_moves feature is a verb it does not have."""
-    if not isinstance(driver, BlockedMoves) or driver.safety_in() is None:
-        raise DriverError(UNKNOWN_VERB, "wait: this driver has no blocked_moves feature (see its hello)")
-    return driver.wait(seconds)
-
-
-def _settled(value: T) -> Future[T]:
-    future: Future[T] = Future()
+def settled(value: Any) -> Future[Any]:
+    """A future already done with ``value``."""
+    future: Future[Any] = Future()
     future.set_result(value)
     return future
 

@@ -20,14 +20,20 @@ from __future__ import annotations
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from hero_driver.interface import PROTOCOL_VERSION, Hello, Pose
+from hero_driver.interface import DRIVER_VERBS, PROTOCOL_VERSION, Hello, Pose
 from robot_profile import ProfileStamp
 
 PROFILE = "profile"  # the feature: the hello reply names the robot profile the driver serves
 BATTERY = "battery"  # the feature: a real battery level, the dock in hello, the charge verb
 BLOCKED_MOVES = "blocked_moves"  # the feature: moves stop short of moving obstacles, the wait verb
 SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
-FEATURES: tuple[str, ...] = (PROFILE, BATTERY, BLOCKED_MOVES)  # optional features this code serves and uses
+FIELD_FEATURES: tuple[str, ...] = (PROFILE, BATTERY, BLOCKED_MOVES)  # each brings a field of the hello reply
+VERB_FEATURES: tuple[str, ...] = tuple(dict.fromkeys(
+    verb.feature for verb in DRIVER_VERBS if verb.feature is not None and verb.feature not in FIELD_FEATURES))
+"""The features that bring verbs and nothing else (none yet): a driver offers one when it
+has the feature's protocol (``hero_driver.interface.PROTOCOLS``), and the node lists it
+in ``hello`` then, so a new feature's verb needs no change here or in the node."""
+FEATURES: tuple[str, ...] = FIELD_FEATURES + VERB_FEATURES  # optional features this code serves and uses
 BEFORE_HELLO = Hello((1,), ())  # what a driver without ``hello`` serves
 
 
@@ -43,13 +49,15 @@ class Greeting:
     safety_in: float | None = None  # the blocked_moves feature: how near ahead a mover stops a move
 
 
-def greeting(profile: ProfileStamp | None, dock: Pose | None = None, safety_in: float | None = None) -> Greeting:
+def greeting(profile: ProfileStamp | None, dock: Pose | None = None, safety_in: float | None = None,
+             offered: Collection[str] = ()) -> Greeting:
     """What a node of this code answers to ``hello``: every version it speaks, the
     ``profile`` feature only when it has a profile to name, ``battery`` only when
-    the driver it serves has a dock to charge at, and ``blocked_moves`` only when it
-    stops moves for moving obstacles."""
+    the driver it serves has a dock to charge at, ``blocked_moves`` only when it
+    stops moves for moving obstacles, and each of :data:`VERB_FEATURES` in ``offered``."""
     features = (((PROFILE,) if profile is not None else ()) + ((BATTERY,) if dock is not None else ())
-                + ((BLOCKED_MOVES,) if safety_in is not None else ()))
+                + ((BLOCKED_MOVES,) if safety_in is not None else ())
+                + tuple(feature for feature in VERB_FEATURES if feature in offered))
     return Greeting(Hello(SUPPORTED_VERSIONS, features), profile, dock, safety_in)
 
 

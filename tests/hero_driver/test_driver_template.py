@@ -23,6 +23,7 @@ import zenoh
 from hero_driver.interface import INTERNAL, DriverError
 from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.conformance import shutdown_order
+from hero_driver.zenoh_link.verbs import VERBS
 from planner.vision import look
 from robot_profile import load_profile, profile_stamp
 from tests.hero_driver.test_zenoh_conformance import ALL_CHECKS, ROVER, run_check_detailed
@@ -91,6 +92,11 @@ def test_the_template_passes_every_conformance_check(template: tuple[str, str],
     assert details["profile"] == f"serves hero2000 (sha256 {stamp.sha256[:12]}), as given"
     assert details["reset-objects"].startswith("not checked: the driver cannot restore world 'lab'")
     assert details["charge"] == "not checked: the driver does not offer the battery feature"
+    # it serves, strictly, every verb that comes with no optional feature, and its hello lists only profile
+    served = [v.name for v in VERBS if not v.touches_robot or v.driver_verb.feature is None]
+    optional = [v.name for v in VERBS if v.name not in served]
+    assert details["every-verb"] == (f"{len(served)} verbs refuse a JSON array bad_request: {', '.join(served)}; "
+                                     f"not served (optional here): {', '.join(optional)}")
     assert "refused busy during a" in details["busy"]  # exercised, not skipped as too short
     # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
     # a long sweep runs, the 6 in procedures are out of range

@@ -9,6 +9,7 @@ import pytest
 
 from csl_cli.main import main
 from hero_driver.zenoh_link.conformance import Procedures, known_world
+from hero_driver.zenoh_link.verbs import NAMES
 from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
 from tests.zenoh_rpc.support import free_endpoint
@@ -20,7 +21,7 @@ ALL_CHECKS = {
     "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
     "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "charge", "blocked-moves", "out-of-range-target",
     "unknown-verb",
-    "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "wildcard-silence", "wrong-types",
+    "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "every-verb", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
 }
 ROVER = REPO / "hero_driver" / "profiles" / "rover.toml"
@@ -61,6 +62,8 @@ def test_the_simulated_hero_passes_every_check(capsys: pytest.CaptureFixture[str
     assert details["reset-objects"].startswith("world 'lab': 7 objects drawn where reset placed them")
     # the lab's dock is at (24, 85), 55 in from the reset pose (30, 30): out of the beacon's 24 in reach
     assert details["charge"].startswith("out_of_range away from the dock: charge: the base is 55.3 in from the dock")
+    # the node reads a request before it looks at features: every verb of the table refuses the array
+    assert details["every-verb"] == f"{len(NAMES)} verbs refuse a JSON array bad_request: {', '.join(NAMES)}"
 
 
 def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixture[str]) -> None:

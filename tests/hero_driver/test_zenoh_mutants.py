@@ -193,12 +193,32 @@ def test_an_extra_field_in_move_replies_fails_the_move(server: zenoh.Session, en
     move = verbs.BY_NAME["move"]
 
     def chatty_out(result: MoveResult) -> dict[str, object]:
-        return {**move.result_out(result), **({"speed_in_s": 0.5} if when(result) else {})}
+        return {**move.reply.write(result), **({"speed_in_s": 0.5} if when(result) else {})}
 
-    monkeypatch.setitem(verbs.BY_NAME, "move", dataclasses.replace(move, result_out=chatty_out))  # the node's wire
+    chatty = dataclasses.replace(move, reply=dataclasses.replace(move.reply, write=chatty_out))
+    monkeypatch.setitem(verbs.BY_NAME, "move", chatty)  # the node's wire
     results = check(SimulatedHero("chatty"), server, endpoint)
     assert {"move", "state-after-move", "busy"} <= failed(results)
     assert "speed_in_s: unknown field" in results["move"].detail
+
+
+class RunsAnything(verbs.Verb):
+    """A verb that reads no request: whatever it is sent, it runs."""
+
+    def decode_request(self, data: bytes) -> object:
+        return self.request.value()
+
+
+def test_a_verb_that_runs_whatever_it_is_sent_fails_every_verb(server: zenoh.Session, endpoint: str,
+                                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """``release`` on a JSON array: a driver that releases anyway passes every check that
+    sends release a proper request, and only the check of every verb sees it."""
+    release = verbs.BY_NAME["release"]
+    lax = RunsAnything(**{field.name: getattr(release, field.name) for field in dataclasses.fields(release)})
+    monkeypatch.setitem(verbs.BY_NAME, "release", lax)
+    results = check(SimulatedHero("lax"), server, endpoint)
+    assert failed(results) == {"every-verb"}
+    assert results["every-verb"].detail == "release: expected an error reply, got a result"
 
 
 def test_verb_queryables_answering_wildcards_fail_wildcard_silence(server: zenoh.Session, endpoint: str,

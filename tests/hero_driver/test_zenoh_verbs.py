@@ -1,7 +1,8 @@
 """The verb table against ``docs/driver-protocol.md``: every verb of the table is
 documented (key, section, fields, timeout, driver's bound) as the table has it, and the page names no
 verb the table lacks. Fields are read off the wire: each verb encodes a hand-made
-request and result and the JSON keys are compared with the page's."""
+value of its request's and its reply's message shapes, and the JSON keys are compared
+with the page's."""
 
 from __future__ import annotations
 
@@ -15,23 +16,33 @@ import pytest
 from camera_model.image import CameraImage
 from hero_driver.interface import GraspResult, Hello, MoveResult, Pose, RobotState, SenseResult
 from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
-from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
+from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, VERBS
+from hero_driver.zenoh_link.versions import Greeting
 
 DOC = (Path(__file__).resolve().parents[2] / "docs" / "driver-protocol.md").read_text(encoding="utf-8")
 HERE = Pose(30.0, 30.0, 0.0)
 STATE = RobotState(HERE, 0.0, 1.0)
-EXAMPLES: dict[str, tuple[object, object]] = {
-    "move": (MoveRequest((HERE,), (60.0, 30.0)), MoveResult(HERE, 2.0, False, True)),
-    "sense": (ProcedureRequest("H-Sweep-5°"), SenseResult("H-Sweep-5°", {"Width-Degree-5°": 31.5}, 45.0, 20.0)),
-    "grasp": (ProcedureRequest("Front-Pinch"), GraspResult("Front-Pinch", True, 45.0)),
-    "release": (EmptyRequest(), STATE),
-    "camera": (EmptyRequest(), CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6)),
-    "reset": (ResetRequest("lab", 3), STATE),
-    "charge": (EmptyRequest(), STATE),
-    "wait": (WaitRequest(20.0), STATE),
-    "noop": (EmptyRequest(), None),
-    "hello": (EmptyRequest(), Hello((1,), ("an-optional-feature",))),
+# One hand-made value per message shape (codec.Message.value), so a verb that sends
+# and answers known shapes has its examples already.
+REQUESTS: dict[type, object] = {
+    MoveRequest: MoveRequest((HERE,), (60.0, 30.0)),
+    ProcedureRequest: ProcedureRequest("H-Sweep-5°"),
+    EmptyRequest: EmptyRequest(),
+    ResetRequest: ResetRequest("lab", 3),
+    WaitRequest: WaitRequest(20.0),
 }
+REPLIES: dict[type, object] = {
+    MoveResult: MoveResult(HERE, 2.0, False, True),
+    SenseResult: SenseResult("H-Sweep-5°", {"Width-Degree-5°": 31.5}, 45.0, 20.0),
+    GraspResult: GraspResult("Front-Pinch", True, 45.0),
+    RobotState: STATE,
+    CameraImage: CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6),
+    type(None): None,
+    Greeting: Greeting(Hello((1,), ("an-optional-feature",))),
+}
+EXAMPLES: dict[str, tuple[object, object]] = {
+    verb.name: (REQUESTS.get(verb.request.value), REPLIES.get(verb.reply.value)) for verb in VERBS}
+"""Each verb's request and reply, by its shapes."""
 
 
 def names_in(cell: str) -> set[str]:
@@ -55,8 +66,10 @@ def wire_fields(body: bytes) -> set[str]:
     return set(json.loads(body)) - {"v"}
 
 
-def test_the_examples_cover_the_table() -> None:
-    assert tuple(EXAMPLES) == NAMES
+def test_every_shape_of_the_table_has_an_example() -> None:
+    assert {verb.request.value for verb in VERBS} <= set(REQUESTS)
+    assert {verb.reply.value for verb in VERBS} <= set(REPLIES)
+    assert all(isinstance(example, shape) for shape, example in (REQUESTS | REPLIES).items())
 
 
 def test_the_page_names_exactly_the_verbs_of_the_table() -> None:
