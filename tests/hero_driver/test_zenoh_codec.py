@@ -51,7 +51,6 @@ def test_move_request_round_trips(waypoints: list[Pose], face: tuple[float, floa
     assert BY_NAME["move"].decode_request(BY_NAME["move"].encode_request(request)) == request
 
 
-@pytest.mark.slow
 @given(names)
 def test_procedure_request_round_trips(procedure: str) -> None:
     request = ProcedureRequest(procedure)
