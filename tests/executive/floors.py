@@ -1,6 +1,11 @@
 """One experiment floor played in the simulator with the library the experiment
 trains: the shared set-up of the whole-episode tests that compare two settings of the
-executive on the same floor."""
+executive on the same floor.
+
+Training in the simulator is the dearest set-up of the suite's episode tests, and every
+one of them trains the same way, so it happens once per test process (per pytest-xdist
+worker): :func:`sim_training` is cached, and every test module that needs the trained
+library or the training itself takes it from here."""
 
 from __future__ import annotations
 
@@ -10,8 +15,8 @@ from pathlib import Path
 from behaviours.services import Params
 from executive.executive import Executive
 from experiments.floor import play
-from experiments.study_training import run_training
 from experiments.worlds import write_floor
+from executive.sim_training import SimTraining, train_in_simulator
 from hero_driver.interface import OUT_OF_RANGE
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
@@ -21,9 +26,17 @@ from robot_profile import load_profile
 
 
 @cache
+def sim_training() -> SimTraining:
+    """`csl train --sim` on the shipped profile (seed 0, no noise), as the experiment's
+    training study runs it; once per test process. Read it, never change it."""
+    profile = load_profile()
+    return train_in_simulator(profile.knowledge(), profile)
+
+
+@cache
 def trained() -> tuple[ObjectDescription, ...]:
-    """The library `csl experiment paper` trains in the simulator (once per test run)."""
-    return tuple(run_training(load_profile()).descriptions)
+    """The library `csl experiment paper` trains in the simulator."""
+    return tuple(sim_training().result.descriptions)
 
 
 def play_floor(folder: Path, floor_seed: int, noise: NoiseConfig,

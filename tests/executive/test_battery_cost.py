@@ -15,12 +15,11 @@ from executive.battery_cost import (
 )
 from hero_driver.sim import battery as sim_battery
 from planner import Navigator, Pose
-from robot_profile import Robot, RobotGeometry, RobotMotion
+from robot_profile import Robot, RobotMotion, load_profile
 from tests.planner.drawing import Canvas
 
 MODEL = RobotMotion(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0)
-HERO = Robot(RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
-                           raised_sensor_height_in=18.0), MODEL)
+HERO = Robot(load_profile().robot.geometry, MODEL)  # the shipped profile's base and sonar
 DOCK = Pose(30.0, 90.0, 180.0)
 
 
@@ -91,7 +90,6 @@ def test_the_navigator_leaves_a_move_that_lasts_alone() -> None:
 
 def test_the_executive_prices_detours_only_when_asked_with_the_guard_on_and_a_dock(tmp_path) -> None:
     from hero_driver.sim_driver import SimulatedHero
-    from robot_profile import load_profile
     from tests.executive.test_battery_episode import small_world
 
     knowledge = load_profile().knowledge()

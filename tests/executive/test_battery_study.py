@@ -52,6 +52,7 @@ def test_the_summary_counts_by_hand() -> None:
     assert headers[1:] == SETTINGS and body[0][1].startswith("0%") and body[0][1].endswith("2 flat")
 
 
+@pytest.mark.slow
 def test_one_floor_from_a_nearly_flat_battery_with_the_guard_off_and_on() -> None:
     from executive import defaults
     from experiments.situation import install

@@ -23,6 +23,7 @@ def test_the_saved_calibration_is_where_calibrate_writes_by_default() -> None:
     assert default_calibration("r7") == Path(os.environ["CSL_HOME"]) / "camera" / "r7.json"
 
 
+@pytest.mark.slow
 def test_run_on_the_realistic_simulator_reads_through_the_saved_calibration(
         tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     saved = calibration_file(tmp_path, capsys)  # written to tmp_path/camera/r1.json

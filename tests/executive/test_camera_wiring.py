@@ -42,6 +42,7 @@ def report_rows(out: str) -> list[list[str]]:
     return [line.split() for line in out.splitlines() if line[:1].isdigit() and "/" in line.split()[1]]
 
 
+@pytest.mark.slow
 def test_demo_on_the_realistic_camera_locates_and_handles_every_object(tmp_path: Path,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["demo", "--camera", "realistic", "--no-plots", "--out", str(tmp_path)]) == 0
@@ -69,6 +70,7 @@ def calibration_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> Path
     return out
 
 
+@pytest.mark.slow
 def test_run_reads_the_realistic_simulator_through_a_calibration_file(tmp_path: Path,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     calibration = calibration_file(tmp_path, capsys)

@@ -75,6 +75,7 @@ def sim() -> Iterator[Sim]:
             process.communicate()
 
 
+@pytest.mark.slow
 def test_call_and_state_against_a_running_driver(sim: Sim) -> None:
     at = ("--connect", sim.endpoint)
     noop = _csl("driver", "call", ROBOT, "noop", *at)
@@ -107,6 +108,7 @@ def test_call_and_state_against_a_running_driver(sim: Sim) -> None:
     assert f"INFO zenoh_rpc.server: hero/{ROBOT}/rpc/move: ok" in log
 
 
+@pytest.mark.slow
 def test_driver_check_json(sim: Sim) -> None:
     checked = _csl("driver", "check", "--robot", ROBOT, "--connect", sim.endpoint, "--json")
     doc = json.loads(checked.stdout)  # all of stdout: one document, no table
@@ -117,6 +119,7 @@ def test_driver_check_json(sim: Sim) -> None:
     assert checked.returncode == (0 if doc["failed"] == 0 else 1) and doc["failed"] == 0
 
 
+@pytest.mark.slow
 def test_nobody_serving_is_exit_3_and_says_how_to_start_one() -> None:
     endpoint = free_endpoint()
     for argv in (["driver", "state", "ghost", "--timeout", "0.5"],

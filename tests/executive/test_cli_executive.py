@@ -11,6 +11,7 @@ import pytest
 from csl_cli.main import main
 
 
+@pytest.mark.slow
 def test_demo_handles_every_test_object_and_draws_it(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["demo", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
@@ -51,12 +52,14 @@ def test_bad_arguments_are_one_line(tmp_path: Path, capsys, argv, message) -> No
     assert len(err) == 1 and err[0].startswith("csl") and "error: " in err[0] and message in err[0]
 
 
+@pytest.mark.slow
 def test_an_unreachable_driver_is_exit_status_3_not_bad_input(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["run", "--driver", "zenoh", "--connect", "tcp/127.0.0.1:9", "--out", str(tmp_path)]) == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [err[0]] and err[0].startswith("csl: robot error: unavailable: no driver is serving robot 'r1'")
 
 
+@pytest.mark.slow
 def test_an_unreachable_learner_service_is_exit_status_3(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     argv = ["run", "--learner", "zenoh", "--learner-connect", "tcp/127.0.0.1:9", "--out", str(tmp_path)]
     assert main(argv) == 3
@@ -76,6 +79,7 @@ def test_a_run_that_leaves_objects_exits_1_and_says_why(tmp_path: Path, capsys) 
     assert events[-1]["status"] == "SUCCESS"  # the tree finished: only the objects tell
 
 
+@pytest.mark.slow
 def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["demo", "--out", str(tmp_path), "--no-plots"]) == 0
     capsys.readouterr()
@@ -88,6 +92,7 @@ def test_log_replays_an_episode(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert "bad.jsonl:1: not a JSON event" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_the_default_library_lives_under_csl_home(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     home = Path(os.environ["CSL_HOME"])  # the suite's autouse fixture: a temporary folder
     assert home.is_relative_to(tmp_path.parent) and not (home / "library.sqlite").exists()
@@ -95,6 +100,7 @@ def test_the_default_library_lives_under_csl_home(tmp_path: Path, capsys) -> Non
     assert f"library: {home / 'library.sqlite'}" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_noise_presets_reach_the_simulator(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     from hero_driver.sim.noise import NOISE_PRESETS
 
@@ -115,6 +121,7 @@ def test_noise_presets_reach_the_simulator(tmp_path: Path, capsys) -> None:  # n
     assert "--noise goes with --driver sim" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_appearance_rules_descriptions_out_before_any_test(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     out = tmp_path / "seen"
     assert main(["run", "--appearance", "--no-plots", "--out", str(out), "--library", str(tmp_path / "a.sqlite")]) in (0, 1)
@@ -125,6 +132,7 @@ def test_appearance_rules_descriptions_out_before_any_test(tmp_path: Path, capsy
     assert sum(e["ruled_out"] for e in objects) > 0  # the lab's objects are not all alike
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore:.*deprecated.*:DeprecationWarning")  # pydot's own parser on new pyparsing
 def test_bt_exports_dot_through_py_trees(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     import pydot

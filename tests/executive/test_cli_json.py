@@ -8,6 +8,8 @@ import json
 from collections import Counter
 from pathlib import Path
 
+import pytest
+
 from executive import defaults
 from csl_cli.main import main
 from learner.library.format import descriptions_from_json, descriptions_to_json, read_library_json
@@ -17,6 +19,7 @@ LAB_OBJECTS = ["closed-box-2x2x2/upright", "tumbler-20oz/upside-down", "soda-bot
                "closed-box-10x10x10/upright"]
 
 
+@pytest.mark.slow
 def test_demo_json_is_the_table_as_one_document(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["demo", "--no-plots", "--out", str(tmp_path / "table")]) == 0
     table = capsys.readouterr().out.splitlines()

@@ -43,6 +43,7 @@ def test_a_missing_folder_is_an_error_not_created(argv: list[str], tmp_path: Pat
     assert not (tmp_path / "no").exists()
 
 
+@pytest.mark.slow
 def test_a_new_library_is_announced_once(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     db = tmp_path / "lib.sqlite"
     assert main(["library", "--db", str(db), "import", str(defaults.EXAMPLE_LIBRARY)]) == 0
@@ -82,6 +83,7 @@ def test_an_unknown_world_lists_the_shipped_ones(tmp_path: Path, capsys) -> None
     assert "shipped" not in _one_error_line(capsys)
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_an_unreachable_learner_suggests_serving_one(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     argv = ["run", "--learner", "zenoh", "--learner-connect", "tcp/127.0.0.1:9", "--out", str(tmp_path)]

@@ -21,6 +21,8 @@ from hypothesis import strategies as st
 from rich.cells import cell_len
 from rich.console import Console
 
+import pytest
+
 from executive import defaults
 from csl_cli.main import main
 from csl_cli.commands.offline import MEASURED_COLUMNS
@@ -61,6 +63,7 @@ def _in_terminal(argv: list[str], columns: int = 80, timeout_s: float = 120.0) -
     return [line.rstrip("\r") for line in text.split("\n")]
 
 
+@pytest.mark.slow
 def test_the_demo_table_fits_80_columns_one_line_per_object(tmp_path: Path) -> None:
     lines = _in_terminal(["demo", "--no-plots", "--out", str(tmp_path)])
     report = lines[:next(i for i, line in enumerate(lines) if line.startswith("robot time:")) + 1]
@@ -76,6 +79,7 @@ def test_the_demo_table_fits_80_columns_one_line_per_object(tmp_path: Path) -> N
     assert len(lines) < 40  # it was 292 lines at 80 columns, most of them one letter wide
 
 
+@pytest.mark.slow
 def test_in_a_pipe_the_demo_table_is_plain_text(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     assert main(["demo", "--no-plots", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out

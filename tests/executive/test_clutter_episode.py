@@ -11,6 +11,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 from behaviours.services import Params
 from csl_cli.main import main
 from executive.executive import EpisodeResult, Executive
@@ -34,6 +36,7 @@ def episode(tmp_path: Path, world: Path | str, check: bool, seed: int = 0) -> tu
         learner.close()
 
 
+@pytest.mark.slow
 def test_the_beam_check_keeps_contaminated_readings_from_the_learner(tmp_path: Path) -> None:
     # the test objects (floor 3), each paired with a neighbour 1 in away; measured: 0
     # contaminated readings used with the check on, 3 with it off (floors 1 and 6 use 1
@@ -50,6 +53,7 @@ def test_the_beam_check_keeps_contaminated_readings_from_the_learner(tmp_path: P
     assert used[True] == 0 and used[False] > 0
 
 
+@pytest.mark.slow
 def test_csl_run_on_the_shipped_clutter_floor_handles_every_object(tmp_path: Path) -> None:
     out = tmp_path / "out"
     code = main(["run", "--world", "clutter", "--no-plots", "--out", str(out),
@@ -92,6 +96,7 @@ def test_csl_run_says_when_it_handles_a_cluster_without_sonar_and_fails_when_it_
     assert code == SOME_FAILED and "object 0 not handled: touching objects" in said.err
 
 
+@pytest.mark.slow
 def test_what_is_left_of_a_grasped_cluster_is_worked_on_next(tmp_path: Path) -> None:
     # floor 4 with pairs 1 in apart: a failed grasp pushes the 2 in box against the
     # magazine box; the camera calls the two one region, a cluster (seen apart before),

@@ -39,6 +39,7 @@ def test_every_gap_runs_with_the_check_on_and_off_on_the_same_floors() -> None:
     assert math.isinf(jobs[0].gap)
 
 
+@pytest.mark.slow
 def test_quick_run_prints_the_section(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["experiment", "clutter", "--quick", "--jobs", "1"]) == 0
     out = capsys.readouterr().out

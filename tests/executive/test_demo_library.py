@@ -9,9 +9,10 @@ import pytest
 
 import executive.sim_training
 from csl_cli.demo_library import DemoLibrary, trained_folder, trained_library, training_key
-from executive.sim_training import SimTraining, train_in_simulator
+from executive.sim_training import SimTraining
 from learner.library.format import read_library_json
 from robot_profile import load_profile
+from tests.executive.floors import sim_training
 from tests.learner.fixtures import HERO
 
 WORLDS = Path(executive.sim_training.__file__).resolve().parents[1] / "hero_driver" / "worlds"
@@ -19,7 +20,7 @@ WORLDS = Path(executive.sim_training.__file__).resolve().parents[1] / "hero_driv
 
 @pytest.fixture(scope="module")
 def trained_once() -> SimTraining:
-    return train_in_simulator(load_profile(HERO).knowledge())
+    return sim_training()  # the shipped profile's (HERO's), shared with the other training tests
 
 
 class Trainings:
@@ -98,6 +99,7 @@ def test_a_damaged_stored_library_is_trained_again(tmp_path: Path, trainings: Tr
     assert len(trainings.seeds) == 2 and _demo(tmp_path)[0].reused  # stored again, whole
 
 
+@pytest.mark.slow
 def test_the_stored_library_is_the_shipped_one_and_lives_in_the_user_data_folder(trained_once: SimTraining) -> None:
     """The default folder is under ``$CSL_HOME``; seed 0 trains the shipped library
     (tests/executive/test_train_sim.py), and that is what comes back from the store."""

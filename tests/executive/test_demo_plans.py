@@ -15,6 +15,7 @@ def _events(out: Path) -> list[dict[str, object]]:
     return [json.loads(line) for line in (out / "episode.jsonl").read_text(encoding="utf-8").splitlines()]
 
 
+@pytest.mark.slow
 def test_a_second_demo_reuses_the_training_and_no_plan_fails(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     for run in ("first", "second"):
         assert main(["demo", "--out", str(tmp_path / run), "--no-plots"]) == 0

@@ -116,6 +116,7 @@ def test_a_swapped_object_is_started_over_and_learned_as_what_it_is_now(tmp_path
     learner.close()
 
 
+@pytest.mark.slow
 def test_no_description_is_saved_from_a_disturbed_attempt_with_the_check_on(tmp_path: Path) -> None:
     """Swaps and nudges after the first sensing of every object, on three floors: with
     the check off some disturbed attempts are learned (the count is real); with it on,

@@ -79,6 +79,7 @@ def test_the_summary_reads_the_counts_per_setting() -> None:
     assert table == (("0.5", "-, 1.0 min, 1/1 gone, 0 bad", "100%, 7.5 min, 0/1 gone, 1 bad"),)
 
 
+@pytest.mark.slow
 def test_one_job_runs_a_disturbed_floor_with_the_check_on() -> None:
     install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())
     rows = run_job(DisturbanceJob(1.0, True, 0))

@@ -26,6 +26,7 @@ REPO = Path(__file__).resolve().parents[2]
 pytestmark = pytest.mark.zenoh
 
 
+@pytest.mark.slow
 def test_executive_drives_a_driver_process_over_zenoh(tmp_path: Path) -> None:
     endpoint = free_endpoint()
     with DriverProcess.sim(endpoint, robot="e2e") as node:
@@ -51,6 +52,7 @@ def test_executive_drives_a_driver_process_over_zenoh(tmp_path: Path) -> None:
     assert sum(d.object_id.startswith("learned/") for d in stored) == sum(e["id"] is not None for e in learns)
 
 
+@pytest.mark.slow
 def test_csl_run_with_driver_and_learner_as_zenoh_nodes(tmp_path: Path) -> None:
     driver_ep, learner_ep = free_endpoint(), free_endpoint()
     seed = tmp_path / "seed.json"
@@ -80,6 +82,7 @@ def test_csl_run_with_driver_and_learner_as_zenoh_nodes(tmp_path: Path) -> None:
         service.close()
 
 
+@pytest.mark.slow
 def test_a_driver_vanishing_mid_episode_stops_the_run_with_one_line(tmp_path: Path) -> None:
     endpoint = free_endpoint()
     env = {**os.environ, "PYTHONPATH": str(REPO), "CSL_HOME": str(tmp_path)}

@@ -73,6 +73,7 @@ _runs = st.builds(
     library=st.none() | _text)
 
 
+@pytest.mark.slow
 @settings(suppress_health_check=[HealthCheck.function_scoped_fixture], max_examples=40)
 @given(st.lists(_runs, max_size=6))
 def test_rows_read_back_as_appended_oldest_first(tmp_path: Path, runs: list[Run]) -> None:

@@ -56,6 +56,7 @@ def wrap_priced(executive: Executive) -> tuple[float, float]:
     return knowledge.grasp("Front-Wrap").time_s, procedure_cost(WRAP_AS_FEATURE, knowledge)
 
 
+@pytest.mark.slow
 def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tmp_path: Path) -> None:
     truth = slowed(FILE, "Front-Wrap", 4.0)
     on = Params(use_appearance=False)  # the default (learned costs on); the grasps the arm-only story tries
@@ -87,6 +88,7 @@ def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tm
             off.shutdown()
 
 
+@pytest.mark.slow
 def test_learned_costs_off_record_nothing(tmp_path: Path) -> None:
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
         executive = episode(learner, "lab", 0, slowed(FILE, "Front-Wrap", 4.0), Params(learned_grasp_costs=False))
@@ -124,6 +126,7 @@ def test_a_disturbed_objects_grasps_are_not_recorded(tmp_path: Path) -> None:
                                          GraspCostRecord("Top-Pinch", 0, 0.0, 1, 63.0)]
 
 
+@pytest.mark.slow
 def test_csl_run_records_grasp_costs_unless_told_not_to(tmp_path: Path) -> None:
     library = tmp_path / "library.sqlite"
     assert main(["run", "--no-plots", "--out", str(tmp_path / "off"), "--library", str(library),

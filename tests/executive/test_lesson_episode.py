@@ -45,6 +45,7 @@ def chain() -> Iterator[tuple[list[EpisodeRow], list[list[dict[str, object]]]]]:
     yield rows, learns
 
 
+@pytest.mark.slow
 def test_the_tumbler_held_with_nothing_sensed_is_saved_as_a_lesson(chain) -> None:  # noqa: ANN001
     rows, learns = chain
     (lesson,) = [e for e in learns[1] if e["truth"] == TUMBLER]
@@ -54,6 +55,7 @@ def test_the_tumbler_held_with_nothing_sensed_is_saved_as_a_lesson(chain) -> Non
     assert later and all(r.success and r.wrong_grasps == 0 for r in later)  # never a grasp failed at a leaf
 
 
+@pytest.mark.slow
 def test_only_lessons_are_saved_without_a_value(chain) -> None:  # noqa: ANN001
     _, learns = chain
     # saved with no value, or not saved because nothing was measured (clusters aside)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from behaviours.services import Params
 from experiments.conditions import EXECUTION_NOISE, noise_config
 from tests.executive.floors import play_floor, refused_for_range
@@ -24,6 +26,7 @@ def episode(tmp_path: Path, localise: bool) -> tuple[list[dict[str, object]], li
                       Params(localise=localise))
 
 
+@pytest.mark.slow
 def test_the_camera_keeps_the_robot_within_the_procedures_range(tmp_path: Path) -> None:
     trusting, before = episode(tmp_path, localise=False)
     corrected, after = episode(tmp_path, localise=True)

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import math
 
-import matplotlib.image
 from hypothesis import given
 from hypothesis import strategies as st
+import matplotlib.image
 import numpy as np
+import pytest
 
 from camera_model.image import CameraImage
 from executive.defaults import EXAMPLE_LIBRARY
@@ -49,6 +50,7 @@ def test_the_map_is_drawn_with_paths_and_footprints(tmp_path) -> None:  # noqa: 
     assert drawn.shape[0] > 400 and drawn.shape[1] > 400
 
 
+@pytest.mark.slow
 def test_a_simulated_episode_logs_every_moves_waypoints(tmp_path) -> None:  # noqa: ANN001
     learner = LocalLearner(tmp_path / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
     executive = Executive(SimulatedHero("r1", world="lab", seed=0), learner)

@@ -37,6 +37,7 @@ def test_the_notice_is_the_branchs_own_line() -> None:
     assert branch_off_notice(SimulatedHero("r1", world="lab", stop_for_movers=False), Params().blocked_tries) == NOTICE
 
 
+@pytest.mark.slow
 def test_a_run_without_movers_has_the_branch_and_says_nothing(tmp_path: Path,
                                                               capsys: pytest.CaptureFixture[str]) -> None:
     """The lab has no movers, yet the simulator's safety stop is on: no notice, no blocked move."""
@@ -46,6 +47,7 @@ def test_a_run_without_movers_has_the_branch_and_says_nothing(tmp_path: Path,
     assert not [e for e in events if e.get("blocked")]
 
 
+@pytest.mark.slow
 def test_movers_on_csl_run_reach_the_simulator(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """Two preset movers in the lab: the feature is on (no notice), moves stop short of
     them (``blocked`` moves in the log: the lab alone has none) and nothing collides."""

@@ -37,6 +37,7 @@ def test_the_summary_names_contacts_on_and_off_and_the_busiest_point() -> None:
     assert table[1][:2] == ("2", "12") and "2 blocked, 0 given up" in table[1][2] and "2 contacts" in table[1][3]
 
 
+@pytest.mark.slow
 def test_one_floor_with_movers_runs_with_no_contact_when_on() -> None:
     install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())
     floor = run_job(ObstaclesJob(2, 12.0, True, 0))

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import matplotlib.image
 import numpy as np
+import pytest
 
 from behaviours.records import ObjectRecord
 from camera_model.image import CameraImage
@@ -104,6 +105,7 @@ def test_an_image_without_a_lens_is_drawn_as_it_is() -> None:
     assert map_image(image) is image
 
 
+@pytest.mark.slow
 def test_a_lab_episode_with_side_effects_draws_objects_where_they_ended(tmp_path: Path) -> None:
     learner = LocalLearner(tmp_path / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
     executive = Executive(SimulatedHero("r1", world="lab", seed=0, noise=NoiseConfig.preset("paper")), learner)

@@ -81,6 +81,7 @@ def test_a_run_planning_for_another_robot_is_refused_in_one_line(rover_driver: s
     assert not (tmp_path / "hero" / "episode.jsonl").exists()  # refused before the robot moved
 
 
+@pytest.mark.slow
 def test_a_run_planning_for_the_rover_drives_the_rover(rover_driver: str, tmp_path: Path) -> None:
     library = tmp_path / "rover.sqlite"
     trained = _csl("train", "--sim", "--knowledge", str(ROVER), "--out", str(library))
@@ -96,6 +97,7 @@ def test_a_run_planning_for_the_rover_drives_the_rover(rover_driver: str, tmp_pa
     assert events[-1]["event"] == "episode_end"
 
 
+@pytest.mark.slow
 def test_a_driver_that_does_not_name_its_profile_is_driven_with_one_line(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()

@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import pytest
+
 from camera_model.board import load_board
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
@@ -19,6 +21,7 @@ from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 
 
+@pytest.mark.slow
 def test_an_episode_on_realistic_images(tmp_path: Path) -> None:
     hero = SimulatedHero("r1", world="lab", seed=0, camera="realistic")
     learner = LocalLearner(tmp_path / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))

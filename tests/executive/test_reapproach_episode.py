@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from behaviours.services import Params
 from experiments.conditions import noise_config
 from tests.executive.floors import play_floor, refused_for_range
@@ -17,6 +19,7 @@ from tests.executive.floors import play_floor, refused_for_range
 FLOOR_SEED = 13_000  # the floor of the experiment's seed 13; measured: 9 refusals the old way, 1 re-approaching
 
 
+@pytest.mark.slow
 def test_a_grasp_refused_for_range_is_re_approached_not_dropped(tmp_path: Path) -> None:
     noise = noise_config("paper", 3.0)
     old_events, old = play_floor(tmp_path / "old", FLOOR_SEED, noise, Params(reapproach_tries=0))

@@ -25,6 +25,7 @@ def _run_args(out: Path, **recording: object) -> argparse.Namespace:
     return args
 
 
+@pytest.mark.slow
 def test_a_recorded_run_reads_back_as_the_same_story(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     mcap = tmp_path / "episode.mcap"
     args = _run_args(tmp_path, record=mcap, show_status=True)
@@ -76,6 +77,7 @@ def test_bad_recording_flags_are_refused_while_parsing(argv, message, capsys) ->
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_a_run_without_recording_loads_no_foxglove_nor_mcap() -> None:
     code = ("import sys, csl_cli.commands.episode, csl_cli.commands.log; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('foxglove', 'mcap')))")

@@ -8,11 +8,14 @@ import struct
 import threading
 from pathlib import Path
 
+import pytest
+
 from recording import topics
 from tests.executive.test_recording import record_episode
 from tests.executive.ws_client import MESSAGE_DATA, FoxgloveClient
 
 
+@pytest.mark.slow
 def test_a_client_sees_every_channel_and_the_episode_as_it_runs(tmp_path: Path) -> None:
     ready = threading.Event()
     seen: dict[str, object] = {}

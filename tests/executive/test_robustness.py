@@ -32,6 +32,7 @@ def test_a_deaf_sonar_ends_the_object_instead_of_looping(params: Params) -> None
     assert all(e["id"] is None or e["features"] > 0 or e["wrong"] for e in learned)
 
 
+@pytest.mark.slow
 def test_the_ledger_balances_with_the_robots_clock() -> None:
     """Every robot second the simulator spent is on some object's ledger, once."""
     hero = SimulatedHero("clock", world="lab", seed=3)

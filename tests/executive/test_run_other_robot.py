@@ -18,6 +18,7 @@ from robot_profile import load_profile
 from tests.hero_driver.test_zenoh_conformance import ROVER
 
 
+@pytest.mark.slow
 def test_run_with_the_rover_profile_trains_its_library_once(tmp_path: Path,
                                                             capsys: pytest.CaptureFixture[str]) -> None:
     rover = load_profile(ROVER)

@@ -44,6 +44,7 @@ def test_the_simulator_is_slowed_and_the_executive_priced_by_what_was_recorded(t
             hero.close()
 
 
+@pytest.mark.slow
 def test_a_short_chain_runs_every_object_and_the_first_episode_is_the_files_in_both() -> None:
     install_worker({}, load_profile())
     config = ExperimentConfig(quick=True, seeds=1, jobs=1, out=Path("."), command="test")

@@ -45,6 +45,7 @@ def test_a_found_top_grip_holds_from_where_it_was_found_and_the_other_side_fails
     assert side.success and not end.success and side.seconds == 80.0
 
 
+@pytest.mark.slow
 def test_no_teacher_training_finds_the_same_features_and_counts_the_attempts() -> None:
     knowledge = load_knowledge(HERO)
     taught = train_in_simulator(knowledge)
@@ -63,6 +64,7 @@ def test_no_teacher_training_finds_the_same_features_and_counts_the_attempts() -
                       "tennis-can/lying": ("Top-Hor-Grip", Position(6, 90))}
 
 
+@pytest.mark.slow
 def test_csl_train_no_teacher_prints_the_search_and_needs_sim(tmp_path, capsys) -> None:  # noqa: ANN001
     out = tmp_path / "lib.json"
     assert main(["train", "--sim", "--no-teacher", "--out", str(out)]) == 0

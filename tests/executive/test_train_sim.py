@@ -9,11 +9,12 @@ import pytest
 
 from csl_cli.main import main
 from robot_profile import load_knowledge
-from executive.sim_training import SimTraining, ground_truth, train_in_simulator
+from executive.sim_training import SimTraining, ground_truth
 from executive.training_sources import SimulatorSource, camera_objects
 from learner.library.format import read_library_json
 from learner.position import Position
 from learner.training.stage import face_normals, training_orientations
+from tests.executive.floors import sim_training
 from tests.learner.fixtures import HERO
 
 LIBRARY = HERO.parent / "hero2000-library.json"
@@ -22,7 +23,7 @@ PIXEL_IN = 0.8  # the overhead camera's resolution
 
 @pytest.fixture(scope="module")
 def trained() -> SimTraining:
-    return train_in_simulator(load_knowledge(HERO))
+    return sim_training()  # shared with every test that needs the trained library
 
 
 def _extent(polygon: tuple[tuple[float, float], ...], axis: int) -> float:
@@ -86,6 +87,7 @@ def test_training_figures_next_to_the_papers(trained: SimTraining) -> None:
     assert math.isclose(s.robot_hours, (s.sensing_s + s.moving_s) / 3600)
 
 
+@pytest.mark.slow
 def test_csl_train_sim_prints_the_figures_and_the_ground_truth(tmp_path, capsys) -> None:  # noqa: ANN001
     out, record = tmp_path / "lib.json", tmp_path / "m.json"
     assert main(["train", "--sim", "--out", str(out), "--record", str(record)]) == 0

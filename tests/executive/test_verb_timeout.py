@@ -81,6 +81,7 @@ def hanging_sim(endpoint: str, sense_bound_s: float) -> DriverProcess:
                           str(sense_bound_s)])
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_a_sense_the_driver_never_answers_fails_its_object_only(tmp_path: Path,
                                                                 capsys: pytest.CaptureFixture[str]) -> None:

@@ -45,6 +45,7 @@ def working_on(out: Path, index: int) -> bool:
     return any(e["event"] == "object" and e["object"] == index for e in events(out))
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_a_driver_killed_and_restarted_under_the_same_name_lets_the_run_finish(tmp_path: Path) -> None:
     endpoint, out = free_endpoint(), tmp_path / "out"
@@ -79,6 +80,7 @@ def test_a_driver_killed_and_restarted_under_the_same_name_lets_the_run_finish(t
     assert len(started) == 7 and set(started) == seen  # every object worked on exactly once
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_a_driver_that_does_not_come_back_ends_the_run_in_one_line(tmp_path: Path) -> None:
     endpoint, out = free_endpoint(), tmp_path / "out"

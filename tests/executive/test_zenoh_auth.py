@@ -93,6 +93,7 @@ def _run(endpoint: str, out: Path, config: Path | None) -> subprocess.CompletedP
     return subprocess.run(argv, cwd=REPO, env=_env(config), capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_only_the_matching_password_drives_the_robot(driver: str, configs: dict[str, Path],
                                                      tmp_path: Path) -> None:
@@ -110,6 +111,7 @@ def test_only_the_matching_password_drives_the_robot(driver: str, configs: dict[
     assert events[-1]["event"] == "episode_end"
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_the_conformance_suite_reaches_a_driver_only_with_the_password(driver: str, configs: dict[str, Path]) -> None:
     argv = [sys.executable, "-m", "csl_cli", "driver", "check", "--connect", driver, "--timeout", "5"]
@@ -120,6 +122,7 @@ def test_the_conformance_suite_reaches_a_driver_only_with_the_password(driver: s
     assert admitted.returncode == 0, admitted.stdout + admitted.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_the_learner_service_admits_only_the_matching_password(configs: dict[str, Path], tmp_path: Path) -> None:
     from learner.service.zenoh_client import ZenohLearner

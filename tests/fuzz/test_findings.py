@@ -305,6 +305,7 @@ def test_profile_name_in_one_line() -> None:
     assert "\n" not in str(refused.value)
 
 
+@pytest.mark.slow
 def test_log_recording_damaged_at_every_byte(tmp_path: Path) -> None:
     """Found with the log surface's damaged recordings: a real recording with any one
     byte set to 0x00 (even offsets) or 0xFF (odd), or cut at any 16th byte, is read or refused in one line

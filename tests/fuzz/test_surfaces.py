@@ -37,6 +37,7 @@ def benches(tmp_path_factory: pytest.TempPathFactory):
         b.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("surface", SURFACES, ids=[s.name for s in SURFACES])
 def test_surface_holds_under_fuzzing(surface: Surface, benches) -> None:
     bench = benches(surface.name)

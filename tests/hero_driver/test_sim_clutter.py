@@ -49,6 +49,7 @@ def test_no_clutter_leaves_the_floor_as_it_was() -> None:
     assert cluttered(floor, CATALOGUE, Clutter(0.0, 2.0), 1)["objects"] == floor["objects"]
 
 
+@pytest.mark.slow
 @settings(max_examples=15, deadline=None)
 @given(seed=st.integers(0, 10_000), gap_in=st.floats(0.5, 12.0))
 def test_full_clutter_pairs_objects_at_the_asked_gap_and_still_loads(seed: int, gap_in: float) -> None:

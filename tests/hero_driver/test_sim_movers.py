@@ -14,8 +14,9 @@ from hero_driver.interface import BlockedMoves, Pose
 from hero_driver.sim.movers import YIELD_GAP_IN, MoverPreset, parse_movers
 from hero_driver.sim.world import SAFETY_IN, SimWorld
 from hero_driver.sim_driver import SimulatedHero
+from robot_profile import load_profile
 
-BASE_R = 9.0  # the shipped profile's base_radius_in
+BASE_R = load_profile().robot.geometry.base_radius_in  # the simulator's robot is the shipped profile's
 
 
 def world(tmp_path, movers, robot=(30, 90, 0), name="crossing"):

@@ -70,6 +70,7 @@ def _check(driver: SimulatedHero, server: zenoh.Session, endpoint: str) -> dict[
     return {r.name: r for r in results}
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_the_simulator_passes_the_blocked_moves_check(server: zenoh.Session, endpoint: str) -> None:
     results = _check(SimulatedHero("bm"), server, endpoint)
@@ -77,6 +78,7 @@ def test_the_simulator_passes_the_blocked_moves_check(server: zenoh.Session, end
     assert results["blocked-moves"].detail.startswith("stopped short at")
 
 
+@pytest.mark.slow
 @pytest.mark.zenoh
 def test_a_driver_that_ignores_movers_fails_it(server: zenoh.Session, endpoint: str) -> None:
     driver = IgnoresMovers("ig")

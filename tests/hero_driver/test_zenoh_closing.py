@@ -1,10 +1,10 @@
-"""Closing is quick and quiet: a ``csl run`` whose driver or learner
-process is frozen (SIGSTOP) ends without a traceback, and closing its zenoh sessions
-no longer waits out zenoh's ten-second handshake timeout. Real processes throughout:
-the fault is between them.
+"""Closing is quiet: a ``csl run`` whose driver or learner process is frozen (SIGSTOP)
+ends without a traceback, and closing a zenoh session to a frozen peer raises nothing
+(before the handshake was bounded it waited out zenoh's ten seconds and then raised
+zenoh.ZError). Real processes throughout: the fault is between them.
 
-The bounds below are hang guards chosen well under what the faults cost before the
-fix (an 11 s exit after a frozen driver; 10 s in a session's close), not timings.
+How long closing takes is measured, not asserted: ``bench/bench_zenoh_failures.py``;
+the bounded handshake itself is checked in tests/zenoh_rpc/test_settings.py.
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ import re
 import signal
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -27,7 +26,7 @@ from tests.zenoh_rpc.support import free_endpoint, wait_until
 
 pytestmark = pytest.mark.zenoh
 
-BEFORE_THE_FIX_S = 10.0  # zenoh's default handshake timeout, which every close waited out
+HANG_GUARD_S = 60.0  # only so that a hang fails the test instead of stopping the suite
 
 
 def csl(*argv: str, home: Path) -> subprocess.Popen[str]:
@@ -49,7 +48,7 @@ def frozen() -> Iterator[list[int]]:
             pass
 
 
-def test_a_client_closes_at_once_after_its_driver_froze(frozen: list[int]) -> None:
+def test_a_client_closes_without_error_after_its_driver_froze(frozen: list[int]) -> None:
     endpoint = free_endpoint()
     with DriverProcess.fake("good", endpoint) as driver:
         driver.ready()
@@ -58,11 +57,10 @@ def test_a_client_closes_at_once_after_its_driver_froze(frozen: list[int]) -> No
         os.kill(driver.process.pid, signal.SIGSTOP)
         frozen.append(driver.process.pid)
         assert client.wait_gone(5.0)  # the lease ran out; zenoh now retries the frozen peer
-        started = time.monotonic()
         client.close()  # raised zenoh.ZError after 10 s before the handshake was bounded
-        assert time.monotonic() - started < BEFORE_THE_FIX_S / 2
 
 
+@pytest.mark.slow
 def test_csl_run_with_a_frozen_driver_exits_lost_in_one_line(tmp_path: Path, frozen: list[int]) -> None:
     endpoint = free_endpoint()
     out = tmp_path / "out"
@@ -78,7 +76,7 @@ def test_csl_run_with_a_frozen_driver_exits_lost_in_one_line(tmp_path: Path, fro
             assert run.poll() is None  # moved; now waiting on the sense that never comes
             os.kill(driver.process.pid, signal.SIGSTOP)
             frozen.append(driver.process.pid)
-            _, stderr = run.communicate(timeout=BEFORE_THE_FIX_S)  # was 11 s, ending in a 60-line traceback
+            _, stderr = run.communicate(timeout=HANG_GUARD_S)  # ended in a 60-line traceback before the fix
         finally:
             run.kill()
     assert run.returncode == LOST
@@ -90,6 +88,7 @@ def test_csl_run_with_a_frozen_driver_exits_lost_in_one_line(tmp_path: Path, fro
     assert sum("unavailable" in line for line in stderr.splitlines()) == 1, stderr
 
 
+@pytest.mark.slow
 def test_csl_run_with_a_frozen_learner_finishes_and_closes_quietly(tmp_path: Path, frozen: list[int]) -> None:
     driver_at, learner_at = free_endpoint(), free_endpoint()
     out = tmp_path / "out"
@@ -112,11 +111,8 @@ def test_csl_run_with_a_frozen_learner_finishes_and_closes_quietly(tmp_path: Pat
             while not said.startswith("exit status"):  # the report, then the sessions close
                 said = run.stdout.readline()
                 assert said, "csl run ended without its exit status line"
-            reported = time.monotonic()
-            _, stderr = run.communicate(timeout=60.0)
-            closing_s = time.monotonic() - reported
+            _, stderr = run.communicate(timeout=HANG_GUARD_S)
         finally:
             run.kill()
     assert run.returncode in (0, 1)  # the episode ran to its end; what it learned waits in the outbox
     assert "Traceback" not in stderr, stderr
-    assert closing_s < BEFORE_THE_FIX_S / 2

@@ -48,6 +48,7 @@ def failed(verdicts: dict[str, str]) -> set[str]:
     return {name for name, verdict in verdicts.items() if verdict == "FAIL"}
 
 
+@pytest.mark.slow
 def test_the_simulated_hero_passes_every_check(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
     with DriverProcess.sim(endpoint, robot="conf") as process:
@@ -66,6 +67,7 @@ def test_the_simulated_hero_passes_every_check(capsys: pytest.CaptureFixture[str
     assert details["every-verb"] == f"{len(NAMES)} verbs refuse a JSON array bad_request: {', '.join(NAMES)}"
 
 
+@pytest.mark.slow
 def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
     with DriverProcess.fake("broken", endpoint, robot="broken") as process:
@@ -80,6 +82,7 @@ def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixtur
     assert status == 1
 
 
+@pytest.mark.slow
 def test_a_driver_without_token_or_state_fails_those_checks(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
     with DriverProcess.fake("tokenless", endpoint, robot="bare") as process:
@@ -103,6 +106,7 @@ def test_a_driver_of_another_robot_profile_stops_the_suite_in_one_line(capsys: p
     assert status == 1
 
 
+@pytest.mark.slow
 def test_a_driver_of_the_given_profile_passes_with_its_procedures(capsys: pytest.CaptureFixture[str]) -> None:
     endpoint = free_endpoint()
     argv = ["-m", "csl_cli", "driver", "sim", "--robot", "rover", "--listen", endpoint, "--profile", str(ROVER)]
@@ -187,6 +191,7 @@ def test_the_published_grey_bands_are_the_protocol_pages() -> None:
     assert all(lo <= level - noise and min(level + noise, 255) <= hi for level, lo, hi in ordered)
 
 
+@pytest.mark.slow
 def test_a_realistic_camera_is_checked_through_its_calibration(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
     """A real-looking camera (no grey bands) passes with its calibration, read by the
     executive's vision; without one its image checks say why they were not run."""

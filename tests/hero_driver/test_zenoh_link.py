@@ -91,6 +91,7 @@ def test_bad_requests_get_error_replies_and_the_node_serves_on(sim: tuple[str, D
     assert client.reset().result(REPLY_S).clock_s == 0
 
 
+@pytest.mark.slow
 def test_the_swap_one_client_two_driver_processes_in_turn() -> None:
     endpoint = free_endpoint()
     with DriverProcess.sim(endpoint, robot="swap") as first:

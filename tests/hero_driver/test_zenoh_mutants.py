@@ -110,6 +110,7 @@ def test_rows_counted_from_the_bottom_fail_the_camera_mapping(server: zenoh.Sess
     assert "one is at the row-mirrored place" in results["reset-objects"].detail
 
 
+@pytest.mark.slow
 def test_objects_at_grey_180_fail_the_camera_mapping(server: zenoh.Session, endpoint: str) -> None:
     results = check(ObjectsAt180("grey"), server, endpoint)
     assert failed(results) == {"camera-mapping", "reset-objects"}
@@ -117,6 +118,7 @@ def test_objects_at_grey_180_fail_the_camera_mapping(server: zenoh.Session, endp
     assert "nothing drawn in the object levels 195-234" in results["reset-objects"].detail
 
 
+@pytest.mark.slow
 def test_objects_drawn_off_their_place_fail_reset_objects(server: zenoh.Session, endpoint: str) -> None:
     results = check(ObjectsShifted("shift"), server, endpoint)
     assert failed(results) == {"reset-objects"}
@@ -125,6 +127,7 @@ def test_objects_drawn_off_their_place_fail_reset_objects(server: zenoh.Session,
                                                "from (70, 60) where reset placed it; at most 3 in")
 
 
+@pytest.mark.slow
 def test_a_band_camera_through_a_fisheye_lens_passes(server: zenoh.Session, endpoint: str) -> None:
     """The control for the camera mutants: band images sent with their fish-eye lens
     (the harsh noise preset: lens, pixel noise 10, odometry noise) are undistorted by
@@ -135,6 +138,7 @@ def test_a_band_camera_through_a_fisheye_lens_passes(server: zenoh.Session, endp
     assert results["reset-objects"].detail.startswith("world 'lab': 7 objects drawn where reset placed them")
 
 
+@pytest.mark.slow
 def test_a_camera_turned_after_calibration_fails_through_the_calibration(server: zenoh.Session, endpoint: str,
                                                                          tmp_path: Path) -> None:
     """Read through the calibration of the camera as it was, the turned camera's robot
@@ -186,6 +190,7 @@ def test_a_driver_that_never_stops_fails_shutdown_order(server: zenoh.Session, e
                             "or kept its token"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("when", [lambda _result: True, lambda result: result.centred],
                          ids=["every-move", "centred-moves-only"])
 def test_an_extra_field_in_move_replies_fails_the_move(server: zenoh.Session, endpoint: str,
@@ -232,12 +237,14 @@ def test_verb_queryables_answering_wildcards_fail_wildcard_silence(server: zenoh
     assert "replies to one query, expected exactly one" in results["wildcard-silence"].detail
 
 
+@pytest.mark.slow
 def test_a_slow_turn_makes_a_second_verb_busy(server: zenoh.Session, endpoint: str) -> None:
     results = check(SlowTurns("slow"), server, endpoint)
     assert failed(results) == set()
     assert "refused busy during a" in results["busy"].detail
 
 
+@pytest.mark.slow
 def test_a_driver_that_queues_fails_busy(server: zenoh.Session, endpoint: str,
                                          monkeypatch: pytest.MonkeyPatch) -> None:
     """A node that waits for the running verb instead of refusing the next one."""

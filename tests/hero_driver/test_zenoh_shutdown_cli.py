@@ -16,6 +16,7 @@ from tests.hero_driver.test_zenoh_support import REPO, DriverProcess
 pytestmark = pytest.mark.zenoh
 
 
+@pytest.mark.slow
 def test_the_simulator_stopped_on_request_passes_shutdown_order(endpoint: str) -> None:
     env = {**os.environ, "PYTHONPATH": str(REPO)}
     with DriverProcess.sim(endpoint, robot="sd") as driver:

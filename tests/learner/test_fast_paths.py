@@ -109,6 +109,7 @@ def same_split(a, b) -> bool:
                                          for f in ("unknown", "gains", "n_ranges", "mass")))
 
 
+@pytest.mark.slow
 @settings(max_examples=80, deadline=None)
 @given(st.data())
 def test_a_partition_over_distinct_values_equals_the_one_over_entries(data) -> None:
@@ -142,6 +143,7 @@ def test_the_node_memo_keeps_the_latest_partitions_only() -> None:
     assert min(int.from_bytes(k, "little") for k in matrix.node_splits) == 10  # the oldest dropped first
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.data())
 def test_a_grasps_failure_share_over_arrays_equals_the_row_by_row_sum(data) -> None:

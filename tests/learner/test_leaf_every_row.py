@@ -68,6 +68,7 @@ def _ratios(descriptions: list, start: Position) -> dict[str, float]:
             for spec in (searched, CRITERIA["cs-id3-failure-search-every-row"])}
 
 
+@pytest.mark.slow
 def test_at_the_optimum_where_the_search_grasped_blind() -> None:
     # The quick study's shipped library (its first 10 descriptions) from (24,0), the
     # study's start the search missed: it walks 1.074 (a Front-Pinch grasped blind below
@@ -79,6 +80,7 @@ def test_at_the_optimum_where_the_search_grasped_blind() -> None:
     assert 1.0 - 1e-9 <= ratios["cs-id3-failure-search-every-row"] <= 1.02
 
 
+@pytest.mark.slow
 def test_the_six_description_regression_closes() -> None:
     # Six descriptions perturbed from the shipped ones (seed 0), from (16,90): the search
     # walked 1.151 x the optimum (one object in eight grasped blind first); every row

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+import pytest
 
 from executive.defaults import EXAMPLE_LIBRARY
 from learner.appearance import Appearance
@@ -79,6 +80,7 @@ OBSERVATIONS = st.builds(Observation, st.sampled_from(["Height", "Width-Degree-1
                          st.sampled_from([0.0, 1.0, 3.5, -0.0, 8.25, 1e-300]))
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(st.lists(st.tuples(st.lists(OBSERVATIONS, max_size=5, unique_by=lambda o: (o.feature, o.position)),
                           st.none() | st.just(Appearance(True, 8.5, 1.0))), max_size=8),

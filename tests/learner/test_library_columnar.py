@@ -44,6 +44,7 @@ def test_the_four_objects_as_columns() -> None:
     assert descriptions_from_json(through_text(doc)) == four_objects()
 
 
+@pytest.mark.slow
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 80), st.integers(0, 10_000))
 def test_both_layouts_read_back_the_same_library(n, seed) -> None:

@@ -44,6 +44,7 @@ def assert_same(a: DescriptionMatrix, b: DescriptionMatrix) -> None:
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(descriptions(), min_size=1, max_size=12), st.lists(st.lists(descriptions(), max_size=3), max_size=6),
        st.booleans())
@@ -139,6 +140,7 @@ def test_a_matrix_grows_to_a_learner_snapshot_sharing_its_list(tmp_path) -> None
         assert matrix.extended_to(four_objects()[1:]) is None  # not a growth of this library
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(descriptions(), max_size=12), st.booleans())
 def test_the_bulk_fill_equals_each_row_built_alone(library: list[ObjectDescription], grasps: bool) -> None:
@@ -163,6 +165,7 @@ def known_bytes(matrix: DescriptionMatrix) -> dict[str, tuple[str, bytes] | int]
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(descriptions(), min_size=1, max_size=12), st.lists(st.lists(descriptions(), max_size=3), max_size=6))
 def test_known_values_updated_by_appends_equal_a_fresh_build_bit_for_bit(

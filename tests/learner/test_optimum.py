@@ -186,6 +186,7 @@ def _assert_bounded(best: float, walk: PolicyWalk, name: str) -> None:
 SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(libraries(SLOTS), st.sampled_from(STARTS), st.booleans())
 def test_the_optimum_is_never_above_a_cost_sensitive_policy(library: list[ObjectDescription], start: Position,
@@ -201,6 +202,7 @@ def test_the_optimum_is_never_above_a_cost_sensitive_policy(library: list[Object
             _assert_bounded(best, policy_walk(m, criterion(name), est, start), name)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(libraries(CONCRETE), st.sampled_from(STARTS), st.booleans(), st.integers(0, 3))
 def test_the_optimum_is_never_above_any_policy_on_concrete_positions(library: list[ObjectDescription],
@@ -214,6 +216,7 @@ def test_the_optimum_is_never_above_any_policy_on_concrete_positions(library: li
         _assert_bounded(best, policy_walk(m, criterion(name), est, start, seed=seed), name)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(libraries(SLOTS), st.sampled_from(STARTS), st.booleans(), st.integers(0, 3))
 def test_the_optimum_is_never_above_a_random_fill_when_any_move_costs_the_same(

@@ -142,6 +142,7 @@ def test_criteria_formulas() -> None:
         criterion("c4.5")
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(append_tests.descriptions(), min_size=1, max_size=14), st.data())
 def test_the_vectorised_partition_equals_the_scalar_one_column_by_column(library: list, data: st.DataObject) -> None:

@@ -44,6 +44,7 @@ def test_a_version_it_cannot_account_for_gets_the_whole_library(tmp_path: Path, 
         assert reopened.changes(2) == LibraryChanges(2, 5, ())  # the version it opened at is known
 
 
+@pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.sampled_from(["mug", "jar"]), max_size=6), st.data())
 def test_held_descriptions_plus_changes_are_the_library(tmp_path_factory: pytest.TempPathFactory,

@@ -204,6 +204,7 @@ def test_round_objects_take_part_at_every_orientation() -> None:
     assert all(p.orientation_deg is None for p in cup_positions)  # sensed once per distance
 
 
+@pytest.mark.slow
 def test_the_shipped_replay_reproduces_the_shipped_library(tmp_path) -> None:  # noqa: ANN001
     """The example library is what training on the recorded measurements gives: replaying
     them must give it back exactly (that the simulator still gives it too is checked in

@@ -85,6 +85,7 @@ def test_without_a_grasp_that_leaves_an_object_an_unholdable_one_is_an_error() -
 GRASPS = ("Front-Pinch", "Front-Wrap", "Top-Pinch", "Top-Vert-Grip", "Top-Hor-Grip")
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.booleans(), st.sets(st.tuples(st.sampled_from(GRASPS), st.sampled_from((0.0, 90.0))),
                                                    max_size=3)), min_size=1, max_size=5))

@@ -6,6 +6,7 @@ import dataclasses
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+import pytest
 
 from learner import decision_tree
 from learner.costs import ModelMoveCost
@@ -30,6 +31,7 @@ def _assert_same_training(reused: TrainingResult, simple: TrainingResult) -> Non
     assert _apart_from_tree_counts(reused.log) == _apart_from_tree_counts(simple.log)
 
 
+@pytest.mark.slow
 def test_table_3_trains_to_the_same_library_growing_fewer_than_half_the_trees() -> None:
     """The shipped Table 3 measurements, replayed: the same descriptions, every procedure
     applied in the same order for the same reason, while fewer than half of the trees
@@ -70,6 +72,7 @@ def test_a_tree_is_grown_once_per_distinct_set_of_descriptions_and_predicts_as_t
 _SIZES = st.tuples(st.floats(2.0, 12.0), st.floats(2.0, 12.0), st.floats(2.0, 14.0), st.booleans())
 
 
+@pytest.mark.slow
 @settings(max_examples=10, deadline=None)
 @given(shapes=st.lists(_SIZES, min_size=2, max_size=4),
        grasps=st.lists(st.sampled_from(["Front-Wrap", "Front-Pinch", "Top-Pinch", "No-Grab"]), min_size=4, max_size=4),

@@ -58,6 +58,7 @@ def libraries(draw, complete: bool = False):
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(libraries(), st.booleans())
 def test_with_equal_costs_cs_id3_picks_what_id3_picks(library, grasps) -> None:

@@ -87,6 +87,7 @@ def _ratio(descriptions: list, start: Position) -> tuple[float, float]:
                  for spec in (WALK_SEARCH, WALK_ROLLOUT))
 
 
+@pytest.mark.slow
 def test_within_two_percent_of_the_optimum_on_the_shipped_library() -> None:
     # The quick study's shipped library (its first 10 descriptions) from one of the
     # study's starts: the search is within 1.02 of the optimum, never above the rollout.
@@ -96,6 +97,7 @@ def test_within_two_percent_of_the_optimum_on_the_shipped_library() -> None:
     assert 1.0 - 1e-9 <= searched <= 1.02 and searched <= rolled + 1e-9
 
 
+@pytest.mark.slow
 def test_within_two_percent_of_the_optimum_on_a_synthetic_library() -> None:
     # Six descriptions perturbed from the shipped ones (seed 0), from (60,90).
     knowledge = load_knowledge(KNOWLEDGE)

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.sim.world import SimWorld
 from planner import Navigator, Pose, Region
@@ -35,6 +37,7 @@ def test_the_position_between_a_close_pair_is_unreachable() -> None:
     assert not cost.possible and cost.reason == "goal in an obstacle"
 
 
+@pytest.mark.slow
 def test_no_position_priced_finite_among_close_objects_is_a_collision() -> None:
     sim = SimWorld("clutter", 0)
     nav = Navigator(load_profile().robot)

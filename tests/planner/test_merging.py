@@ -135,6 +135,7 @@ def test_two_pieces_the_robot_stood_between_are_not_two_objects(robot: Pose | No
 LONE = sorted(e for e in CATALOGUE if e.endswith(("upright", "lying", "upside-down")))
 
 
+@pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(entry=st.sampled_from(LONE), yaw=st.floats(0.0, 360.0), turn=st.floats(-90.0, 90.0),
        dx=st.floats(-2.5, 2.5), dy=st.floats(-2.5, 2.5))

@@ -9,12 +9,11 @@ import pytest
 from planner import CostEstimator, Navigator, Pose, build_vision_map, look
 from planner import move_seconds
 from planner import paths as reasons
-from robot_profile import Robot, RobotGeometry, RobotMotion
+from robot_profile import Robot, RobotMotion, load_profile
 from tests.planner.drawing import WALL, Canvas
 
 MODEL = RobotMotion(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0)
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
-                      raised_sensor_height_in=18.0)
+HERO = load_profile().robot.geometry  # the shipped profile's: base radius 9 in, sonar 11 in ahead of the centre
 
 
 def test_formula_by_hand():

@@ -10,11 +10,10 @@ import pytest
 from planner import Navigator, PathPlanner, PlanResult, Pose, Region, build_vision_map, look
 from planner import paths as reasons
 from planner.geometry import angle_between
-from robot_profile import Robot, RobotGeometry, RobotMotion
+from robot_profile import Robot, RobotMotion, load_profile
 from tests.planner.drawing import WALL, Canvas
 
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
-                      raised_sensor_height_in=18.0)
+HERO = load_profile().robot.geometry  # the shipped profile's: base radius 9 in, sonar 11 in ahead of the centre
 START = Pose(40.0, 40.0, 0.0)
 MODEL_FOR_TESTS = RobotMotion(0.5, 5.0, 5.0, 15.0)
 
@@ -246,6 +245,7 @@ def test_a_narrow_corridor_round_a_corner():
     assert result.length_in == pytest.approx((153 - 20) + (220 - 33), rel=0.1)
 
 
+@pytest.mark.slow
 def test_the_same_question_gets_the_same_path_whatever_was_planned_before():
     vision_map = build_vision_map(look(divided_room().image()), HERO)
     goal = Pose(200.0, 40.0, 0.0)

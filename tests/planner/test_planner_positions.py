@@ -10,12 +10,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner import Pose, Region, face_distance_in, look, pose_for_position, position_of
-from robot_profile import RobotGeometry
+from robot_profile import load_profile
 from planner.geometry import angle_between
 from tests.planner.drawing import Canvas, rect_corners
 
-HERO = RobotGeometry(base_radius_in=9.0, sensor_offset_in=11.0, sensor_height_in=4.0,
-                      raised_sensor_height_in=18.0)
+HERO = load_profile().robot.geometry  # the shipped profile's: base radius 9 in, sonar 11 in ahead of the centre
 
 
 def box_region(x: float, y: float, length: float, width: float, yaw: float) -> Region:
@@ -68,6 +67,7 @@ regions = st.one_of(
 )
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(region=regions, distance=st.floats(0, 127), orientation=st.floats(0, 359.999))
 def test_position_round_trip(region, distance, orientation):

@@ -13,12 +13,15 @@ import json
 import math
 from pathlib import Path
 
+import pytest
+
 from csl_cli.main import main
 from robot_profile import DEFAULT_PROFILE
 
 VISION_S = 60.0
 
 
+@pytest.mark.slow
 def test_demo_plans_and_simulates_with_the_given_profile(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     text = DEFAULT_PROFILE.read_text(encoding="utf-8")
     assert "vision_s = 5.0" in text

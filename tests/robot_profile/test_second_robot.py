@@ -11,6 +11,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 from csl_cli.main import main
 from robot_profile import DEFAULT_PROFILE, load_profile
 
@@ -24,6 +26,7 @@ def test_the_rover_differs_from_the_hero_where_it_matters() -> None:
     assert {p.name for p in rover.sensing} < {p.name for p in hero.sensing}
 
 
+@pytest.mark.slow
 def test_demo_with_the_rover_profile_senses_only_with_its_procedures(tmp_path: Path, capsys) -> None:  # noqa: ANN001
     rover = load_profile(ROVER)
     times = {p.name: p.time_s for p in rover.sensing}

@@ -48,6 +48,7 @@ def test_the_shipped_profiles_have_different_stamps() -> None:
     assert hero.sha256 != rover.sha256
 
 
+@pytest.mark.slow
 @given(st.randoms(use_true_random=False))
 def test_the_order_of_keys_and_entries_changes_nothing(rng: Any) -> None:
     with DEFAULT_PROFILE.open("rb") as fh:

@@ -24,6 +24,10 @@ def _example() -> str:
 
 
 def _pytest(folder: Path, *args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    """pytest in ``folder`` as a user starts it: without the ``PYTEST_XDIST_*`` variables of
+    this run's worker, which would make syrupy leave its report to a controller that is not
+    there."""
+    env = {k: v for k, v in (os.environ if env is None else env).items() if not k.startswith("PYTEST_XDIST_")}
     return subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", *args], cwd=folder,
                           capture_output=True, text=True, timeout=300, env=env)
 
@@ -60,6 +64,7 @@ def test_the_docs_example_runs_in_an_empty_folder(tmp_path: Path) -> None:
     assert "test_a_cup_is_recognised_and_grasped" in changed.stdout
 
 
+@pytest.mark.slow
 def test_pytest_without_syrupy_works_and_csl_snapshot_says_what_to_install(tmp_path: Path) -> None:
     hidden = tmp_path / "hidden" / "syrupy"
     hidden.mkdir(parents=True)

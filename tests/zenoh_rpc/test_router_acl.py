@@ -233,6 +233,7 @@ def test_the_executive_moves_the_robot_and_learns(in_folder: Deployment) -> None
         learner.close()
 
 
+@pytest.mark.slow
 def test_a_whole_episode_runs_through_the_router(in_folder: Deployment, tmp_path: Path) -> None:
     learner = executive_learner(in_folder)
     try:
