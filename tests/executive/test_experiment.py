@@ -285,6 +285,7 @@ def test_quick_run_no_policy_is_cheaper_than_the_optimum(quick_run: Path) -> Non
     assert all(r >= 1.0 - 1e-9 for r in ratios)
 
 
+@pytest.mark.slow
 def test_quick_run_measures_the_ablations_beside_the_product(quick_run: Path) -> None:
     sections = _sections((quick_run / "results.md").read_text(encoding="utf-8"))
     baselines, optimum = sections["Baselines in the same run"], sections["Distance to the optimum (noise-free)"]
