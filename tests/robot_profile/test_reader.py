@@ -3,15 +3,13 @@
 from __future__ import annotations
 
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
 from learner.knowledge import MoveModel
-from robot_profile import (
-    DEFAULT_PROFILE, Robot, RobotGeometry, RobotMotion, knowledge_from_dict, load_knowledge, load_profile,
-    profile_from_dict,
-)
+from robot_profile import DEFAULT_PROFILE, knowledge_from_dict, load_knowledge, load_profile, profile_from_dict
 
 HERO = Path(__file__).resolve().parents[2] / "hero_driver" / "profiles" / "hero2000.toml"
 
@@ -20,7 +18,10 @@ def test_the_default_is_the_shipped_hero_profile() -> None:
     assert DEFAULT_PROFILE == HERO
     profile = load_profile()
     assert profile.source == str(HERO)
-    assert profile.robot == Robot(RobotGeometry(9.0, 11.0, 4.0, 18.0), RobotMotion(0.5, 5.0, 5.0, 15.0))
+    geometry, motion = profile.robot.geometry, profile.robot.motion
+    assert (geometry.base_radius_in, geometry.sensor_offset_in, geometry.sensor_height_in,
+            geometry.raised_sensor_height_in) == (9.0, 11.0, 4.0, 18.0)
+    assert (motion.speed_in_per_s, motion.turn_deg_per_s, motion.vision_s, motion.centring_s) == (0.5, 5.0, 5.0, 15.0)
     assert profile.move == MoveModel(2.0, 0.0, 0.0)
     assert len(profile.sensing) == 7 and profile.grasp_names == (
         "Front-Pinch", "Front-Wrap", "Top-Pinch", "Top-Vert-Grip", "Top-Hor-Grip", "No-Grab")
@@ -85,10 +86,10 @@ def test_the_learners_part_needs_no_robot_table_but_checks_one_given(tmp_path: P
     del data["robot"]
     assert knowledge_from_dict(data, "k.toml") == full  # [robot] is nothing of the learner's
     no_robot = tmp_path / "learner-only.toml"
-    no_robot.write_text("".join(line for line in HERO.read_text(encoding="utf-8").splitlines(keepends=True)
-                                if not line.startswith(("[robot]", "base_radius_in", "sensor_", "raised_sensor_",
-                                                        "speed_in_per_s", "turn_deg_per_s", "vision_s",
-                                                        "centring_s"))), encoding="utf-8")
+    text = HERO.read_text(encoding="utf-8")
+    robot_lines = ("[robot]", *(f"{key} " for key in tomllib.loads(text)["robot"]))  # whatever keys it has
+    no_robot.write_text("".join(line for line in text.splitlines(keepends=True) if not line.startswith(robot_lines)),
+                        encoding="utf-8")
     assert load_knowledge(no_robot).sensing == full.sensing and load_knowledge(no_robot).source == str(no_robot)
     with pytest.raises(ValueError, match=r"learner-only.toml: missing table \[robot\]"):
         load_profile(no_robot)  # whatever drives the planner or the simulator still needs it
@@ -114,11 +115,10 @@ def test_unreadable_files_are_one_line_errors(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("bad", [dict(speed_in_per_s=0.0), dict(turn_deg_per_s=-1.0), dict(vision_s=-1.0)])
 def test_motion_built_by_hand_refuses_impossible_constants(bad) -> None:  # noqa: ANN001
-    fields = dict(speed_in_per_s=0.5, turn_deg_per_s=5.0, vision_s=5.0, centring_s=15.0) | bad
     with pytest.raises(ValueError, match="move model needs"):
-        RobotMotion(**fields)
+        replace(load_profile().robot.motion, **bad)
 
 
 def test_geometry_built_by_hand_refuses_a_body_without_size() -> None:
     with pytest.raises(ValueError, match="base_radius_in > 0"):
-        RobotGeometry(base_radius_in=0.0, sensor_offset_in=11.0, sensor_height_in=4.0, raised_sensor_height_in=18.0)
+        replace(load_profile().robot.geometry, base_radius_in=0.0)
