@@ -13,7 +13,7 @@ from collections.abc import Callable, Hashable, Mapping, Sequence
 from typing import TypeVar
 
 from experiments.runner import run_all
-from experiments.table import StudyResult
+from experiments.table import StudyResult, markdown_table
 from learner.description import ObjectDescription
 from robot_profile import RobotProfile
 
@@ -35,13 +35,13 @@ def installed() -> tuple[tuple[ObjectDescription, ...], RobotProfile]:
 
 
 def markdown(study: StudyResult, command: str, wall_s: float) -> str:
-    """The study as a Markdown section for BENCHMARKS.md."""
-    lines = [f"### {study.title}", "", f"`{command}` ({wall_s:.0f} s wall)", "",
-             "| measured | paper | ours |", "|---|---|---|"]
-    lines += [f"| {r.measured} | {r.paper} | {r.ours} |" for r in study.rows]
+    """The study as a Markdown section for BENCHMARKS.md (its tables written as
+    docs/results.md's are, :func:`~experiments.table.markdown_table`; no ratio column,
+    since these studies go beyond the paper)."""
+    lines = [f"### {study.title}", "", f"`{command}` ({wall_s:.0f} s wall)", ""]
+    lines += markdown_table(("measured", "paper", "ours"), ((r.measured, r.paper, r.ours) for r in study.rows))
     for headers, body in study.details:
-        lines += ["", "| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
-        lines += ["| " + " | ".join(row) + " |" for row in body]
+        lines += ["", *markdown_table(headers, body)]
     lines += ["", *study.notes]
     return "\n".join(lines)
 
