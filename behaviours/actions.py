@@ -16,6 +16,7 @@ from py_trees.common import Access, Status
 from behaviours.base import DriverAction
 from behaviours.bridge import to_driver_pose
 from behaviours.events import Event
+from behaviours.records import ObjectRecord, Step
 from camera_model.image import CameraImage
 from hero_driver.interface import DriverError, GraspResult, MoveResult, Obstacle, RobotState, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
@@ -172,6 +173,19 @@ class MoveTo(DriverAction):
         return Status.FAILURE
 
 
+
+def count_verb_failed(step: Step, obj: ObjectRecord, grasp: bool) -> None:
+    """A verb the robot refused or failed, as the recoveries read it: the step's grasp
+    (executed, or tried as a feature) failed; a sensing test is unusable here, so the
+    next choice reselects. Shared by the actions and by ``RefusedForRange?`` when it
+    counts a refusal for range as the verb failing."""
+    if grasp:
+        assert step.attempt is not None
+        step.attempt = replace(step.attempt, success=False)
+    else:
+        assert step.test is not None
+        obj.session.unusable(step.test)
+
 class ApplyTest(DriverAction):
     """Apply the chosen test: its sensing procedure, or its grasp when a grasp is tried
     as a binary feature. A value already measured (free) needs no robot time."""
@@ -209,14 +223,11 @@ class ApplyTest(DriverAction):
     def failed(self, exc: DriverError) -> Status:
         step = self.step
         assert step.test is not None
-        if self.refused_for_range(exc, step.test.test.procedure, step.test.test.is_grasp):
+        grasp = step.test.test.is_grasp
+        if self.refused_for_range(exc, step.test.test.procedure, grasp):
             return Status.FAILURE  # nothing tried: the re-approach branch judges (behaviours.reapproach)
-        if step.test.test.is_grasp:
-            assert step.attempt is not None
-            step.attempt = replace(step.attempt, success=False)
-            return Status.SUCCESS  # FollowBranch fails on it and the recovery branch looks
-        self.obj.session.unusable(step.test)  # refused here: reselect
-        return Status.FAILURE
+        count_verb_failed(step, self.obj, grasp)
+        return Status.SUCCESS if grasp else Status.FAILURE  # a grasp: FollowBranch fails on it, recovery looks
 
 
 class Grasp(DriverAction):
@@ -256,7 +267,7 @@ class Grasp(DriverAction):
     def failed(self, exc: DriverError) -> Status:
         attempt = self.step.attempt
         if attempt is not None and not self.refused_for_range(exc, attempt.grasp, True):
-            self.step.attempt = replace(attempt, success=False)
+            count_verb_failed(self.step, self.obj, grasp=True)
         return Status.FAILURE
 
 

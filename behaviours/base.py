@@ -63,6 +63,11 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
     def obj(self) -> ObjectRecord:
         return self.bb.object
 
+    def object_at_hand(self) -> ObjectRecord | None:
+        """The object being worked on; None before any is located (locating, the first
+        image) or between objects."""
+        return self.bb.get("object") if self.bb.exists("object") else None
+
     @property
     def step(self) -> Step:
         return self.bb.step
@@ -70,7 +75,7 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
     def note(self, kind: Event, **data: object) -> None:
         """Report an event to the episode log, tagged with the object when there is one
         (locating happens before any object)."""
-        obj: ObjectRecord | None = self.bb.get("object") if self.bb.exists("object") else None
+        obj = self.object_at_hand()
         tagged: dict[str, object] = {"object": obj.index} if obj is not None else {}
         self.services.log.event(kind, **tagged, behaviour=self.name, **data)
 
@@ -89,7 +94,7 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
         image places the robot away from where its pose says, the pose on the blackboard
         becomes the corrected one. Only a behaviour with write access to the pose looks."""
         services = self.services
-        working = self.bb.exists("object") and self.bb.get("object") is not None  # else nothing to charge it to
+        working = self.object_at_hand() is not None  # else nothing to charge it to
         scene = self.timed(lambda: services.navigator.observe(image)) if working else services.navigator.observe(image)
         localise = getattr(services.driver, "localise", None)
         if scene.robot is not None and localise is not None and localise(scene.robot.x_in, scene.robot.y_in):
@@ -136,7 +141,7 @@ class DriverAction(CslBehaviour):
 
     def initialise(self) -> None:
         self._future, self._skip, self._lost = None, None, None
-        obj = self._object_at_hand()
+        obj = self.object_at_hand()
         if obj is not None and obj in self.services.given_up:
             self.feedback_message = f"object {obj.index} was given up: no verb is sent for it"
             self._skip = Status.FAILURE
@@ -190,18 +195,15 @@ class DriverAction(CslBehaviour):
         range for the object at hand: nothing was tried, and the refusal is recorded on
         the step (``Step.refusal``) for ``RefusedForRange?`` to judge; the behaviour then
         fails without counting the verb as failed (``behaviours.reapproach``)."""
-        if exc.code != OUT_OF_RANGE or self._object_at_hand() is None:
+        if exc.code != OUT_OF_RANGE or self.object_at_hand() is None:
             return False
         self.step.refusal = Refusal(procedure, grasp, exc.message, self.name)
         return True
 
-    def _object_at_hand(self) -> ObjectRecord | None:
-        return self.bb.get("object") if self.bb.exists("object") else None
-
     def _unanswered(self, exc: DriverError) -> Status:
         """The robot did not answer in time: what it measured or did is unknown, so the
         object at hand is given up (an object already handled stays handled)."""
-        obj = self._object_at_hand()
+        obj = self.object_at_hand()
         if obj is not None:
             self.services.given_up.add(obj)
             if not obj.done:
@@ -226,7 +228,7 @@ class DriverAction(CslBehaviour):
         if back is not lost:
             return Status.RUNNING
         self.bb.set(DRIVER_LOST, None)
-        if self._object_at_hand() is None:  # nothing located yet: this verb (the first image) again
+        if self.object_at_hand() is None:  # nothing located yet: this verb (the first image) again
             self.initialise()
             return Status.RUNNING if self._skip is None else self._skip
         self.feedback_message = "driver back, objects located again: the step starts over"

@@ -86,7 +86,7 @@ class Blocked(CslBehaviour):
         return Status.SUCCESS
 
     def _give_up(self, blockage: Blockage, bound: int) -> Status:
-        obj = self.bb.get("object") if self.bb.exists("object") else None
+        obj = self.object_at_hand()
         o = blockage.obstacle
         reason = (f"a moving obstacle kept blocking the way ({bound} rounds of re-planning and waiting; "
                   f"last at ({o.x_in:.0f}, {o.y_in:.0f}))")

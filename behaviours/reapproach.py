@@ -26,12 +26,12 @@ refusal counted before (the grasp failed, or the test is unusable here).
 
 from __future__ import annotations
 
-from dataclasses import replace
 
 import py_trees
 from py_trees.common import Status
 from py_trees.composites import Selector, Sequence
 
+from behaviours.actions import count_verb_failed
 from behaviours.base import CslBehaviour, DriverAction
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Refusal
@@ -55,13 +55,7 @@ class RefusedForRange(CslBehaviour):
         if why_not is None:
             self.feedback_message = f"{refusal.procedure} refused for range: re-approach"
             return Status.SUCCESS
-        step = self.step
-        if refusal.grasp:
-            assert step.attempt is not None
-            step.attempt = replace(step.attempt, success=False)  # a failed grasp, as any refusal
-        else:
-            assert step.test is not None
-            obj.session.unusable(step.test)  # refused here: reselect
+        count_verb_failed(self.step, obj, refusal.grasp)
         self.feedback_message = f"{refusal.procedure} refused for range, counted as failed: {why_not}"
         return Status.FAILURE
 

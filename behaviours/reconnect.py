@@ -112,7 +112,7 @@ class LocateAgain(CslBehaviour):
         self._image: Future[CameraImage] | None = None
 
     def initialise(self) -> None:
-        located = self.bb.exists("object") and self.bb.get("object") is not None
+        located = self.object_at_hand() is not None
         self._image = self.services.driver.camera() if located else None
 
     def update(self) -> Status:

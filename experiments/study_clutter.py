@@ -106,21 +106,23 @@ def floor(folder: Path, gap: float, seed: int) -> Path:
 
 def run_job(job: ClutterJob) -> list[ObjectRow]:
     """Run one floor here (in a worker process) and report it object by object."""
-    watched: list[WatchedHero] = []
+    watched: WatchedHero | None = None
 
     def watch(hero: SimulatedHero) -> WatchedHero:
-        watched.append(WatchedHero(hero))
-        return watched[0]
+        nonlocal watched
+        watched = WatchedHero(hero)
+        return watched
 
     played = play_floor(lambda folder: floor(folder, job.gap, job.seed), job.seed, Params(beam_check=job.check),
                         watch=watch)  # type: ignore[arg-type]
+    assert watched is not None
     blocked = [e["object"] for e in played.events if e["event"] == "beam_blocked"]
     start = played.start
     out = []
     for record, row in played.rows(judged_now=False):
         seen = (record.first_region or record.region).centroid
         index = min(start, key=lambda t: math.hypot(t.x_in - seen[0], t.y_in - seen[1])).index
-        taken = watched[0].readings.get(index, [])
+        taken = watched.readings.get(index, [])
         out.append(ObjectRow(job.gap, job.check, job.seed, row.object, row.outcome, bool(row.correct),
                              round(row.robot_s, 1), len(taken), sum(taken), blocked.count(record.index)))
     return out
