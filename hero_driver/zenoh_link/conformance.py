@@ -40,14 +40,15 @@ from camera_model.image import CameraImage
 from hero_driver.interface import (
     BAD_REQUEST, BUSY, NO_TARGET, OUT_OF_RANGE, PROTOCOL_VERSION, UNKNOWN_PROCEDURE, UNKNOWN_VERB, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
 )
-from hero_driver.zenoh_link import codec
 from hero_driver.sim.catalogue import load_catalogue
 from hero_driver.sim.worldfile import WORLDS_DIR, load_world
 from hero_driver.zenoh_link.camera_check import (MappingError, PlacedObject, Sight, Vision, check_objects_drawn,
                                                  check_objects_seen, check_robot_drawn, check_robot_seen, undistorted)
-from hero_driver.zenoh_link.codec import CodecError
+from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, CheckResult, Probe, Timed, decoded, describe,
+                                              error_of, message, outcome_text, pose_json, pose_text, same_pose,
+                                              valid_states)
 from hero_driver.zenoh_link.keys import robot_keys
-from hero_driver.zenoh_link.verbs import BY_NAME, VERBS
+from hero_driver.zenoh_link.verbs import VERBS
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, open_session
@@ -58,7 +59,6 @@ STATE_WINDOW_S = 1.5  # listen this long for periodic state publications
 MIN_STATE_PUBLICATIONS = 2  # ... and expect at least this many (the node sends 5 Hz)
 TURN_DEG = 10.0  # the move check turns in place by this much
 FACE_AHEAD_IN = 100.0  # ... and then faces a point this far straight ahead
-POSE_TOLERANCE = 0.5  # inches or degrees between a move's reply and the next state
 NOT_HERE = (OUT_OF_RANGE, NO_TARGET)  # what sensing or grasping from the reset pose may answer
 BUSY_PROBE_S = 0.1  # while the busy check's turn runs, a release goes every this often
 BUSY_PROBES = 20  # ... at most this many
@@ -74,15 +74,6 @@ WARM_S = 1.0  # ... or this long after the first, whichever comes first
 SHUTDOWN_RACE_S = 0.25  # a noop sent this close before the token's DELETE arrived may miss the driver
 NEEDS_CALIBRATION = ("not checked: the image is not drawn in the grey bands (a real camera's?): needs "
                      "--camera-calibration FILE (csl camera calibrate, docs/camera.md)")
-
-
-@dataclass(frozen=True)
-class CheckResult:
-    """One named check: passed or not, and what was seen."""
-
-    name: str
-    passed: bool
-    detail: str
 
 
 @dataclass(frozen=True)
@@ -104,115 +95,13 @@ class Procedures:
         return cls(sensing[0].name, near.name, grasping[0].name)
 
 
-class CheckFailed(Exception):
-    """A check's expectation was not met; the text says what was seen instead."""
-
-
-class _Probe:
-    """Raw queries and state publications of one robot on one session."""
-
-    def __init__(self, session: zenoh.Session, robot: str, timeout_s: float) -> None:
-        self.rpc = RpcClient(session, robot_keys(robot))
-        self.timeout_s = timeout_s
-        self._states: list[tuple[float, bytes]] = []
-        self._lock = threading.Lock()
-        self._subscriber = session.declare_subscriber(self.rpc.keys.state, self._on_state)
-
-    def _on_state(self, sample: zenoh.Sample) -> None:
-        with self._lock:
-            self._states.append((time.monotonic(), sample.payload.to_bytes()))
-
-    def states_since(self, since: float) -> list[bytes]:
-        with self._lock:
-            return [body for at, body in self._states if at >= since]
-
-    def close(self) -> None:
-        self._subscriber.undeclare()
-
-    def ask(self, verb: str, payload: bytes) -> Reply | None:
-        """Send ``payload`` to ``rpc/<verb>``: the one reply (CheckFailed for more),
-        or None when none came."""
-        answer = self.rpc.ask(verb, payload, self.timeout_s)
-        if answer.late:  # zenoh ends an unanswered query with a plain-text error reply of its own
-            raise CheckFailed("no reply before the timeout")
-        if len(answer.replies) > 1:
-            raise CheckFailed(f"{len(answer.replies)} replies to one query, expected exactly one")
-        return answer.first
-
-    def result(self, verb: str, fields: dict[str, object]) -> Any:
-        """Call a verb that must succeed; its decoded result."""
-        reply = self.ask(verb, _message(fields))
-        if reply is None or reply.ok is None:
-            raise CheckFailed(_describe(reply))
-        return _decoded(verb, reply.ok)
-
-    def outcome(self, verb: str, fields: dict[str, object]) -> Any:
-        """Call a verb that may succeed or answer a protocol error: the decoded
-        result or the :class:`DriverError`."""
-        reply = self.ask(verb, _message(fields))
-        if reply is not None and reply.ok is not None:
-            return _decoded(verb, reply.ok)
-        return _error(reply)
-
-    def refusal(self, verb: str, payload: bytes, codes: Sequence[str], field: str = "") -> str:
-        """Send a request that must be refused with one of ``codes`` (and, for a bad
-        field, a message naming it); a one-line account of the refusal."""
-        error = _error(self.ask(verb, payload))
-        if error.code not in codes:
-            raise CheckFailed(f"{verb}: expected {' or '.join(codes)}, got {error.code}: {error.message}")
-        if field and field not in error.message:
-            raise CheckFailed(f"{verb}: {error.code} message does not name '{field}': {error.message}")
-        return f"{error.code}: {error.message}"
-
-
-def _message(fields: dict[str, object]) -> bytes:
-    return json.dumps({"v": PROTOCOL_VERSION, **fields}, ensure_ascii=False).encode("utf-8")
-
-
-def _decoded(verb: str, body: bytes) -> Any:
-    try:
-        return BY_NAME[verb].decode_result(body)
-    except CodecError as exc:
-        raise CheckFailed(f"malformed reply: {exc}") from None
-
-
-def _error(reply: Reply | None) -> DriverError:
-    """The protocol error a reply carries; CheckFailed for a result or no reply."""
-    if reply is None or reply.err is None:
-        raise CheckFailed(_describe(reply) if reply is None else "expected an error reply, got a result")
-    try:
-        return codec.decode_error(reply.err)
-    except CodecError as exc:
-        raise CheckFailed(f"malformed error reply: {exc}") from None
-
-
-def _describe(reply: Reply | None) -> str:
-    if reply is None or reply.err is None:
-        return "no reply (nothing serves the key)"
-    try:
-        error = codec.decode_error(reply.err)
-    except CodecError as exc:
-        return f"malformed error reply: {exc}"
-    return f"error reply {error.code}: {error.message}"
-
-
-def _valid_states(bodies: Sequence[bytes]) -> list[RobotState]:
-    states = []
-    for body in bodies:
-        try:
-            states.append(codec.decode_state(body))
-        except CodecError as exc:
-            raise CheckFailed(f"malformed state publication: {exc}") from None
-    return states
-
-
 # -------------------------------------------------------------------------- the checks
 
 
 class _Suite:
     """The checks, in the order they run; each returns a detail or raises CheckFailed."""
 
-    def __init__(self, probe: _Probe, procedures: Procedures, profile: ProfileStamp | None = None,
+    def __init__(self, probe: Probe, procedures: Procedures, profile: ProfileStamp | None = None,
                  vision: Vision | None = None) -> None:
         self.probe = probe
         self.procedures = procedures
@@ -271,7 +160,7 @@ class _Suite:
     def state_published(self) -> str:
         since = time.monotonic()
         time.sleep(STATE_WINDOW_S)
-        states = _valid_states(self.probe.states_since(since))
+        states = valid_states(self.probe.states_since(since))
         self.last_state = states[-1] if states else None
         if len(states) < MIN_STATE_PUBLICATIONS:
             raise CheckFailed(f"{len(states)} publications on {self.probe.rpc.keys.state} "
@@ -329,7 +218,7 @@ class _Suite:
         turn = (pose.heading_deg - start.heading_deg + 180.0) % 360.0 - 180.0
         if math.hypot(pose.x_in - start.x_in, pose.y_in - start.y_in) > START_TOLERANCE_IN or \
                 abs(turn) > START_TOLERANCE_IN:
-            raise CheckFailed(f"reset to world {KNOWN_WORLD!r} answered the pose {_pose_text(outcome)}, the "
+            raise CheckFailed(f"reset to world {KNOWN_WORLD!r} answered the pose {pose_text(outcome)}, the "
                               f"world's start is ({start.x_in:g}, {start.y_in:g}, {start.heading_deg:g} deg)")
         image = self.probe.result("camera", {})
         try:
@@ -355,7 +244,7 @@ class _Suite:
         state = self.probe.result("reset", {"world": None, "seed": None})
         if state.clock_s != 0:
             raise CheckFailed(f"clock_s is {state.clock_s} after a move and a reset, expected 0")
-        return f"pose {_pose_text(state)}"
+        return f"pose {pose_text(state)}"
 
     def camera(self) -> str:
         image = self.probe.result("camera", {})
@@ -380,30 +269,30 @@ class _Suite:
         if self.moved is None:
             raise CheckFailed("needs the move check to pass")
         pose = self.moved[1].pose
-        turn = _message({"waypoints": [{"x_in": pose.x_in, "y_in": pose.y_in,
+        turn = message({"waypoints": [{"x_in": pose.x_in, "y_in": pose.y_in,
                                         "heading_deg": pose.heading_deg - TURN_DEG}], "face": None})
-        first = _Timed()
+        first = Timed()
         self.probe.rpc.send("move", turn, self.probe.timeout_s, first.on_reply, first.on_done)
-        releases: list[_Timed] = []
+        releases: list[Timed] = []
         while not first.finished.wait(BUSY_PROBE_S) and len(releases) < BUSY_PROBES:
-            release = _Timed()
-            self.probe.rpc.send("release", _message({}), self.probe.timeout_s, release.on_reply, release.on_done)
+            release = Timed()
+            self.probe.rpc.send("release", message({}), self.probe.timeout_s, release.on_reply, release.on_done)
             releases.append(release)
         for call in (first, *releases):
             if not call.finished.wait(self.probe.timeout_s + 1.0) or call.reply is None:
                 raise CheckFailed("no reply to the turn or to a release sent during it")
         if first.reply.ok is None:
-            raise CheckFailed(f"the turn: {_describe(first.reply)}")
-        _decoded("move", first.reply.ok)
+            raise CheckFailed(f"the turn: {describe(first.reply)}")
+        decoded("move", first.reply.ok)
         took_ms = (first.at - first.sent) * 1000
         during = [r for r in releases if r.sent <= first.at - BUSY_PROBE_S]
         refused, held, ran = 0, 0, 0
         for release in during:
             if release.reply.ok is not None:
-                _decoded("release", release.reply.ok)
+                decoded("release", release.reply.ok)
                 held, ran = held + (release.at > first.at), ran + (release.at <= first.at)
                 continue
-            error = _error(release.reply)
+            error = error_of(release.reply)
             if error.code != BUSY:
                 raise CheckFailed(f"release during a turn: expected busy, got {error.code}: {error.message}")
             refused += 1
@@ -428,9 +317,9 @@ class _Suite:
         ahead = math.radians(here.heading_deg)
         face = [here.x_in + FACE_AHEAD_IN * math.cos(ahead), here.y_in + FACE_AHEAD_IN * math.sin(ahead)]
         sent = time.monotonic()
-        result = self.probe.result("move", {"waypoints": [_pose_json(here)], "face": face})
+        result = self.probe.result("move", {"waypoints": [pose_json(here)], "face": face})
         self.moved = (sent, result)
-        return f"turned in place to {_pose_text(result)} in {turned.duration_s + result.duration_s:g} s"
+        return f"turned in place to {pose_text(result)} in {turned.duration_s + result.duration_s:g} s"
 
     def state_after_move(self) -> str:
         if self.moved is None:
@@ -438,11 +327,11 @@ class _Suite:
         sent, result = self.moved
         deadline = time.monotonic() + 1.0
         while time.monotonic() < deadline:
-            for state in _valid_states(self.probe.states_since(sent)):
-                if _same_pose(state, result):
-                    return f"published {_pose_text(state)}"
+            for state in valid_states(self.probe.states_since(sent)):
+                if same_pose(state, result):
+                    return f"published {pose_text(state)}"
             time.sleep(0.05)
-        raise CheckFailed(f"no state publication with the move's final pose {_pose_text(result)} within 1 s")
+        raise CheckFailed(f"no state publication with the move's final pose {pose_text(result)} within 1 s")
 
     def sense(self) -> str:
         name = self.procedures.sense
@@ -456,7 +345,7 @@ class _Suite:
 
     def release(self) -> str:
         state = self.probe.result("release", {})
-        return f"pose {_pose_text(state)}"
+        return f"pose {pose_text(state)}"
 
     def charge(self) -> str:
         """The optional ``battery`` feature's verb. Without the feature ``charge`` must be
@@ -468,14 +357,14 @@ class _Suite:
         if BATTERY not in features:
             if not isinstance(outcome, DriverError) or outcome.code != UNKNOWN_VERB:
                 raise CheckFailed(f"hello does not list the {BATTERY} feature, so charge must answer "
-                                  f"{UNKNOWN_VERB}, got {_outcome_text(outcome)}")
+                                  f"{UNKNOWN_VERB}, got {outcome_text(outcome)}")
             return f"not checked: the driver does not offer the {BATTERY} feature"
         if isinstance(outcome, DriverError):
             if outcome.code != OUT_OF_RANGE:
                 raise CheckFailed(f"charge from the reset pose: expected a state or {OUT_OF_RANGE}, "
                                   f"got {outcome.code}: {outcome.message}")
             return f"{OUT_OF_RANGE} away from the dock: {outcome.message}"
-        return f"charged at the dock: pose {_pose_text(outcome)}"
+        return f"charged at the dock: pose {pose_text(outcome)}"
 
     def blocked_moves(self) -> str:
         """The optional ``blocked_moves`` feature, checked in the shipped world
@@ -499,34 +388,34 @@ class _Suite:
             if BLOCKED_MOVES not in features:
                 if not isinstance(waited, DriverError) or waited.code != UNKNOWN_VERB:
                     raise CheckFailed(f"hello does not list the {BLOCKED_MOVES} feature, so wait must answer "
-                                      f"{UNKNOWN_VERB}, got {_outcome_text(waited)}")
+                                      f"{UNKNOWN_VERB}, got {outcome_text(waited)}")
                 return f"not checked: the driver does not offer the {BLOCKED_MOVES} feature"
             if not isinstance(waited, RobotState):
-                raise CheckFailed(f"wait {WAIT_CHECK_S:g} s: expected a state, got {_outcome_text(waited)}")
+                raise CheckFailed(f"wait {WAIT_CHECK_S:g} s: expected a state, got {outcome_text(waited)}")
             here = waited.pose
             goal = {"x_in": here.x_in + CROSSING_DRIVE_IN, "y_in": here.y_in, "heading_deg": here.heading_deg}
             moved = self.probe.result("move", {"waypoints": [goal], "face": None})
         finally:
             self.probe.outcome("reset", {"world": KNOWN_WORLD, "seed": None})
         if moved.collided:
-            raise CheckFailed(f"a move through {CROSSING_WORLD}'s moving obstacle collided at {_pose_text(moved)}: "
+            raise CheckFailed(f"a move through {CROSSING_WORLD}'s moving obstacle collided at {pose_text(moved)}: "
                               f"with {BLOCKED_MOVES} it must stop short and answer blocked")
         if moved.blocked is None:
-            return f"the move through {CROSSING_WORLD} met no one (clear at {_pose_text(moved)})"
+            return f"the move through {CROSSING_WORLD} met no one (clear at {pose_text(moved)})"
         o = moved.blocked
-        return f"stopped short at {_pose_text(moved)}, blocked by an obstacle at ({o.x_in:.1f}, {o.y_in:.1f})"
+        return f"stopped short at {pose_text(moved)}, blocked by an obstacle at ({o.x_in:.1f}, {o.y_in:.1f})"
 
     def out_of_range(self) -> str:
         self.probe.result("reset", {"world": None, "seed": None})
-        return self.probe.refusal("sense", _message({"procedure": self.procedures.near}), NOT_HERE)
+        return self.probe.refusal("sense", message({"procedure": self.procedures.near}), NOT_HERE)
 
     def unknown_verb(self) -> str:
-        return self.probe.refusal("fly", _message({}), (UNKNOWN_VERB,))
+        return self.probe.refusal("fly", message({}), (UNKNOWN_VERB,))
 
     def unknown_procedure(self) -> str:
-        sensed = self.probe.refusal("sense", _message({"procedure": "No-Such-Procedure"}),
+        sensed = self.probe.refusal("sense", message({"procedure": "No-Such-Procedure"}),
                                     (UNKNOWN_PROCEDURE,))
-        self.probe.refusal("grasp", _message({"procedure": "No-Such-Grasp"}), (UNKNOWN_PROCEDURE,))
+        self.probe.refusal("grasp", message({"procedure": "No-Such-Grasp"}), (UNKNOWN_PROCEDURE,))
         return sensed
 
     def malformed_json(self) -> str:
@@ -570,7 +459,7 @@ class _Suite:
         before = self._published_pose()
         turn = {"waypoints": [{"x_in": before.x_in, "y_in": before.y_in,
                                "heading_deg": before.heading_deg + 90.0}], "face": None}
-        detail = self.probe.refusal("*", _message(turn), (BAD_REQUEST,))
+        detail = self.probe.refusal("*", message(turn), (BAD_REQUEST,))
         after = self._published_pose()
         if abs((after.heading_deg - before.heading_deg + 180.0) % 360.0 - 180.0) > POSE_TOLERANCE:
             raise CheckFailed(f"the robot turned from {before.heading_deg:.1f} to {after.heading_deg:.1f} deg "
@@ -582,27 +471,27 @@ class _Suite:
         start = time.monotonic()
         deadline = start + 1.0
         while time.monotonic() < deadline:
-            states = _valid_states(self.probe.states_since(start))
+            states = valid_states(self.probe.states_since(start))
             if states:
                 return states[-1].pose
             time.sleep(0.05)
         raise CheckFailed("no state publication within 1 s")
 
     def wrong_types(self) -> str:
-        detail = self.probe.refusal("sense", _message({"procedure": 42}), (BAD_REQUEST,), "procedure")
-        self.probe.refusal("move", _message({"waypoints": "north", "face": None}), (BAD_REQUEST,),
+        detail = self.probe.refusal("sense", message({"procedure": 42}), (BAD_REQUEST,), "procedure")
+        self.probe.refusal("move", message({"waypoints": "north", "face": None}), (BAD_REQUEST,),
                            "waypoints")
-        self.probe.refusal("reset", _message({"world": None, "seed": "seven"}), (BAD_REQUEST,), "seed")
+        self.probe.refusal("reset", message({"world": None, "seed": "seven"}), (BAD_REQUEST,), "seed")
         return detail
 
     def missing_field(self) -> str:
-        detail = self.probe.refusal("sense", _message({}), (BAD_REQUEST,), "procedure")
-        self.probe.refusal("move", _message({"waypoints": [{"x_in": 1.0, "heading_deg": 0.0}]}),
+        detail = self.probe.refusal("sense", message({}), (BAD_REQUEST,), "procedure")
+        self.probe.refusal("move", message({"waypoints": [{"x_in": 1.0, "heading_deg": 0.0}]}),
                            (BAD_REQUEST,), "y_in")
         return detail
 
     def unknown_field(self) -> str:
-        return self.probe.refusal("sense", _message({"procedure": self.procedures.sense, "speed": 2}),
+        return self.probe.refusal("sense", message({"procedure": self.procedures.sense, "speed": 2}),
                                   (BAD_REQUEST,), "speed")
 
     def non_finite(self) -> str:
@@ -627,40 +516,7 @@ class _Suite:
             if time.monotonic() > deadline:
                 raise CheckFailed("no state publication after the bad requests")
             time.sleep(0.05)
-        return f"still answering at {_pose_text(state)}"
-
-
-class _Timed:
-    """One query sent without waiting: its first reply and when it came."""
-
-    def __init__(self) -> None:
-        self.sent = time.monotonic()
-        self.reply: Reply | None = None
-        self.at = 0.0
-        self.finished = threading.Event()
-
-    def on_reply(self, reply: Reply) -> None:
-        if self.reply is None:
-            self.reply, self.at = reply, time.monotonic()
-
-    def on_done(self, _late: bool) -> None:
-        self.finished.set()
-
-
-def _pose_json(pose: Pose) -> dict[str, float]:
-    return {"x_in": pose.x_in, "y_in": pose.y_in, "heading_deg": pose.heading_deg}
-
-
-def _pose_text(value: RobotState | MoveResult) -> str:
-    pose = value.pose
-    return f"({pose.x_in:.1f}, {pose.y_in:.1f}, {pose.heading_deg:.1f} deg)"
-
-
-def _same_pose(state: RobotState, result: MoveResult) -> bool:
-    a, b = state.pose, result.pose
-    turn = (a.heading_deg - b.heading_deg + 180.0) % 360.0 - 180.0
-    return (abs(a.x_in - b.x_in) <= POSE_TOLERANCE and abs(a.y_in - b.y_in) <= POSE_TOLERANCE
-            and abs(turn) <= POSE_TOLERANCE)
+        return f"still answering at {pose_text(state)}"
 
 
 def known_world(world: str = KNOWN_WORLD) -> tuple[Pose, tuple[PlacedObject, ...]]:
@@ -676,10 +532,6 @@ def known_world(world: str = KNOWN_WORLD) -> tuple[Pose, tuple[PlacedObject, ...
                 else footprint.length_in * footprint.width_in)
         placed.append(PlacedObject(item.entry_id, item.x_in, item.y_in, area))
     return Pose(*spec.robot), tuple(placed)
-
-
-def _outcome_text(outcome: object) -> str:
-    return f"{outcome.code}: {outcome.message}" if isinstance(outcome, DriverError) else type(outcome).__name__
 
 
 def _stamp_text(stamp: ProfileStamp) -> str:
@@ -719,9 +571,9 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
     chosen = procedures if procedures is not None else Procedures.from_profile()
     session = open_session(connect=connect, user=zenoh_config)
-    probe = _Probe(session, robot, timeout_s)
+    probe = Probe(session, robot, timeout_s)
     try:
-        if not probe.rpc.wait_alive(timeout_s) and probe.rpc.ask("noop", _message({}), timeout_s).first is None:
+        if not probe.rpc.wait_alive(timeout_s) and probe.rpc.ask("noop", message({}), timeout_s).first is None:
             return [CheckResult("liveliness", False, f"nothing serves robot {robot} at {', '.join(connect)}: "
                                 f"no token on {probe.rpc.keys.alive} and no answer to noop within {timeout_s:g} s "
                                 "(is the driver running, under this robot name, at this endpoint?)")]
@@ -740,7 +592,7 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         session.close()
 
 
-def _named_profile_mismatch(probe: _Probe, profile: ProfileStamp | None) -> str:
+def _named_profile_mismatch(probe: Probe, profile: ProfileStamp | None) -> str:
     """One line when the driver's ``hello`` names another profile than ``profile``;
     "" otherwise, including when it names none or ``hello`` fails (its own checks say)."""
     if profile is None:
@@ -825,7 +677,7 @@ def _send_ping(rpc: RpcClient) -> _Ping:
             ping.answered.set()
 
     try:
-        rpc.send("noop", _message({}), PING_TIMEOUT_S, on_reply, lambda _late: ping.ended.set())
+        rpc.send("noop", message({}), PING_TIMEOUT_S, on_reply, lambda _late: ping.ended.set())
     except zenoh.ZError:
         ping.ended.set()
     return ping

@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 from hero_driver.interface import BAD_REQUEST, UNAVAILABLE, UNKNOWN_VERB, DriverError, Hello, Pose
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.client import ZenohDriver
-from hero_driver.zenoh_link.conformance import CheckFailed, Procedures, _Probe, _Suite
+from hero_driver.zenoh_link.checking import CheckFailed, Probe
+from hero_driver.zenoh_link.conformance import Procedures, _Suite
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.versions import Agreement, Greeting, NoCommonVersion, agree
@@ -145,7 +146,7 @@ def test_a_driver_sharing_no_version_that_appears_later_is_refused(server: zenoh
 
 
 def hello_check(session: zenoh.Session, robot: str) -> str:
-    probe = _Probe(session, robot, REPLY_S)
+    probe = Probe(session, robot, REPLY_S)
     try:
         assert probe.rpc.wait_alive(5.0)
         return _Suite(probe, Procedures("H-Sweep-5°", "S-Sweep-1°", "Front-Pinch")).hello()
