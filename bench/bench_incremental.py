@@ -20,7 +20,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from experiments.episodes import EpisodeSpec, install_worker, run_job  # noqa: E402
+from experiments.episodes import EpisodeSpec, run_job  # noqa: E402
+from experiments.worker import install_worker  # noqa: E402
 from experiments.study_incremental import TUMBLER, misclassified, own_grasps, tumbler_story  # noqa: E402
 from experiments.study_training import run_training  # noqa: E402
 from robot_profile import load_profile  # noqa: E402

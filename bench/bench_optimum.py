@@ -73,8 +73,9 @@ def table(title: str, matrix: DescriptionMatrix, estimator: ModelMoveCost, seed:
 def noisy(seeds: int, jobs: int) -> None:
     """cs-id3 against the failure-priced rules in the experiment's noisy execution episodes."""
     from experiments.conditions import EXECUTION_NOISE
-    from experiments.episodes import EpisodeSpec, install_worker
-    from experiments.paper import perform
+    from experiments.episodes import EpisodeSpec
+    from experiments.worker import install_worker
+    from experiments.study import perform
     from experiments.runner import run_all
     from experiments.study_training import run_training
     from robot_profile import load_profile

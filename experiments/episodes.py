@@ -20,30 +20,14 @@ from experiments.ablations import criterion
 from experiments.conditions import DEFAULT_NOISE, STRATEGIES_ON, Control, CostScale, noise_config
 from experiments.floor import play
 from experiments.table import mean
+from experiments.worker import installed_library, installed_profile
 from experiments.worlds import write_floor
 from executive.exit_status import HANDLED_OUTCOMES
 from reporting.report import Row, Truth, match_truth, rows
 from hero_driver.sim_driver import SimulatedHero
 from learner.choosing.criteria import DEFAULT_CRITERION
-from learner.description import ObjectDescription
 from learner.service.local import LocalLearner
 from robot_profile import RobotProfile
-
-Libraries = Mapping[str, Sequence[ObjectDescription]]
-
-_LIBRARIES: dict[str, tuple[ObjectDescription, ...]] = {}
-_PROFILE: list[RobotProfile] = []  # the one robot profile of the run, read by the main process
-
-
-def install_worker(libraries: Libraries, profile: RobotProfile) -> None:
-    """Give this process the seed libraries jobs name and the robot profile (the pool's
-    initializer: sent once per worker, not once per job). The profile is read once for
-    the whole run, so every episode simulates the same robot even if the file changes
-    while the run goes on."""
-    _LIBRARIES.clear()
-    _LIBRARIES.update({name: tuple(descs) for name, descs in libraries.items()})
-    _PROFILE[:] = [profile]
-
 
 @dataclass(frozen=True)
 class EpisodeSpec:
@@ -124,19 +108,10 @@ def robot_minutes(rows: Iterable[EpisodeRow]) -> float:
     return mean(r.robot_s for r in rows) / 60.0
 
 
-def installed_profile() -> RobotProfile:
-    """The run's robot profile, as :func:`install_worker` gave it to this process."""
-    if not _PROFILE:
-        raise ValueError("no robot profile was installed in this worker")
-    return _PROFILE[0]
-
-
 def run_job(spec: EpisodeSpec) -> list[EpisodeRow]:
     """Run ``spec`` here (in a worker process) and return its rows, object by object."""
     profile = spec.cost.apply(installed_profile())
-    seed_library = _LIBRARIES.get(spec.library)
-    if seed_library is None:
-        raise ValueError(f"no library called {spec.library!r} was installed in this worker")
+    seed_library = installed_library(spec.library)
     out: list[EpisodeRow] = []
     with tempfile.TemporaryDirectory(prefix="csl-experiment-") as tmp:
         folder = Path(tmp)

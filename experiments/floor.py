@@ -20,7 +20,7 @@ from behaviours.records import ObjectRecord
 from behaviours.services import Params
 from executive.executive import EpisodeResult, Executive
 from experiments.conditions import EXECUTION_NOISE, noise_config
-from experiments.situation import installed
+from experiments.worker import installed_library, installed_profile
 from reporting.report import Row, Truth, rows
 from hero_driver.interface import Driver
 from hero_driver.sim.disturber import Happened
@@ -72,11 +72,11 @@ def play_floor(world: Callable[[Path], Path], seed: int, params: Params, *,
                watch: Callable[[SimulatedHero], Driver] | None = None, **simulator: Any) -> Played:
     """Play the floor ``world`` writes into a scratch folder, under ``EXECUTION_NOISE``
     and simulator seed ``seed``, with the library and profile this worker was given
-    (:func:`~experiments.situation.installed`) and the executive's ``params``.
+    (:func:`~experiments.worker.install_worker`) and the executive's ``params``.
     ``watch`` wraps the simulator in a driver that watches it (the clutter study's
     contamination check); ``simulator`` goes to :class:`SimulatedHero` (disturbances,
     movers)."""
-    library, profile = installed()
+    library, profile = installed_library(), installed_profile()
     with tempfile.TemporaryDirectory(prefix="csl-floor-") as tmp:
         folder = Path(tmp)
         hero = SimulatedHero("experiment", world=world(folder), seed=seed, profile=profile,

@@ -1,9 +1,7 @@
-"""The whole ``csl experiment paper`` run: train, run every study's jobs in one pool,
-summarise each study, and write ``results.md``, its plots and the raw CSV.
-
-Every study plans its jobs first and summarises after, so all episodes of all studies
-share one pool of worker processes (the machine stays busy until the last job) and
-jobs two studies share run once.
+"""The whole ``csl experiment paper`` run: every study of the page through
+:func:`~experiments.study.run_studies` (one pool for all their jobs: the machine stays
+busy until the last job, and jobs two studies share run once), then ``results.md``,
+its plots and the raw CSV of every episode.
 """
 
 from __future__ import annotations
@@ -12,25 +10,21 @@ import datetime
 import os
 import platform
 import resource
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from rich.console import Console
 
-from robot_profile import load_profile
 
 from experiments import (study_appearance, study_execution, study_grasp_costs, study_incremental, study_noise,
                                   study_optimum, study_trends)
 from experiments.config import ExperimentConfig
 from experiments.csvfile import write_episodes
-from experiments.episodes import EpisodeRow, EpisodeSpec, install_worker
-from experiments.runner import run_all
-from experiments.study_training import run_training
+from experiments.episodes import EpisodeRow, EpisodeSpec
+from experiments.study import RESULTS_DIR, TRAINING, Study, run_studies
 from experiments.table import StudyResult, section
 
-RESULTS_DIR = "results"
 CSV_NAME = "episodes.csv"
 
 
@@ -47,55 +41,27 @@ class PaperRun:
     cpu_s: float
 
 
-def perform(job: EpisodeSpec | study_optimum.OptimumJob | study_grasp_costs.GraspCostJob) -> list[object]:
-    """A worker's entry point: run one job (module level, so spawned workers can import it)."""
-    return list(job.run())
-
-
-def _study_of(job: EpisodeSpec | study_optimum.OptimumJob | study_grasp_costs.GraspCostJob) -> str:
-    return job.study
+PAGE: tuple[Study, ...] = (TRAINING, study_execution.EXECUTION, study_execution.BASELINES, study_trends.STUDY,
+                           study_incremental.STUDY, study_noise.STUDY, study_appearance.STUDY, study_optimum.STUDY,
+                           study_grasp_costs.STUDY)
+"""The page's studies, in its order."""
 
 
 def run_paper(config: ExperimentConfig, console: Console | None = None) -> PaperRun:
     console = console or Console(stderr=True)
-    began = time.perf_counter()
     plots = config.out / RESULTS_DIR
     plots.mkdir(parents=True, exist_ok=True)
-    profile = load_profile()
-    with console.status("training on the Table 3 objects (and exhaustively, for the baseline)..."):
-        trained = run_training(profile)
-    libraries = {"trained": trained.descriptions, "exhaustive": trained.exhaustive}
-    episodes: list[EpisodeSpec] = [*study_execution.plan(config), *study_trends.plan(config),
-                                   *study_incremental.plan(config), *study_noise.plan(config),
-                                   *study_appearance.plan(config)]
-    optimum_jobs = study_optimum.plan(config)
-    # the longest jobs first (the optimum's, then chains of episodes), so no long one
-    # starts last and leaves a worker idle at the end
-    jobs = [*optimum_jobs, *study_grasp_costs.plan(config), *sorted(episodes, key=lambda spec: -spec.episodes)]
-    results = run_all(jobs, perform, workers=config.jobs, group=_study_of,
-                      initializer=install_worker, initargs=(libraries, profile), console=console)
-    with console.status("summarising and plotting..."):
-        studies = (
-            trained.study,
-            study_execution.summarise_execution(config, results),
-            study_execution.summarise_baselines(config, results, trained.log, trained.knowledge, plots),
-            study_trends.summarise(config, results, plots, trained.descriptions, trained.knowledge),
-            study_incremental.summarise(config, results, plots),
-            study_noise.summarise(config, results, plots),
-            study_appearance.summarise(config, results),
-            study_optimum.summarise(config, results, plots),
-            study_grasp_costs.summarise(config, results),
-        )
-        ran = list(dict.fromkeys(episodes))
-        rows: list[EpisodeRow] = [row for spec in ran for row in results[spec]]
+    ran = run_studies(PAGE, config, console)
+    with console.status("writing the page and its CSV..."):
+        episodes = [job for job in ran.results if isinstance(job, EpisodeSpec)]
+        rows: list[EpisodeRow] = [row for spec in episodes for row in ran.results[spec]]
         csv_path = plots / CSV_NAME
         count = write_episodes(csv_path, rows)
-        wall_s = time.perf_counter() - began
         cpu_s = _cpu_s()
-        n_episodes = sum(spec.episodes for spec in ran)
+        n_episodes = sum(spec.episodes for spec in episodes)
         page = config.out / "results.md"
-        page.write_text("\n".join(_page(config, studies, n_episodes, count, wall_s, cpu_s)), encoding="utf-8")
-    return PaperRun(studies, page, csv_path, n_episodes, count, wall_s, cpu_s)
+        page.write_text("\n".join(_page(config, ran.sections, n_episodes, count, ran.wall_s, cpu_s)), encoding="utf-8")
+    return PaperRun(ran.sections, page, csv_path, n_episodes, count, ran.wall_s, cpu_s)
 
 
 def _cpu_s() -> float:

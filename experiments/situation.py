@@ -1,37 +1,19 @@
 """What the changing-world studies share (``csl experiment disturbance | battery |
-obstacles | clutter``): the trained library handed to each worker process, the run from
-training to the Markdown section for BENCHMARKS.md, and that section's layout.
+obstacles | clutter``): one study run through :func:`~experiments.study.run_studies`
+and its section for BENCHMARKS.md, headed by the command that reproduces it.
 
 Each study module keeps what is its own (the sweep, the floor, what one object's row
-records, the summary); this module is why they print and run alike.
+records, the summary) and declares it as a ``STUDY``; this module is why they print
+and run alike.
 """
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Hashable, Mapping, Sequence
-from typing import TypeVar
+from pathlib import Path
 
-from experiments.runner import run_all
+from experiments.config import ExperimentConfig
+from experiments.study import Study, run_studies
 from experiments.table import StudyResult, markdown_table
-from learner.description import ObjectDescription
-from robot_profile import RobotProfile
-
-Job = TypeVar("Job", bound=Hashable)
-
-_INSTALLED: list[tuple[tuple[ObjectDescription, ...], RobotProfile]] = []
-
-
-def install(descriptions: Sequence[ObjectDescription], profile: RobotProfile) -> None:
-    """Give this process the trained library and the robot profile (the pool's initializer)."""
-    _INSTALLED[:] = [(tuple(descriptions), profile)]
-
-
-def installed() -> tuple[tuple[ObjectDescription, ...], RobotProfile]:
-    """The library and profile :func:`install` gave this worker."""
-    if not _INSTALLED:
-        raise ValueError("no trained library was installed in this worker")
-    return _INSTALLED[0]
 
 
 def markdown(study: StudyResult, command: str, wall_s: float) -> str:
@@ -46,22 +28,12 @@ def markdown(study: StudyResult, command: str, wall_s: float) -> str:
     return "\n".join(lines)
 
 
-def report(name: str, quick: bool, seeds: int | None, jobs: int, default_floors: tuple[int, int],
-           plan: Callable[[Sequence[int]], Sequence[Job]], run_job: Callable[[Job], object],
-           summarise: Callable[[Mapping[Job, object]], StudyResult]) -> str:
-    """Train on the Table 3 objects, run ``plan(floors)``'s jobs (``run_job`` in ``jobs``
-    worker processes, each given the library), and give ``summarise``'s section headed
-    by the command that reproduces it. ``default_floors``: floors per cell (quick, full)
-    when ``seeds`` is not given."""
-    from experiments.study_training import run_training  # training: only when a study runs
-    from robot_profile import load_profile
-
-    began = time.perf_counter()
-    profile = load_profile()
-    trained = run_training(profile)
-    floors = list(range(seeds or default_floors[0 if quick else 1]))
-    results = run_all(list(plan(floors)), run_job, workers=jobs, group=lambda job: job.study,  # type: ignore[attr-defined]
-                      initializer=install, initargs=(trained.descriptions, profile))
-    command = f"csl experiment {name}" + "".join(
+def report(study: Study, quick: bool, seeds: int | None, jobs: int) -> str:
+    """Train on the Table 3 objects, run ``study``'s jobs on ``seeds`` floors per sweep
+    point (default: its ``floors``, quick or full) in ``jobs`` worker processes, and
+    give its section."""
+    command = f"csl experiment {study.name}" + "".join(
         [" --quick" if quick else "", f" --seeds {seeds}" if seeds else "", f" --jobs {jobs}"])
-    return markdown(summarise(results), command, time.perf_counter() - began)
+    floors = seeds or study.floors[0 if quick else 1]
+    ran = run_studies([study], ExperimentConfig(quick, floors, jobs, Path("."), command))
+    return markdown(ran.sections[0], command, ran.wall_s)

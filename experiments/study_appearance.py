@@ -19,6 +19,7 @@ from experiments.conditions import EXECUTION_NOISE, Control
 from experiments.config import ExperimentConfig
 from learner.choosing.criteria import DEFAULT_CRITERION
 from experiments.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
 TITLE = "The camera's appearance as free features"
@@ -82,3 +83,6 @@ def summarise(config: ExperimentConfig, results: Results) -> StudyResult:
              "Favours 'on' only when it saves more than twice the standard error of the paired difference and "
              "loses no success; the executive's default is on (`--no-appearance` turns it off).")
     return StudyResult(TITLE, tuple(table), notes)
+
+
+STUDY = Study("appearance", plan, lambda context, results: summarise(context.config, results))

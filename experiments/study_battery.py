@@ -32,8 +32,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from behaviours.services import Params
-from experiments import situation
 from experiments.floor import play_floor
+from experiments.config import ExperimentConfig
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worlds import random_floor
 
@@ -204,9 +205,11 @@ def summarise(results: Mapping[BatteryJob, Sequence[ObjectRow]], levels: Sequenc
     return StudyResult(TITLE, result_rows, notes, details=details)
 
 
-def report(quick: bool, seeds: int | None, jobs: int) -> str:
-    """Train, run every level and every drain multiplier under every setting, and give
-    the BENCHMARKS.md section (``csl experiment battery``)."""
-    levels, drains = (QUICK_LEVELS, QUICK_DRAINS) if quick else (FULL_LEVELS, FULL_DRAINS)
-    return situation.report("battery", quick, seeds, jobs, (1, 4), lambda floors: plan(levels, floors, drains),
-                            run_job, lambda results: summarise(results, levels, drains))
+def sweep(config: ExperimentConfig) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The start levels and drain multipliers of a run of this size."""
+    return (QUICK_LEVELS, QUICK_DRAINS) if config.quick else (FULL_LEVELS, FULL_DRAINS)
+
+
+STUDY = Study("battery", lambda config: plan(sweep(config)[0], config.seed_list, sweep(config)[1]),
+              lambda context, results: summarise(results, *sweep(context.config)), floors=(1, 4))
+"""Every level and every drain multiplier under every setting (``csl experiment battery``)."""

@@ -30,8 +30,9 @@ from typing import Any
 from py_trees.blackboard import Blackboard
 
 from behaviours.services import Params, namespace
-from experiments import situation
 from experiments.floor import play_floor
+from experiments.config import ExperimentConfig
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worlds import random_floor
 from hero_driver.interface import SenseResult
@@ -56,6 +57,9 @@ class ClutterJob:
     check: bool
     seed: int
     study: str = field(default="clutter", compare=False)
+
+    def run(self) -> list[ObjectRow]:
+        return run_job(self)
 
 
 @dataclass(frozen=True)
@@ -177,9 +181,10 @@ def summarise(results: Mapping[ClutterJob, Sequence[ObjectRow]], gaps: Sequence[
 
 
 
-def report(quick: bool, seeds: int | None, jobs: int) -> str:
-    """Train, run every gap with the beam check on and off, and give the BENCHMARKS.md
-    section (``csl experiment clutter``)."""
-    gaps = QUICK_GAPS if quick else FULL_GAPS
-    return situation.report("clutter", quick, seeds, jobs, (1, 4), lambda floors: plan(gaps, floors), run_job,
-                            lambda results: summarise(results, gaps))
+def gaps(config: ExperimentConfig) -> tuple[float, ...]:
+    return QUICK_GAPS if config.quick else FULL_GAPS
+
+
+STUDY = Study("clutter", lambda config: plan(gaps(config), config.seed_list),
+              lambda context, results: summarise(results, gaps(context.config)), floors=(1, 4))
+"""Every gap with the beam check on and off (``csl experiment clutter``)."""

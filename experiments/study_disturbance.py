@@ -26,9 +26,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from behaviours.services import Params
-from experiments import situation
 from experiments.floor import play_floor
 from experiments.disturbed import saved_from_disturbed, sim_index
+from experiments.config import ExperimentConfig
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worlds import write_floor
 from hero_driver.sim.events import DisturbPreset
@@ -136,9 +137,10 @@ def summarise(results: Mapping[DisturbanceJob, Sequence[ObjectRow]], rates: Sequ
 
 
 
-def report(quick: bool, seeds: int | None, jobs: int) -> str:
-    """Train, run every rate with the check on and off, and give the BENCHMARKS.md
-    section (``csl experiment disturbance``)."""
-    rates = QUICK_RATES if quick else FULL_RATES
-    return situation.report("disturbance", quick, seeds, jobs, (2, 6), lambda floors: plan(rates, floors), run_job,
-                            lambda results: summarise(results, rates))
+def rates(config: ExperimentConfig) -> tuple[float, ...]:
+    return QUICK_RATES if config.quick else FULL_RATES
+
+
+STUDY = Study("disturbance", lambda config: plan(rates(config), config.seed_list),
+              lambda context, results: summarise(results, rates(context.config)), floors=(2, 6))
+"""Every rate with the check on and off (``csl experiment disturbance``)."""

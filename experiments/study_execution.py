@@ -23,6 +23,7 @@ from experiments.config import ExperimentConfig
 from experiments.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes, success_rate
 from experiments.exhaustive import measure_everything_s
 from experiments.plots import bars
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent, ratio
 from executive.training_sources import catalogue_objects
 from learner.choosing.criteria import DEFAULT_CRITERION
@@ -65,12 +66,22 @@ def criteria_run(config: ExperimentConfig) -> list[str]:
     return [name for name, spec in MEASURED.items() if not (config.quick and spec.lookahead)]
 
 
-def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
-    specs = [_execution(objects, s) for objects in OBJECT_SETS for s in config.seed_list]
-    specs += [_criterion(name, s) for name in criteria_run(config) for s in criteria_seeds(config)]
+def plan_execution(config: ExperimentConfig) -> list[EpisodeSpec]:
+    return [_execution(objects, s) for objects in OBJECT_SETS for s in config.seed_list]
+
+
+def plan_baselines(config: ExperimentConfig) -> list[EpisodeSpec]:
+    """Every criterion on the test floors, the strategies off, the exhaustive library;
+    the default criterion's runs are the execution study's own (equal jobs run once)."""
+    specs = [_criterion(name, s) for name in criteria_run(config) for s in criteria_seeds(config)]
     specs += [_strategies_off(objects, s) for objects in OBJECT_SETS for s in config.seed_list]
     specs += [_exhaustive(s) for s in config.seed_list]
     return specs
+
+
+def plan(config: ExperimentConfig) -> list[EpisodeSpec]:
+    """Both studies' jobs."""
+    return [*plan_execution(config), *plan_baselines(config)]
 
 
 def _rows(results: Results, specs: Sequence[EpisodeSpec]) -> list[EpisodeRow]:
@@ -225,3 +236,8 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
              "Measure every feature: every sensing procedure in range at each training position (a round object: "
              "one orientation), the moves between them at 2 s/in, and the grasp; mean over the training objects.")
     return StudyResult(BASELINES_TITLE, tuple(rows), notes, ("baselines.png",))
+
+
+EXECUTION = Study("execution", plan_execution, lambda context, results: summarise_execution(context.config, results))
+BASELINES = Study("baselines", plan_baselines, lambda context, results: summarise_baselines(
+    context.config, results, context.trained.log, context.trained.knowledge, context.plots))

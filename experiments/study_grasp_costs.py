@@ -25,8 +25,9 @@ from executive import defaults
 from executive.executive import Executive
 from experiments.conditions import EXECUTION_NOISE, noise_config
 from experiments.config import ExperimentConfig
-from experiments.episodes import installed_profile
+from experiments.worker import installed_profile
 from experiments.floor import play
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 from experiments.worlds import write_floor
 from hero_driver.sim_driver import SimulatedHero
@@ -131,3 +132,6 @@ def summarise(config: ExperimentConfig, results: dict[object, Sequence[object]])
              "cost, a knocked-over object's voided sensing included) with the file's cost as a prior worth 3 "
              "attempts, recorded after each object; the first object of both chains is priced by the file alone.")
     return StudyResult(TITLE, tuple(table), notes)
+
+
+STUDY = Study("grasp costs", plan, lambda context, results: summarise(context.config, results))

@@ -16,6 +16,7 @@ from experiments.conditions import EXECUTION_NOISE
 from experiments.config import ExperimentConfig
 from experiments.episodes import EpisodeRow, EpisodeSpec, Results
 from experiments.plots import Panel, curves
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from hero_driver.sim.catalogue import profile_and_catalogue
 
@@ -118,3 +119,6 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
              "about it upside down. The misses after a right lesson that were traced by hand were sonar readings "
              "under noise outside the learned value's range.")
     return StudyResult(TITLE, rows, notes, ("learning-curve.png",))
+
+
+STUDY = Study("incremental", plan, lambda context, results: summarise(context.config, results, context.plots))

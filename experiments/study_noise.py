@@ -18,6 +18,7 @@ from experiments.config import ExperimentConfig
 from learner.choosing.criteria import DEFAULT_CRITERION
 from experiments.episodes import EpisodeSpec, Results, robot_minutes, success_rate
 from experiments.plots import Panel, curves
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent
 
 TITLE = "Noise: success and cost vs noise rate"
@@ -100,3 +101,6 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
              + (", by more than the noise: the default should follow it." if beyond and best != STRATEGIES_ON else
                 ", but not beyond twice the standard error, so the default stays the paper's."))
     return StudyResult(TITLE, tuple(table), notes, ("noise.png",))
+
+
+STUDY = Study("noise", plan, lambda context, results: summarise(context.config, results, context.plots))

@@ -27,8 +27,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from behaviours.services import Params
-from experiments import situation
 from experiments.floor import play_floor
+from experiments.config import ExperimentConfig
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worlds import write_floor
 from hero_driver.sim.movers import MoverPreset
@@ -123,9 +124,10 @@ def summarise(results: Mapping[ObstaclesJob, Floor], sweep: Sequence[tuple[int, 
                        details=((("movers", "speed in/s", "stop and branch on", "off"), table),))
 
 
-def report(quick: bool, seeds: int | None, jobs: int) -> str:
-    """Train, run every sweep point with the stop and branch on and off, and give the
-    BENCHMARKS.md section (``csl experiment obstacles``)."""
-    sweep = QUICK_SWEEP if quick else FULL_SWEEP
-    return situation.report("obstacles", quick, seeds, jobs, (2, 6), lambda floors: plan(sweep, floors), run_job,
-                            lambda results: summarise(results, sweep))
+def sweep(config: ExperimentConfig) -> tuple[tuple[int, float], ...]:
+    return QUICK_SWEEP if config.quick else FULL_SWEEP
+
+
+STUDY = Study("obstacles", lambda config: plan(sweep(config), config.seed_list),
+              lambda context, results: summarise(results, sweep(context.config)), floors=(2, 6))
+"""Every sweep point with the stop and branch on and off (``csl experiment obstacles``)."""

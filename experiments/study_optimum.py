@@ -18,8 +18,9 @@ from pathlib import Path
 from executive.defaults import EXAMPLE_LIBRARY
 from experiments.ablations import MEASURED, criterion
 from experiments.config import ExperimentConfig
-from experiments.episodes import installed_profile
+from experiments.worker import installed_profile
 from experiments.plots import bars
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, num
 from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.choosing.matrix import DescriptionMatrix
@@ -134,3 +135,6 @@ def summarise(config: ExperimentConfig, results: Results, out: Path) -> StudyRes
         notes += (f"{len(failed)} policy walk(s) failed in `learner.optimum` and are left out of the ratios (listed in "
                   "the table above as 'walk failed').",)
     return StudyResult(TITLE, tuple(rows), notes, ("optimum.png",), details=(detail,))
+
+
+STUDY = Study("optimum", plan, lambda context, results: summarise(context.config, results, context.plots))

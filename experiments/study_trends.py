@@ -25,6 +25,7 @@ from experiments.conditions import NO_NOISE, CostScale
 from experiments.config import ExperimentConfig
 from experiments.episodes import EpisodeSpec, Results, robot_minutes
 from experiments.plots import Panel, curves
+from experiments.study import Study
 from experiments.table import ResultRow, StudyResult, mean, num
 from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.choosing.gain import partition_columns
@@ -129,3 +130,7 @@ def _direction(before: float, after: float) -> str:
     if after > before:
         return "up"
     return "down" if after < before else "flat"
+
+
+STUDY = Study("trends", plan, lambda context, results: summarise(
+    context.config, results, context.plots, context.trained.descriptions, context.trained.knowledge))

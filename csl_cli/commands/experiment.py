@@ -20,9 +20,9 @@ from zenoh_rpc.argtypes import positive_int
 
 @dataclass(frozen=True)
 class Situation:
-    """A ``csl experiment`` study of one changing-world situation (issue: beyond CSL's
-    limits): its module ``experiments.study_<name>`` has ``report(quick, seeds,
-    jobs)``; these are its command line's words."""
+    """A ``csl experiment`` study of one changing-world situation (beyond CSL's limits):
+    its module ``experiments.study_<name>`` declares its ``STUDY``; these are its
+    command line's words."""
 
     name: str
     help: str
@@ -117,7 +117,9 @@ def run_experiment_paper(args: argparse.Namespace) -> int:
 
 
 def run_situation(args: argparse.Namespace) -> int:
-    """One situation study: its module's ``report(quick, seeds, jobs)`` printed as Markdown."""
-    study = import_module(f"experiments.study_{args.experiment}")  # the simulator: only when it runs
-    print(study.report(args.quick, args.seeds, args.jobs))
+    """One situation study: its module's ``STUDY`` run and printed as Markdown."""
+    module = import_module(f"experiments.study_{args.experiment}")  # the simulator: only when it runs
+    from experiments.situation import report
+
+    print(report(module.STUDY, args.quick, args.seeds, args.jobs))
     return 0

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from experiments import episodes, study_execution
+from experiments import study_execution, worker
 from experiments.ablations import ABLATIONS, MEASURED, criterion
 from experiments.config import ExperimentConfig
 from experiments.study_optimum import SHIPPED, OptimumJob
@@ -62,7 +62,7 @@ def test_the_baselines_run_every_measured_criterion() -> None:
 
 
 def test_the_optimum_study_walks_every_measured_criterion(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(episodes, "_PROFILE", [load_profile(DEFAULT_PROFILE)])  # as install_worker does
+    monkeypatch.setattr(worker, "_PROFILE", [load_profile(DEFAULT_PROFILE)])  # as install_worker does
     # three shipped descriptions: a search small enough for a unit test
     rows = OptimumJob(SHIPPED, Position(24, 0), 8, shipped_descriptions=3).run()
     assert [r.criterion for r in rows] == list(MEASURED)

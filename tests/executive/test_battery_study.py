@@ -55,13 +55,13 @@ def test_the_summary_counts_by_hand() -> None:
 @pytest.mark.slow
 def test_one_floor_from_a_nearly_flat_battery_with_the_guard_off_and_on() -> None:
     from executive import defaults
-    from experiments.situation import install
+    from experiments.worker import install_worker
     from experiments.study_battery import run_job
     from experiments.worlds import set_members
     from learner.library.format import read_library_json
     from robot_profile import load_profile
 
-    install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())
+    install_worker({"trained": read_library_json(defaults.EXAMPLE_LIBRARY)}, load_profile())
     off = run_job(BatteryJob(0.03, "guard off", 0))
     on = run_job(BatteryJob(0.03, "guard", 0))
     assert len(off) == len(on) == len(set_members("test"))  # every object found and reported

@@ -10,7 +10,7 @@ import pytest
 
 from executive import defaults
 from experiments.disturbed import saved_from_disturbed, sim_index, unnoticed
-from experiments.situation import install
+from experiments.worker import install_worker
 from experiments.study_disturbance import DisturbanceJob, ObjectRow, cell, plan, preset, run_job, summarise
 from experiments.worlds import set_members
 from hero_driver.sim.disturber import Happened
@@ -81,7 +81,7 @@ def test_the_summary_reads_the_counts_per_setting() -> None:
 
 @pytest.mark.slow
 def test_one_job_runs_a_disturbed_floor_with_the_check_on() -> None:
-    install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())
+    install_worker({"trained": read_library_json(defaults.EXAMPLE_LIBRARY)}, load_profile())
     rows = run_job(DisturbanceJob(1.0, True, 0))
     assert len(rows) == len(set_members("test"))  # every object of the floor found and reported
     assert not any(r.saved_disturbed for r in rows) and any(r.disturbed for r in rows)

@@ -14,7 +14,8 @@ from collections.abc import Iterator
 import pytest
 
 import experiments.episodes as episodes
-from experiments.episodes import EpisodeRow, EpisodeSpec, install_worker
+from experiments.episodes import EpisodeRow, EpisodeSpec
+from experiments.worker import install_worker
 from reporting.report import match_truth
 from robot_profile import load_profile
 from tests.executive.floors import trained

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from executive import defaults
-from experiments.situation import install
+from experiments.worker import install_worker
 from experiments.study_obstacles import Floor, ObstaclesJob, cell, plan, run_job, summarise
 from learner.library.format import read_library_json
 from robot_profile import load_profile
@@ -39,6 +39,6 @@ def test_the_summary_names_contacts_on_and_off_and_the_busiest_point() -> None:
 
 @pytest.mark.slow
 def test_one_floor_with_movers_runs_with_no_contact_when_on() -> None:
-    install(read_library_json(defaults.EXAMPLE_LIBRARY), load_profile())
+    install_worker({"trained": read_library_json(defaults.EXAMPLE_LIBRARY)}, load_profile())
     floor = run_job(ObstaclesJob(2, 12.0, True, 0))
     assert floor.contacts == 0 and len(floor.correct) == len(floor.robot_s) > 0

@@ -11,7 +11,7 @@ from behaviours.services import Params
 from executive import defaults
 from executive.executive import Executive
 from experiments.config import ExperimentConfig
-from experiments.episodes import install_worker
+from experiments.worker import install_worker
 from experiments.study_grasp_costs import GraspCostJob, GraspCostRow, plan, slowed, summarise
 from experiments.worlds import set_members
 from hero_driver.sim_driver import SimulatedHero
