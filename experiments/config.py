@@ -1,12 +1,13 @@
 """How big a run is: seeds, sweep points and chain lengths, full or ``--quick``.
 
-One place decides every study's size, so ``--quick`` shrinks all of them together and
-the full run's cost can be read off here: 620 episodes and 6 optimum searches at the
-default 20 seeds, about 8 CPU minutes (30 episodes and 4 small searches with ``--quick``).
+One place decides every study's size, so ``--quick`` shrinks all of them together; what
+a run cost (episodes, wall and CPU time) is in the header of the page it wrote
+(docs/results.md).
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -14,6 +15,30 @@ from learner.position import Position
 
 FULL_SEEDS = 20
 QUICK_SEEDS = 2
+MAX_SEEDS = 10_000  # more seeds than any run would want: a typo, not a plan
+
+
+def parse_seeds(text: str) -> tuple[int, ...]:
+    """The seeds a ``--seeds`` value names: ``N`` (the first N, 0 to N-1), a range
+    ``A-B`` (both ends included) or a list ``A,B,C``; each seed lays a floor out, so
+    other seeds than the page's are other floors (ValueError: what is wrong, one line)."""
+    text = text.strip()
+    if re.fullmatch(r"\d+", text):
+        count = int(text)
+        if not 1 <= count <= MAX_SEEDS:
+            raise ValueError(f"a count of seeds must be 1 to {MAX_SEEDS}, got {count}")
+        return tuple(range(count))
+    if match := re.fullmatch(r"(\d+)\s*-\s*(\d+)", text):
+        first, last = int(match[1]), int(match[2])
+        if last < first or last - first >= MAX_SEEDS:
+            raise ValueError(f"a range of seeds goes from low to high, at most {MAX_SEEDS} of them: got {text!r}")
+        return tuple(range(first, last + 1))
+    if re.fullmatch(r"\d+(\s*,\s*\d+)+", text):
+        seeds = tuple(int(part) for part in text.split(","))
+        if len(set(seeds)) != len(seeds):
+            raise ValueError(f"a seed is named twice in {text!r}")
+        return seeds
+    raise ValueError(f"expected a count (20), a range (100-109) or a list (1,5,9) of seeds, got {text!r}")
 
 
 @dataclass(frozen=True)
@@ -22,19 +47,19 @@ class ExperimentConfig:
     page's header)."""
 
     quick: bool
-    seeds: int
+    seeds: tuple[int, ...]  # the floors every condition runs on (the page's: 0 to N-1)
     jobs: int
     out: Path
     command: str
 
     @property
     def seed_list(self) -> list[int]:
-        return list(range(self.seeds))
+        return list(self.seeds)
 
     @property
     def few_seeds(self) -> list[int]:
         """For sweeps, whose many points already average over objects."""
-        return self.seed_list[: 1 if self.quick else max(1, self.seeds // 2)]
+        return self.seed_list[: 1 if self.quick else max(1, len(self.seeds) // 2)]
 
     @property
     def cost_multipliers(self) -> list[float]:
@@ -51,7 +76,7 @@ class ExperimentConfig:
 
     @property
     def chain_seeds(self) -> list[int]:
-        return self.seed_list[: 1 if self.quick else self.seeds]
+        return self.seed_list[: 1 if self.quick else len(self.seeds)]
 
     @property
     def start_poses(self) -> list[Position]:
@@ -69,3 +94,10 @@ class ExperimentConfig:
     @property
     def synthetic_objects(self) -> int:
         return 8 if self.quick else 12
+
+
+def seeds_text(seeds: tuple[int, ...]) -> str:
+    """How a page names its seeds: ``0 to 19``, ``100 to 109``, or the list."""
+    if len(seeds) > 1 and seeds == tuple(range(seeds[0], seeds[-1] + 1)):
+        return f"{len(seeds)} ({seeds[0]} to {seeds[-1]})"
+    return f"{len(seeds)} ({', '.join(map(str, seeds))})"

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from experiments.config import ExperimentConfig
+from experiments.config import ExperimentConfig, parse_seeds
 from experiments.study import Study, run_studies
 from experiments.table import StudyResult, markdown_table
 
@@ -28,12 +28,12 @@ def markdown(study: StudyResult, command: str, wall_s: float) -> str:
     return "\n".join(lines)
 
 
-def report(study: Study, quick: bool, seeds: int | None, jobs: int) -> str:
-    """Train on the Table 3 objects, run ``study``'s jobs on ``seeds`` floors per sweep
-    point (default: its ``floors``, quick or full) in ``jobs`` worker processes, and
-    give its section."""
+def report(study: Study, quick: bool, seeds: str | None, jobs: int) -> str:
+    """Train on the Table 3 objects, run ``study``'s jobs on the floors ``seeds`` names
+    (:func:`~experiments.config.parse_seeds`; default: the first of its ``floors``,
+    quick or full) in ``jobs`` worker processes, and give its section."""
     command = f"csl experiment {study.name}" + "".join(
         [" --quick" if quick else "", f" --seeds {seeds}" if seeds else "", f" --jobs {jobs}"])
-    floors = seeds or study.floors[0 if quick else 1]
+    floors = parse_seeds(seeds) if seeds else tuple(range(study.floors[0 if quick else 1]))
     ran = run_studies([study], ExperimentConfig(quick, floors, jobs, Path("."), command))
     return markdown(ran.sections[0], command, ran.wall_s)

@@ -14,7 +14,19 @@ from pathlib import Path
 from rich.console import Console
 
 from csl_cli.args import output_folder
-from experiments.config import FULL_SEEDS, QUICK_SEEDS, ExperimentConfig
+from experiments.config import FULL_SEEDS, QUICK_SEEDS, ExperimentConfig, parse_seeds
+
+SEEDS_FORMS = ": a count N (seeds 0 to N-1), a range A-B or a list A,B,C (other seeds lay other floors)"
+
+
+def seeds_argument(text: str) -> str:
+    """argparse type: a ``--seeds`` value that names seeds (kept as written, for the
+    command line a page quotes)."""
+    try:
+        parse_seeds(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text.strip()
 from zenoh_rpc.argtypes import positive_int
 
 
@@ -38,7 +50,7 @@ SITUATIONS = (
               "object is sensed and can be disturbed); print success, robot minutes per "
               "object, objects reported gone and descriptions saved from disturbed attempts as a "
               "Markdown section (BENCHMARKS.md, 'Disturbances').",
-              "two rates and 2 seeds (about 20 s on 2 cores)", "floors per rate and setting (default 6, or 2 with --quick)"),
+              "two rates and 2 seeds", "floors per rate and setting (default 6, or 2 with --quick)"),
     Situation("battery", "low battery: the guard and the dock-detour pricing on and off, over start levels "
               "and drain rates",
               "Sweep the battery's start level, then the drain rate (a multiplier on the documented "
@@ -47,28 +59,28 @@ SITUATIONS = (
               "moves; print success, robot minutes per object, dock trips, objects resumed after a "
               "charge, flat-battery failures and descriptions saved from attempts the battery cut short "
               "as a Markdown section (BENCHMARKS.md, 'Battery').",
-              "two levels, drains x1 and x8, 1 seed (about 15 s on 2 cores)",
+              "two levels, drains x1 and x8, 1 seed",
               "floors per sweep point and setting (default 4, or 1 with --quick)"),
     Situation("obstacles", "people and carts crossing the floor: the safety stop and blocked-move branch on and off",
               "Sweep the number and speed of the simulator's movers (--movers N:SPEED) over floors of unseen "
               "test objects with the driver's safety stop and the executive's blocked-move branch on and "
               "off; print success, robot minutes per object, contacts, blocked moves and objects given up "
               "as a Markdown section (BENCHMARKS.md, 'Moving obstacles').",
-              "0 and 3 movers, 2 seeds (about 15 s on 2 cores)",
+              "0 and 3 movers, 2 seeds",
               "floors per sweep point and setting (default 6, or 2 with --quick)"),
     Situation("clutter", "objects close together: the sonar beam check on and off, over the neighbour's gap",
               "Pair every unseen test object with a neighbour GAP inches away (edge to edge; 'apart': no "
               "clutter) and run the executive with its beam check (BeamClear?) on and off; print success, "
               "robot minutes per object and the sonar readings a neighbour contaminated as a Markdown "
               "section (BENCHMARKS.md, 'Clutter').",
-              "apart and 2 in, 1 seed (about 15 s on 2 cores)", "floors per gap and setting (default 4, or 1 with --quick)"),
+              "apart and 2 in, 1 seed", "floors per gap and setting (default 4, or 1 with --quick)"),
 )
 
 
 def _add_situation(studies: argparse._SubParsersAction, study: Situation) -> None:
     parser = studies.add_parser(study.name, help=study.help, description=study.description)
     parser.add_argument("--quick", action="store_true", help=study.quick)
-    parser.add_argument("--seeds", type=positive_int, default=None, metavar="N", help=study.seeds)
+    parser.add_argument("--seeds", type=seeds_argument, default=None, metavar="SEEDS", help=study.seeds + SEEDS_FORMS)
     parser.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
                         help="parallel worker processes (default: the CPU count)")
     parser.set_defaults(handler=run_situation)
@@ -87,9 +99,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                      "exhaustive training, cost and noise sweeps, a learning curve and the distance to the "
                      "optimum. Writes DIR/results.md, PNG plots and the raw per-episode CSV under DIR/results/."))
     paper.add_argument("--quick", action="store_true",
-                       help=f"a small run (under two minutes on 2 cores): {QUICK_SEEDS} seeds, fewer sweep points")
-    paper.add_argument("--seeds", type=positive_int, default=None, metavar="N",
-                       help=f"seeds per condition (default {FULL_SEEDS}, or {QUICK_SEEDS} with --quick)")
+                       help=f"a small run: {QUICK_SEEDS} seeds, fewer sweep points and shorter chains (its wall and CPU time "
+                            "are in the header of the page it writes)")
+    paper.add_argument("--seeds", type=seeds_argument, default=None, metavar="SEEDS",
+                       help=f"the floors every condition runs on (default the first {FULL_SEEDS}, or {QUICK_SEEDS} "
+                            f"with --quick){SEEDS_FORMS}")
     paper.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
                        help="parallel worker processes (default: the CPU count)")
     paper.add_argument("--out", type=Path, default=Path("docs"),
@@ -101,7 +115,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_experiment_paper(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
-    seeds = args.seeds or (QUICK_SEEDS if args.quick else FULL_SEEDS)
+    seeds = parse_seeds(args.seeds) if args.seeds else tuple(range(QUICK_SEEDS if args.quick else FULL_SEEDS))
     command = "csl experiment paper" + "".join(
         [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
          f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])

@@ -17,7 +17,7 @@ from csl_cli.main import main
 from experiments import study_appearance, study_execution
 from experiments.ablations import ABLATIONS, MEASURED
 from experiments.conditions import STRATEGIES_OFF, STRATEGIES_ON, Control, CostScale, noise_config
-from experiments.config import ExperimentConfig
+from experiments.config import ExperimentConfig, parse_seeds, seeds_text
 from experiments.csvfile import read_episodes, write_episodes
 from experiments.episodes import EpisodeRow, EpisodeSpec, _object_stats
 from experiments.exhaustive import measure_everything_s, positions
@@ -82,7 +82,7 @@ def test_strategies_off_means_nearest_neighbour_at_once() -> None:
 def test_appearance_on_is_the_execution_run_so_the_pool_runs_it_once() -> None:
     """The appearance is on by default, so the study's 'on' runs are study 2's and only
     the 'off' runs are its own."""
-    config = ExperimentConfig(quick=True, seeds=2, jobs=1, out=Path("."), command="csl experiment paper --quick")
+    config = ExperimentConfig(quick=True, seeds=(0, 1), jobs=1, out=Path("."), command="csl experiment paper --quick")
     plan = study_appearance.plan(config)
     on = [spec for spec in plan if spec.control.appearance]
     off = [spec for spec in plan if not spec.control.appearance]
@@ -186,7 +186,10 @@ def test_csv_round_trip(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--seeds", "0"], "--seeds: must be at least 1"),
+    (["--seeds", "0"], "--seeds: a count of seeds must be 1 to 10000, got 0"),
+    (["--seeds", "109-100"], "--seeds: a range of seeds goes from low to high"),
+    (["--seeds", "1,5,1"], "--seeds: a seed is named twice in '1,5,1'"),
+    (["--seeds", "ten"], "--seeds: expected a count (20), a range (100-109) or a list (1,5,9) of seeds, got 'ten'"),
     (["--jobs", "two"], "--jobs: expected a whole number"),
     (["--frobnicate"], "unrecognized arguments: --frobnicate"),
 ])
@@ -293,3 +296,14 @@ def test_quick_run_measures_the_ablations_beside_the_product(quick_run: Path) ->
     assert all(f"| `{name}` vs `id3`: robot time saved" in baselines for name in quick if name != "id3")
     assert all(f"| `{name}` / optimum, shipped library" in optimum for name in MEASURED)
     assert any(name in quick for name in ABLATIONS)
+
+
+@pytest.mark.parametrize("text, seeds, named", [
+    ("3", (0, 1, 2), "3 (0 to 2)"),
+    ("100-104", (100, 101, 102, 103, 104), "5 (100 to 104)"),
+    (" 7 - 7 ", (7,), "1 (7)"),
+    ("9,1,5", (9, 1, 5), "3 (9, 1, 5)"),
+])
+def test_seeds_name_a_count_a_range_or_a_list(text: str, seeds: tuple[int, ...], named: str) -> None:
+    assert parse_seeds(text) == seeds
+    assert seeds_text(seeds) == named

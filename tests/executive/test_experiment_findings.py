@@ -63,7 +63,7 @@ def test_recoveries_are_counted_per_object_by_their_name() -> None:
 
 
 def test_strategies_off_runs_on_both_object_sets_beside_the_execution_runs() -> None:
-    config = ExperimentConfig(quick=True, seeds=2, jobs=1, out=Path("."), command="csl experiment paper --quick")
+    config = ExperimentConfig(quick=True, seeds=(0, 1), jobs=1, out=Path("."), command="csl experiment paper --quick")
     specs = study_execution.plan(config)
     off = [s for s in specs if s.control == STRATEGIES_OFF]
     assert sorted((s.objects, s.seed) for s in off) == [("test", 0), ("test", 1), ("training", 0), ("training", 1)]

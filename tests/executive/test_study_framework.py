@@ -49,11 +49,11 @@ def test_jobs_two_studies_share_run_once_and_each_study_reads_its_own(tmp_path: 
     first, second = [Square(2), Square(3)], [Square(3), Square(4)]  # Square(3) in both
     studies = [Study("a", lambda config: first, _sum_of(first)), Study("b", lambda config: second, _sum_of(second)),
                TRAINING]
-    ran = run_studies(studies, ExperimentConfig(True, 2, 1, tmp_path, "test"))
+    ran = run_studies(studies, ExperimentConfig(True, (3, 4), 1, tmp_path, "test"))
     assert sorted(RAN) == [2, 3, 4]  # 3 once
     assert list(ran.results) == [Square(2), Square(3), Square(4)]  # the studies' order
     assert [s.rows[0].ours for s in ran.sections[:2]] == ["13", "25"]  # 4 + 9, 9 + 16
-    assert ran.sections[0].title == "seeds 2"
+    assert ran.sections[0].title == "seeds (3, 4)"
     assert ran.sections[2] is ran.trained.study  # training's own section, from the run's training
 
 

@@ -47,7 +47,7 @@ def test_the_simulator_is_slowed_and_the_executive_priced_by_what_was_recorded(t
 @pytest.mark.slow
 def test_a_short_chain_runs_every_object_and_the_first_episode_is_the_files_in_both() -> None:
     install_worker({}, load_profile())
-    config = ExperimentConfig(quick=True, seeds=1, jobs=1, out=Path("."), command="test")
+    config = ExperimentConfig(quick=True, seeds=(0,), jobs=1, out=Path("."), command="test")
     jobs = plan(config)
     assert [(j.learned, j.seed, j.episodes) for j in jobs] == [(False, 0, 3), (True, 0, 3)]
     off, on = (GraspCostJob(j.study, j.learned, j.seed, 2).run() for j in jobs)
@@ -58,7 +58,7 @@ def test_a_short_chain_runs_every_object_and_the_first_episode_is_the_files_in_b
 
 
 def test_the_summary_by_hand() -> None:
-    config = ExperimentConfig(quick=True, seeds=1, jobs=1, out=Path("."), command="test")
+    config = ExperimentConfig(quick=True, seeds=(0,), jobs=1, out=Path("."), command="test")
     off_job, on_job = plan(config)
 
     def chain(learned: bool, seconds: list[float]) -> list[GraspCostRow]:
