@@ -5,7 +5,8 @@ sweeps rotate the sonar at the sonar point and count the beam directions whose f
 echo comes from the object (so an angular size is a multiple of the step); scans
 translate it in 0.3 in steps and count the positions that see the object. The exact
 ("ideal") values are derived here; :mod:`hero_driver.sim.noise` turns them into
-measurements. Formulas are listed in docs/simulator.md.
+measurements. What each value means is the driver contract's (docs/driver-protocol.md,
+"Sensing features"); what the simulator adds to it, docs/simulator.md ("Sensing").
 """
 
 from __future__ import annotations

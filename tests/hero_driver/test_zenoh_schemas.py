@@ -1,6 +1,8 @@
 """The published JSON Schemas (docs/schemas/) against the codec: the files are what the
 generator makes, every message the codec writes validates, and a message mutated at
-random is accepted by its schema exactly when the codec accepts it."""
+random is accepted by its schema exactly when the codec accepts it; every number names
+its unit; a profile's sense reply schema accepts what its simulated robot answers and
+refuses what that robot cannot have measured."""
 
 from __future__ import annotations
 
@@ -15,12 +17,21 @@ from hypothesis import strategies as st
 from jsonschema import Draft202012Validator
 
 from hero_driver.interface import BUSY, Hello, Pose, RobotState
+from hero_driver.sim.probe import probe
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest
-from hero_driver.zenoh_link.schemas import all_schemas, render
+from hero_driver.zenoh_link.schemas import (
+    UNITS,
+    all_schemas,
+    main,
+    profile_schemas,
+    published,
+    render,
+    shipped_profiles,
+)
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES
 from hero_driver.zenoh_link.versions import Greeting
-from robot_profile import ProfileStamp
+from robot_profile import ProfileStamp, load_profile
 from tests.hero_driver.test_zenoh_verbs import EXAMPLES
 
 FOLDER = Path(__file__).resolve().parents[2] / "docs" / "schemas"
@@ -68,7 +79,8 @@ def test_one_schema_per_request_reply_state_and_error() -> None:
 
 def test_the_published_files_are_the_generated_schemas() -> None:
     on_disk = {path.stem: path.read_text(encoding="utf-8") for path in FOLDER.glob("*.json")}
-    assert on_disk == {name: render(schema) for name, schema in SCHEMAS.items()}, \
+    generated = published([load_profile(path) for path in shipped_profiles()])
+    assert on_disk == {name: render(schema) for name, schema in generated.items()}, \
         "regenerate with: python -m hero_driver.zenoh_link.schemas docs/schemas"
 
 
@@ -279,3 +291,139 @@ def test_hello_round_trips_through_the_codec() -> None:
     assert verb.decode_result(verb.encode_result(served)) == Greeting(served)
     assert verb.decode_request(verb.encode_request(EmptyRequest())) == EmptyRequest()
     assert json.loads(verb.encode_result(served)) == {"v": 1, "versions": [1, 2], "features": ["profile-hash"]}
+
+
+# ------------------------------------------------------------------ units
+
+# Numbers that count or name rather than measure: a seed, protocol versions, and the
+# generic sense values, whose unit is their feature's (each profile's schema gives it).
+UNITLESS = {"seed", "versions", "values"}
+SUFFIX_UNITS = {"_in": "in", "_deg": "deg", "_s": "s"}
+
+
+def numbers(schema: object, field: str = "", here: tuple[Any, ...] = ()) -> list[tuple[str, tuple[Any, ...], dict]]:
+    """Every number or integer node of a schema, with the field it belongs to (the
+    nearest property name above it) and its path."""
+    found: list[tuple[str, tuple[Any, ...], dict]] = []
+    if isinstance(schema, dict):
+        if schema.get("type") in ("number", "integer"):
+            found.append((field, here, schema))
+        for key, item in schema.items():
+            inner = key if here and here[-1] == "properties" else field
+            found += numbers(item, inner, (*here, key))
+    elif isinstance(schema, list):
+        for i, item in enumerate(schema):
+            found += numbers(item, field, (*here, i))
+    return found
+
+
+@pytest.mark.parametrize("name", sorted(SCHEMAS))
+def test_every_number_names_its_unit_in_its_description_and_in_x_unit(name: str) -> None:
+    for field, path, node in numbers(SCHEMAS[name]):
+        if field in UNITLESS:
+            assert "x-unit" not in node, (name, path)
+            continue
+        assert node.get("x-unit") in UNITS, (name, path)
+        assert UNITS[node["x-unit"]] in node["description"], (name, path, node["description"])
+        for suffix, unit in SUFFIX_UNITS.items():
+            if field.endswith(suffix):
+                assert node["x-unit"] == unit, (name, path)
+
+
+def test_the_units_of_the_state_and_the_move_reply() -> None:
+    """Worked by hand from docs/driver-protocol.md: inches, degrees CCW, robot seconds,
+    the battery a fraction with no unit."""
+    units = {field: node["x-unit"] for field, _, node in numbers(SCHEMAS["state"])}
+    assert units == {"x_in": "in", "y_in": "in", "heading_deg": "deg", "clock_s": "s", "battery": "1"}
+    move = SCHEMAS["move.reply"]["properties"]
+    assert move["duration_s"]["x-unit"] == "s"
+    assert move["duration_s"]["description"] == "robot time the verb took, in seconds"
+    camera = SCHEMAS["camera.reply"]["properties"]
+    assert camera["inches_per_pixel"]["x-unit"] == "in/px"
+    assert camera["image"]["properties"]["height"]["x-unit"] == "px"
+
+
+# ------------------------------------------------------------------ a profile's sense reply
+
+HERO = load_profile(next(path for path in shipped_profiles() if path.stem == "hero2000"))
+HERO_SENSE = profile_schemas(HERO)["hero2000.sense.reply"]
+
+
+def test_the_shipped_profiles_each_have_a_sense_reply_schema() -> None:
+    assert sorted(path.stem for path in shipped_profiles()) == ["hero2000", "rover"]
+    assert set(published([load_profile(path) for path in shipped_profiles()])) - set(SCHEMAS) == {
+        "hero2000.sense.reply", "rover.sense.reply"}
+
+
+def test_a_features_schema_carries_its_profiles_unit_span_and_meaning() -> None:
+    then = next(rule["then"] for rule in HERO_SENSE["allOf"]
+                if rule["if"]["properties"]["procedure"]["const"] == "H-Scan-0.3")
+    width, hole = (then["properties"]["values"]["properties"][name]["anyOf"][0] for name in ("Width", "Front-Hole?"))
+    assert (width["x-unit"], width["minimum"], width["maximum"]) == ("in", 0, 127)
+    assert width["description"] == ("Width, in inches, from 0 to 127; expected error 0.5 "
+                                    "(docs/driver-protocol.md, Sensing features, Width)")
+    assert (hole["enum"], hole["x-unit"]) == ([0, 1], "bool")
+    assert then["properties"]["values"]["required"] == ["Width", "Front-Hole?"]
+
+
+@pytest.mark.parametrize("profile_path", shipped_profiles(), ids=lambda path: path.stem)
+@pytest.mark.parametrize("noise", [False, True])
+def test_a_profiles_schema_accepts_every_reply_of_its_simulated_robot(profile_path: Path, noise: bool) -> None:
+    """Every procedure of the profile applied to the 10 in box at 6 in (every range
+    holds 6 in), noise off and on (a dropout's ``null`` included, over seeds)."""
+    profile = load_profile(profile_path)
+    schema = Draft202012Validator(profile_schemas(profile)[f"{profile_path.stem}.sense.reply"])
+    for procedure in profile.sensing:
+        for seed in range(4 if noise else 1):
+            result = probe("closed-box-10x10x10/upright", procedure.name, 6, 0, seed=seed, noise=noise,
+                           profile=profile)
+            reply = json.loads(BY_NAME["sense"].encode_result(result))
+            assert schema.is_valid(reply), list(schema.iter_errors(reply))
+
+
+H_SCAN = {"v": 1, "procedure": "H-Scan-0.3", "values": {"Width": 10.2, "Front-Hole?": 0}, "duration_s": 105,
+          "distance_in": 6.0}
+WRONG_VALUES: list[dict[str, object]] = [
+    {"Width": 10.2},                                    # a feature missing
+    {"Width": 10.2, "Front-Hole?": 0, "Height": 9.9},  # a feature of another procedure added
+    {"Width": 10.2, "Front-Hole?": 0.5},               # a hole is 0 or 1
+    {"Width": 10.2, "Front-Hole?": True},              # ... a number, not a JSON boolean
+    {"Width": 130.0, "Front-Hole?": 0},                # past the span's 127 in
+    {"Width": -0.3, "Front-Hole?": 0},                 # below it
+]
+
+
+@pytest.mark.parametrize("values", WRONG_VALUES)
+def test_a_profiles_schema_refuses_values_its_robot_cannot_have_measured(values: dict[str, object]) -> None:
+    reply = {**H_SCAN, "values": values}
+    assert not Draft202012Validator(HERO_SENSE).is_valid(reply)
+    if values.get("Front-Hole?") is not True:  # the codec, profile-blind, takes them as well formed
+        assert schema_accepts("sense.reply", reply) and codec_accepts("sense.reply", reply)
+
+
+def test_a_profiles_schema_takes_a_dropout_and_refuses_a_procedure_it_lacks() -> None:
+    validator = Draft202012Validator(HERO_SENSE)
+    assert validator.is_valid(H_SCAN)
+    assert validator.is_valid({**H_SCAN, "values": {"Width": None, "Front-Hole?": None}})
+    assert not validator.is_valid({**H_SCAN, "procedure": "X-Scan-0.3"})
+    assert not validator.is_valid({**H_SCAN, "values": {"Height": 9.9, "Depth": 9.9, "Top-Hole?": 0}})
+
+
+def test_the_generator_writes_the_sense_reply_of_the_profile_it_is_given(tmp_path: Path,
+                                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    rover = next(path for path in shipped_profiles() if path.stem == "rover")
+    assert main([str(tmp_path), str(rover)]) == 0
+    assert sorted(path.name for path in tmp_path.glob("*.sense.reply.json")) == ["rover.sense.reply.json"]
+    assert len(list(tmp_path.glob("*.json"))) == len(SCHEMAS) + 1
+    capsys.readouterr()
+
+
+def test_the_generator_refuses_a_profile_it_cannot_read_in_one_line(tmp_path: Path,
+                                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "robot.toml"
+    bad.write_text("[move]\nseconds_per_inch = 'fast'\n", encoding="utf-8")
+    assert main([str(tmp_path / "out"), str(bad)]) == 2
+    assert main([str(tmp_path / "out"), str(tmp_path / "missing.toml")]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and "robot.toml" in lines[0] and "missing.toml" in lines[1], lines
+    assert not (tmp_path / "out").exists()
