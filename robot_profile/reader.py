@@ -155,7 +155,9 @@ def _move(table: Mapping[str, object], where: str) -> MoveModel:
 
 
 def _robot(table: Mapping[str, object], where: str) -> Robot:
-    """Every field is required: the planner and the simulator must agree on all of them.
+    """Every field without a default is required: the planner and the simulator must
+    agree on all of them. A field with a default (a constant added after the robots
+    that predate it, docs/conventions.md) takes it when the key is absent.
 
     The keys are the two parts' dataclass fields, so a new constant needs no code here.
     """
@@ -168,7 +170,7 @@ def _part(part: type[_Part], table: Mapping[str, object], where: str) -> _Part:
     """One ``[robot]`` part, each field checked as its metadata says (model.POSITIVE)."""
     values = {
         f.name: (fields.positive if f.metadata.get("positive") else fields.cost)(table, f.name, where)
-        for f in dataclasses.fields(part)
+        for f in dataclasses.fields(part) if f.name in table or f.default is dataclasses.MISSING
     }
     return part(**values)
 

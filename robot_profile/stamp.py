@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import MISSING, dataclass, fields
 from pathlib import Path
 
 from robot_profile.model import RobotProfile
@@ -39,7 +39,7 @@ def profile_stamp(profile: RobotProfile) -> ProfileStamp:
     """
     constants = {
         "robot": {key: float(value) for part in (profile.robot.geometry, profile.robot.motion)
-                  for key, value in asdict(part).items()},
+                  for key, value in set_constants(part).items()},
         "sensing": sorted(({"name": p.name, "range_in": _floats(p.range_in), "time_s": float(p.time_s),
                             "features": sorted(f.name for f in p.features)} for p in profile.sensing),
                           key=lambda entry: entry["name"]),
@@ -48,6 +48,15 @@ def profile_stamp(profile: RobotProfile) -> ProfileStamp:
     }
     text = json.dumps(constants, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
     return ProfileStamp(Path(profile.source).stem, hashlib.sha256(text.encode("utf-8")).hexdigest())
+
+
+def set_constants(part: object) -> dict[str, float]:
+    """A ``[robot]`` part's constants, less those at their field's default: a constant
+    added later with a default that leaves the robots before it as they were changes
+    neither their files nor their fingerprints (a robot that sets another value has
+    another fingerprint, as it should)."""
+    return {f.name: getattr(part, f.name) for f in fields(part)  # type: ignore[arg-type]
+            if f.default is MISSING or getattr(part, f.name) != f.default}
 
 
 def _floats(pair: tuple[float, float]) -> list[float]:
