@@ -89,6 +89,20 @@ class EpisodeRow:
     grasps_as_features: int  # grasps tried as binary features
     wrong_grasps: int  # grasps executed at a leaf that failed (a misclassification)
     recoveries: str = field(default="-")
+    failed_features: int = 0  # grasps tried as binary features that failed
+    knocked_over: bool = False  # the simulator's truth: it ended the episode in another pose (a grasp tipped it)
+
+    @property
+    def misclassified(self) -> bool:
+        """The lenient reading: a grasp executed at a leaf failed, or not handled."""
+        return self.wrong_grasps > 0 or not self.success
+
+    @property
+    def misclassified_strict(self) -> bool:
+        """The strict reading: any grasp failed, at a leaf or tried as a feature, or the
+        object was knocked over, or not handled (what a person watching would call a
+        mistake)."""
+        return self.misclassified or self.failed_features > 0 or self.knocked_over
 
     @staticmethod
     def columns() -> list[str]:
@@ -141,24 +155,29 @@ def _episode(spec: EpisodeSpec, episode: int, profile: RobotProfile, learner: Lo
     stats = _object_stats(executive.log.events)
 
     def row(name: str, outcome: str, grasp: str, success: bool, robot: tuple[float, float, float],
-            computing_ms: float = 0.0, tests: int = 0, indices: Sequence[int] = (), recoveries: str = "-") -> EpisodeRow:
-        folded = [stats.get(i, ([], 0, 0)) for i in indices]
-        distances = [d for ds, _, _ in folded for d in ds]
-        as_features, wrong = sum(f[1] for f in folded), sum(f[2] for f in folded)
+            computing_ms: float = 0.0, tests: int = 0, indices: Sequence[int] = (), recoveries: str = "-",
+            knocked: bool = False) -> EpisodeRow:
+        folded = [stats.get(i, ([], 0, 0, 0)) for i in indices]
+        distances = [d for ds, _, _, _ in folded for d in ds]
+        as_features, wrong, failed = (sum(f[k] for f in folded) for k in (1, 2, 3))
         moving, sensing, grasping = robot
         return EpisodeRow(
             spec.study, spec.variant, spec.criterion, spec.noise, spec.noise_factor, spec.control.label,
             spec.cost.move, spec.cost.sense, spec.library, spec.objects, spec.seed, episode, size, name, outcome,
             grasp, success, round(moving + sensing + grasping, 2), round(sensing, 2), round(moving, 2),
             round(grasping, 2), round(computing_ms, 1), tests,
-            round(sum(distances) / len(distances), 2) if distances else None, as_features, wrong, recoveries)
+            round(sum(distances) / len(distances), 2) if distances else None, as_features, wrong, recoveries,
+            failed, knocked)
 
+    tipped = {id(t) for t, before, after in zip(truths, played.start, played.now) if before.entry_id != after.entry_id}
     matched = [(match_truth(record, truths), r) for record, r in zip(result.objects, rows(result.objects, truths))]
     found = {id(t) for t, _ in matched}
+    knocked = {r.index for t, r in matched if id(t) in tipped}
     out = [row(r.object, r.outcome, r.grasp, bool(r.correct), (r.moving_s, r.sensing_s, r.grasping_s),
-               r.computing_ms, r.tests, indices, r.recoveries)
+               r.computing_ms, r.tests, indices, r.recoveries, any(i in knocked for i in indices))
            for r, indices in one_row_per_object(matched)]
-    out += [row(t.name, "not found", "-", False, (0.0, 0.0, 0.0)) for t in truths if id(t) not in found]
+    out += [row(t.name, "not found", "-", False, (0.0, 0.0, 0.0), knocked=id(t) in tipped)
+            for t in truths if id(t) not in found]
     return out
 
 
@@ -194,14 +213,16 @@ def one_row_per_object(matched: Sequence[tuple[Truth | None, Row]]) -> list[tupl
     return out
 
 
-def _object_stats(events: Sequence[Mapping[str, object]]) -> dict[int, tuple[list[float], int, int]]:
+def _object_stats(events: Sequence[Mapping[str, object]]) -> dict[int, tuple[list[float], int, int, int]]:
     """Per object index: the distance of each paid sensing test (the position of the
-    latest ``choose`` before its ``sense``), grasps tried as features, and grasps
-    executed at a leaf that failed, read from the episode's events in one pass."""
+    latest ``choose`` before its ``sense``), grasps tried as features, grasps executed
+    at a leaf that failed, and grasps tried as features that failed, read from the
+    episode's events in one pass."""
     chosen_at: dict[int, float] = {}
     distances: dict[int, list[float]] = defaultdict(list)
     as_features: dict[int, int] = defaultdict(int)
     wrong: dict[int, int] = defaultdict(int)
+    failed: dict[int, int] = defaultdict(int)
     for event in events:
         index = event.get("object")
         if not isinstance(index, int):
@@ -216,6 +237,8 @@ def _object_stats(events: Sequence[Mapping[str, object]]) -> dict[int, tuple[lis
         elif kind == "grasp":
             if event.get("as_feature"):
                 as_features[index] += 1
+                failed[index] += event.get("success") is False
             elif event.get("success") is False:
                 wrong[index] += 1
-    return {i: (distances[i], as_features[i], wrong[i]) for i in set(distances) | set(as_features) | set(wrong)}
+    return {i: (distances[i], as_features[i], wrong[i], failed[i])
+            for i in set(distances) | set(as_features) | set(wrong)}

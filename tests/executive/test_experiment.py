@@ -160,8 +160,8 @@ def test_object_stats_read_distances_grasps_as_features_and_wrong_grasps() -> No
         {"event": "sense", "object": 1},
     ]
     stats = _object_stats(events)
-    assert stats[0] == ([24.0, 6.0], 1, 1)
-    assert stats[1] == ([16.0], 0, 0)
+    assert stats[0] == ([24.0, 6.0], 1, 1, 1)  # the feature grasp failed too
+    assert stats[1] == ([16.0], 0, 0, 0)
 
 
 # -- table and CSV ------------------------------------------------------------------------
