@@ -3,7 +3,9 @@ section of ``results.md``.
 
 Every number in a row is formatted here, so the table reads the same from study to
 study; ratios are ours divided by the paper's, left as ``-`` where the paper gave a
-direction rather than a number.
+direction or a bound rather than a number (``> 80%``), where its figure is not
+comparable (a 1991 computer's time), and on rows that are arithmetic rather than
+measurement (said so in the row).
 """
 
 from __future__ import annotations
