@@ -24,7 +24,7 @@ from experiments.episodes import EpisodeRow, EpisodeSpec, Results, robot_minutes
 from experiments.exhaustive import measure_everything_s
 from experiments.plots import bars
 from experiments.study import Study
-from experiments.table import ResultRow, StudyResult, mean, num, paired_difference, percent, ratio
+from experiments.table import ResultRow, StudyResult, mean, num, paired, paired_difference, percent, ratio
 from executive.training_sources import catalogue_objects
 from learner.choosing.criteria import DEFAULT_CRITERION
 from learner.knowledge import Knowledge
@@ -134,6 +134,10 @@ def _per_seed(results: Results, specs: Sequence[EpisodeSpec], rate: Callable[[Ep
     return [mean(rate(r) for r in results[spec]) for spec in specs]
 
 
+def _minutes(row: EpisodeRow) -> float:
+    return row.robot_s / 60.0
+
+
 def _sensing_minutes(rows: Sequence[EpisodeRow]) -> float:
     return mean(r.sensing_s for r in rows) / 60.0
 
@@ -200,11 +204,14 @@ def summarise_baselines(config: ExperimentConfig, results: Results, log: Trainin
         saving = 1.0 - cost / robot_minutes(blind)
         classify = 1.0 - mean(r.sensing_s + r.moving_s for r in crs) / mean(r.sensing_s + r.moving_s for r in blind)
         cost_sensitive = MEASURED[name].cost_sensitive
+        difference = paired(_per_seed(results, [_criterion(name, s) for s in seeds], _minutes),
+                            _per_seed(results, [_criterion(COST_BLIND, s) for s in seeds], _minutes), unit=" min")
         rows.append(ResultRow(
             f"`{name}` vs `{COST_BLIND}`: robot time saved (sensing + moving saved)"
             + (" (random ties and * positions: not a baseline)" if name == RANDOM_ID3 else ""),
             f">= {percent(figures.COST_SENSITIVE_SAVING)}" if cost_sensitive else "-",
-            f"{percent(saving)} ({percent(classify)}); {num(cost)} min, {percent(success_rate(crs))} success",
+            f"{percent(saving)} ({percent(classify)}); {num(cost)} min, {percent(success_rate(crs))} success; "
+            f"per object {difference}",
             ratio(saving, figures.COST_SENSITIVE_SAVING) if cost_sensitive else "-"))
     for objects in OBJECT_SETS:
         rows += _strategies_rows(config, results, objects)

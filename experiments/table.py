@@ -69,6 +69,16 @@ def paired_difference(a: Sequence[float], b: Sequence[float]) -> tuple[float, fl
     return statistics.fmean(differences), spread
 
 
+def paired(a: Sequence[float], b: Sequence[float], digits: int = 2, unit: str = "") -> str:
+    """``a - b`` paired by seed, as a row writes it: the mean difference ± its standard
+    error and the number of seeds behind it; one seed is said to be a smoke value, so
+    nobody reads it as a result."""
+    difference, error = paired_difference(a, b)
+    if len(a) < 2:
+        return f"{num(difference, digits, unit)}, 1 seed: a smoke value, not a result"
+    return f"{num(difference, digits)} ± {num(error, digits, unit)} over {len(a)} seeds"
+
+
 def num(value: float | None, digits: int = 1, unit: str = "") -> str:
     if value is None or not math.isfinite(value):
         return "-"

@@ -21,7 +21,7 @@ from experiments.config import ExperimentConfig, parse_seeds, seeds_text
 from experiments.csvfile import read_episodes, write_episodes
 from experiments.episodes import EpisodeRow, EpisodeSpec, _object_stats
 from experiments.exhaustive import measure_everything_s, positions
-from experiments.table import markdown_table, paired_difference, ratio
+from experiments.table import markdown_table, paired, paired_difference, ratio
 from experiments.worlds import random_floor, set_members
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.catalogue import profile_and_catalogue
@@ -310,3 +310,8 @@ def test_quick_run_measures_the_ablations_beside_the_product(quick_run: Path) ->
 def test_seeds_name_a_count_a_range_or_a_list(text: str, seeds: tuple[int, ...], named: str) -> None:
     assert parse_seeds(text) == seeds
     assert seeds_text(seeds) == named
+
+
+def test_a_paired_difference_names_its_seeds_and_one_seed_is_a_smoke_value() -> None:
+    assert paired([10.0, 8.0, 9.0], [11.0, 10.0, 9.0], unit=" min") == "-1.00 ± 0.58 min over 3 seeds"
+    assert paired([10.0], [12.0], unit=" min") == "-2.00 min, 1 seed: a smoke value, not a result"
