@@ -192,6 +192,7 @@ def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
     connect, _, zenoh_config = connect_endpoint(args)
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
+    from hero_driver.zenoh_link.motion_check import Timing
 
     from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 
@@ -205,7 +206,8 @@ def _run_check(args: argparse.Namespace) -> int:
         except ValueError as exc:
             raise ValueError(f"--camera-calibration: {exc}") from None
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
-                         zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision)
+                         zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision,
+                         timing=Timing.from_profile(profile))
     if args.shutdown_order and any(r.passed for r in results):  # no driver at all: the suite said so
         from hero_driver.zenoh_link.conformance import shutdown_order
 
