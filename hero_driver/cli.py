@@ -123,9 +123,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "Connect to the driver serving ROBOT and exercise every verb, the liveliness "
             "token, the state publications and a set of bad requests (unknown verb, unknown "
             "procedure, malformed JSON, wrong types, missing and unknown fields, NaN, wrong "
-            "protocol version, out-of-range target). Prints one PASS/FAIL line per named "
+            "protocol version, out-of-range target), the turns, durations and busy flag against "
+            "the profile and the camera. Prints one PASS/FAIL line per named "
             "check; exits 0 when all pass, 1 otherwise. The robot must be free to turn in "
-            "place and have nothing within contact range of its sonar after a reset."
+            "place and have nothing within contact range of its sonar after a reset (it "
+            "drives 3 in straight ahead)."
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")

@@ -12,7 +12,8 @@ through its calibration, with the executive's vision (``vision``, given by ``csl
 check --camera-calibration``); a non-band image without one is "not checked".
 
 The robot must start from its reset pose with nothing within contact range of the
-sonar; the suite only turns the robot in place, so it is safe to run on hardware.
+sonar; the suite turns the robot in place and drives it a few inches straight ahead
+(:mod:`.motion_check`), so it is safe to run on hardware.
 Against a robot nobody serves (no token, no answer), and against a driver that names
 another robot profile than the one given, it stops after one line: every later check
 would only repeat that.

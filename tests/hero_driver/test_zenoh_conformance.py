@@ -77,9 +77,10 @@ def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixtur
     # range either), a crash on an unknown procedure, a clock that survives reset,
     # and (as every FakeHero) an image without the robot in it.
     # and a reset that accepts the world 'lab' but restores none of it; the robot not
-    # drawn, the turns cannot be seen either.
+    # drawn, the turns cannot be seen either, and the durations check's sense meets the
+    # same text values.
     assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset", "camera-mapping",
-                                "reset-objects", "turns"}
+                                "reset-objects", "turns", "durations"}
     assert status == 1
 
 
