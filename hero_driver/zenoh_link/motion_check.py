@@ -47,10 +47,11 @@ TURNS_DEG = (10.0, -10.0, -90.0, 90.0)  # the turns in place, in this order: bac
 # made (90 deg off) lies far outside it on the 90 deg turns.
 REPLY_TURN_TOLERANCE_DEG = 20.0
 # The camera sees the heading the robot truly has, which the reply reports: only the
-# marker's reading separates them (its centroid, averaged over a disc of pixels, 7.5 px
-# ahead of the base's at the simulator's scale), a few degrees per image, and a turn is
-# two images. A 10 deg turn not made (10 off) or made the other way (20 off) lies outside.
-CAMERA_TURN_TOLERANCE_DEG = 6.0
+# reading of the heading marker separates them (a small disc 2/3 of the base radius
+# ahead of its centre: a few degrees per image, by bands or through a calibration), and
+# a turn is two images. A turn made the other way round (20 deg off on a 10 deg turn)
+# or not made (10 off; 90 off on the 90 deg turns) lies outside.
+CAMERA_TURN_TOLERANCE_DEG = 8.0
 # Durations may be this many times shorter or longer than the profile gives. The
 # simulator's durations are the profile's formulas exactly under every noise preset
 # (noise moves where the robot ends, never how long it took), so the factor is for a
