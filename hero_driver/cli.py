@@ -136,8 +136,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
     check.add_argument("--profile", default=None, metavar="FILE",
-                       help="knowledge profile of the robot: its procedures are the ones exercised, "
-                            "and a driver whose hello names another profile fails in one line "
+                       help="knowledge profile of the robot: its procedures are the ones exercised, its "
+                            "speeds and procedure times the ones durations are held to, and a driver "
+                            "whose hello names another profile fails in one line "
                             "(default: the HERO 2000's)")
     check.add_argument("--camera-calibration", type=Path, default=None, metavar="FILE",
                        help="the driver camera's calibration ('csl camera calibrate'; the empty floor image beside "
