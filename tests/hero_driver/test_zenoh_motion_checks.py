@@ -25,8 +25,7 @@ from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.checking import CheckFailed, CheckResult, Probe
 from hero_driver.zenoh_link.conformance import Procedures
 from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
-from hero_driver.zenoh_link.node import DriverNode
-from hero_driver.zenoh_link.node import _Action
+from hero_driver.zenoh_link.node import DriverNode, _Action
 from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
