@@ -123,9 +123,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "Connect to the driver serving ROBOT and exercise every verb, the liveliness "
             "token, the state publications and a set of bad requests (unknown verb, unknown "
             "procedure, malformed JSON, wrong types, missing and unknown fields, NaN, wrong "
-            "protocol version, out-of-range target). Prints one PASS/FAIL line per named "
+            "protocol version, out-of-range target), the turns, durations and busy flag against "
+            "the profile and the camera. Prints one PASS/FAIL line per named "
             "check; exits 0 when all pass, 1 otherwise. The robot must be free to turn in "
-            "place and have nothing within contact range of its sonar after a reset."
+            "place and have nothing within contact range of its sonar after a reset (it "
+            "drives 3 in straight ahead)."
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
@@ -134,8 +136,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="seconds to wait for the driver to appear and for each reply "
                             f"(default {DEFAULT_CHECK_TIMEOUT_S:g})")
     check.add_argument("--profile", default=None, metavar="FILE",
-                       help="knowledge profile of the robot: its procedures are the ones exercised, "
-                            "and a driver whose hello names another profile fails in one line "
+                       help="knowledge profile of the robot: its procedures are the ones exercised, its "
+                            "speeds and procedure times the ones durations are held to, and a driver "
+                            "whose hello names another profile fails in one line "
                             "(default: the HERO 2000's)")
     check.add_argument("--camera-calibration", type=Path, default=None, metavar="FILE",
                        help="the driver camera's calibration ('csl camera calibrate'; the empty floor image beside "
@@ -192,6 +195,7 @@ def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
     connect, _, zenoh_config = connect_endpoint(args)
     from hero_driver.zenoh_link.conformance import Procedures, format_table, run_checks
+    from hero_driver.zenoh_link.motion_check import Timing
 
     from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
 
@@ -205,7 +209,8 @@ def _run_check(args: argparse.Namespace) -> int:
         except ValueError as exc:
             raise ValueError(f"--camera-calibration: {exc}") from None
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
-                         zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision)
+                         zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision,
+                         timing=Timing.from_profile(profile))
     if args.shutdown_order and any(r.passed for r in results):  # no driver at all: the suite said so
         from hero_driver.zenoh_link.conformance import shutdown_order
 

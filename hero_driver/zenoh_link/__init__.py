@@ -5,6 +5,7 @@
 ``verbs`` is the table of verbs both sides (and ``conformance``, which checks a
 driver process against the protocol) read; ``versions`` is the ``hello`` policy,
 ``schemas`` the JSON Schemas published in docs/schemas/, ``camera_check`` the
-conformance check that the image shows the robot where its pose says. Sessions, keys, queryables and the
+conformance check that the image shows the robot where its pose says, ``motion_check``
+the checks that it turns, takes the time and is free as its replies say. Sessions, keys, queryables and the
 liveliness token come from the shared :mod:`zenoh_rpc` kit.
 """

@@ -70,9 +70,18 @@ def _world(image: CameraImage, rows: np.ndarray, cols: np.ndarray) -> tuple[floa
     return float(x), float(y)
 
 
-def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
-    """A one-line account of where the robot was found; MappingError when the base is
-    not at ``pose``, the marker not ahead of it, or other things share its levels."""
+@dataclass(frozen=True)
+class _DrawnRobot:
+    """The robot as a band image draws it: its pose (base centroid, marker bearing)
+    and how many pixels in its levels lie off its blob."""
+
+    pose: Pose
+    stray_pixels: int
+
+
+def _find_robot(image: CameraImage, pose: Pose) -> _DrawnRobot:
+    """The robot-level blob nearest ``pose``, read; MappingError when there is none
+    within SEARCH_IN or it carries no heading marker."""
     pixels = undistorted(image)
     robot = cv2.morphologyEx(_band(pixels, ROBOT_BAND) | _band(pixels, MARKER_BAND), cv2.MORPH_OPEN, _OPEN)
     count, labels = cv2.connectedComponents(robot, connectivity=8)
@@ -92,22 +101,37 @@ def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
                            f"of the published position ({pose.x_in:.1f}, {pose.y_in:.1f}){hint}")
     rows, cols = np.nonzero(labels == best)
     x, y = _world(image, rows, cols)
-    off_in = math.hypot(x - pose.x_in, y - pose.y_in)
-    if off_in > CENTRE_TOLERANCE_IN:
-        raise MappingError(f"the robot's base is drawn at ({x:.1f}, {y:.1f}), {off_in:.1f} in from the published "
-                           f"position ({pose.x_in:.1f}, {pose.y_in:.1f}); at most {CENTRE_TOLERANCE_IN:g} in")
     marker = (labels == best) & (_band(pixels, MARKER_BAND) > 0)
     if not marker.any():
         raise MappingError(f"no heading marker (levels {MARKER_BAND[0]}-{MARKER_BAND[1]}) on the robot's base")
     mx, my = _world(image, *np.nonzero(marker))
     bearing = math.degrees(math.atan2(my - y, mx - x))
+    return _DrawnRobot(Pose(x, y, bearing), int(robot.sum()) - len(rows))
+
+
+def robot_drawn(image: CameraImage, pose: Pose) -> Pose:
+    """Where a band image draws the robot found near ``pose``: its base's centroid and
+    the bearing of its heading marker from there (degrees CCW from +x); MappingError
+    when no robot with a marker is drawn near ``pose``. For checks that compare two
+    images (did the robot turn as it said?)."""
+    return _find_robot(image, pose).pose
+
+
+def check_robot_drawn(image: CameraImage, pose: Pose) -> str:
+    """A one-line account of where the robot was found; MappingError when the base is
+    not at ``pose``, the marker not ahead of it, or other things share its levels."""
+    drawn = _find_robot(image, pose)
+    x, y, bearing = drawn.pose.x_in, drawn.pose.y_in, drawn.pose.heading_deg
+    off_in = math.hypot(x - pose.x_in, y - pose.y_in)
+    if off_in > CENTRE_TOLERANCE_IN:
+        raise MappingError(f"the robot's base is drawn at ({x:.1f}, {y:.1f}), {off_in:.1f} in from the published "
+                           f"position ({pose.x_in:.1f}, {pose.y_in:.1f}); at most {CENTRE_TOLERANCE_IN:g} in")
     turn = (bearing - pose.heading_deg + 180.0) % 360.0 - 180.0
     if abs(turn) > HEADING_TOLERANCE_DEG:
         raise MappingError(f"the heading marker points to {bearing:.0f} deg, the published heading is "
                            f"{pose.heading_deg:.0f} deg (rows counted the wrong way flip it)")
-    stray = int(robot.sum()) - len(rows)
-    if stray > STRAY_PIXELS:
-        raise MappingError(f"{stray} pixels away from the robot are drawn in its levels "
+    if drawn.stray_pixels > STRAY_PIXELS:
+        raise MappingError(f"{drawn.stray_pixels} pixels away from the robot are drawn in its levels "
                            f"{ROBOT_BAND[0]}-{ROBOT_BAND[1]}: objects belong at "
                            f"{OBJECT_BAND[0]}-{OBJECT_BAND[1]}, furniture at {WALL_BAND[0]}-{WALL_BAND[1]}")
     return (f"robot drawn at ({x:.1f}, {y:.1f}) heading {bearing:.0f} deg, {off_in:.1f} in from the published pose")

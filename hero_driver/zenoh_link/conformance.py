@@ -12,7 +12,8 @@ through its calibration, with the executive's vision (``vision``, given by ``csl
 check --camera-calibration``); a non-band image without one is "not checked".
 
 The robot must start from its reset pose with nothing within contact range of the
-sonar; the suite only turns the robot in place, so it is safe to run on hardware.
+sonar; the suite turns the robot in place and drives it a few inches straight ahead
+(:mod:`.motion_check`), so it is safe to run on hardware.
 Against a robot nobody serves (no token, no answer), and against a driver that names
 another robot profile than the one given, it stops after one line: every later check
 would only repeat that.
@@ -48,6 +49,7 @@ from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, CheckR
                                               error_of, message, outcome_text, pose_json, pose_text, same_pose,
                                               valid_states)
 from hero_driver.zenoh_link.keys import robot_keys
+from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
 from hero_driver.zenoh_link.verbs import VERBS
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
@@ -102,7 +104,7 @@ class _Suite:
     """The checks, in the order they run; each returns a detail or raises CheckFailed."""
 
     def __init__(self, probe: Probe, procedures: Procedures, profile: ProfileStamp | None = None,
-                 vision: Vision | None = None) -> None:
+                 vision: Vision | None = None, timing: Timing | None = None) -> None:
         self.probe = probe
         self.procedures = procedures
         self.profile = profile  # what the driver should serve; None: not compared
@@ -111,6 +113,7 @@ class _Suite:
         self.moved: tuple[float, MoveResult] | None = None
         self.image: CameraImage | None = None
         self.greeting: Greeting | None = None
+        self.motion = MotionChecks(probe, timing or Timing.from_profile(), procedures.sense, vision)
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
         return [
@@ -124,6 +127,7 @@ class _Suite:
             ("move", self.move),
             ("state-after-move", self.state_after_move),
             ("busy", self.busy),
+            *self.motion.checks(),  # turns, durations, busy-release (motion_check.py)
             ("reset", self.reset),
             ("reset-objects", self.reset_objects),
             ("sense", self.sense),
@@ -559,13 +563,15 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
                procedures: Procedures | None = None, zenoh_config: UserConfig | None = None,
-               profile: ProfileStamp | None = None, vision: Vision | None = None) -> list[CheckResult]:
+               profile: ProfileStamp | None = None, vision: Vision | None = None,
+               timing: Timing | None = None) -> list[CheckResult]:
     """Run every check against the driver serving ``robot`` at ``connect``; ``zenoh_config``
     is the user's zenoh file (credentials, TLS) for a driver that requires them.
     ``profile`` is the stamp of the robot profile the driver should serve: a driver
     that names another in ``hello`` stops the suite with one line (None: not compared).
     ``vision`` reads a real camera's images (:func:`camera_check.calibrated_reader`;
-    None: the images are band images, and the image checks skip any that is not)."""
+    None: the images are band images, and the image checks skip any that is not).
+    ``timing`` is what the robot profile says verbs take (None: the HERO 2000's)."""
     robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
@@ -581,7 +587,7 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         if mismatch:
             return [CheckResult("profile", False, mismatch)]
         results = []
-        for name, check in _Suite(probe, chosen, profile, vision).checks():
+        for name, check in _Suite(probe, chosen, profile, vision, timing).checks():
             try:
                 results.append(CheckResult(name, True, check()))
             except CheckFailed as exc:

@@ -19,7 +19,7 @@ pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
     "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
-    "camera-mapping", "move", "state-after-move", "busy", "sense", "grasp", "release", "charge", "blocked-moves", "out-of-range-target",
+    "camera-mapping", "move", "state-after-move", "busy", "turns", "durations", "busy-release", "sense", "grasp", "release", "charge", "blocked-moves", "out-of-range-target",
     "unknown-verb",
     "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "every-verb", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
@@ -76,9 +76,11 @@ def test_a_broken_driver_fails_the_checks_it_breaks(capsys: pytest.CaptureFixtur
     # Text feature values (from a sonar that never refuses, so nothing is out of
     # range either), a crash on an unknown procedure, a clock that survives reset,
     # and (as every FakeHero) an image without the robot in it.
-    # and a reset that accepts the world 'lab' but restores none of it.
+    # and a reset that accepts the world 'lab' but restores none of it; the robot not
+    # drawn, the turns cannot be seen either, and the durations check's sense meets the
+    # same text values.
     assert failed(verdicts) == {"sense", "out-of-range-target", "unknown-procedure", "reset", "camera-mapping",
-                                "reset-objects"}
+                                "reset-objects", "turns", "durations"}
     assert status == 1
 
 
