@@ -97,3 +97,25 @@ class CostScale:
         sensing = tuple(replace(p, time_s=p.time_s * self.sense) for p in profile.sensing)
         return replace(profile, robot=replace(profile.robot, motion=motion), move=move, sensing=sensing,
                        source=f"{profile.source} (move x{self.move:g}, sense x{self.sense:g})")
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """Whose robot a comparison with the paper runs on. The paper's camera located objects
+    but could not tell them apart, so in *the paper's conditions* the executive does not
+    rule candidates out by their appearance (``Params.use_appearance`` off); everything
+    else is as the paper ran it already (its strategies, N = 3, its costs). *Our
+    defaults* add the camera's appearance. A row measured both ways shows what
+    reproduces and what our additions buy (docs/results.md's two columns)."""
+
+    name: str
+    appearance: bool
+
+    def control(self, base: Control = STRATEGIES_ON) -> Control:
+        """``base`` (the strategies on, by default) in these conditions."""
+        return replace(base, appearance=self.appearance)
+
+
+PAPERS = Conditions("paper's conditions", appearance=False)
+OURS = Conditions("our defaults", appearance=True)
+BOTH = (PAPERS, OURS)

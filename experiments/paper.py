@@ -89,7 +89,11 @@ def _page(config: ExperimentConfig, studies: Sequence[StudyResult], episodes: in
         "(one row per object per episode, every condition in its columns)",
         "",
         "Every row: what is measured, the paper's figure (Tan & Schlimmer 1991, as docs/method.md restates "
-        "it), ours, and ours / paper. Robot time is simulated seconds of the HERO 2000 profile.",
+        "it), ours, and ours / paper. Where a study compares with the paper it is measured twice on the same "
+        "floors: **in the paper's conditions** (its camera located objects but could not tell them apart: no "
+        "appearance; its strategies and costs), which says what reproduces, and **with our defaults** (the "
+        "camera's appearance on), which says what our additions buy; a row the conditions do not touch reads "
+        "'same'. Robot time is simulated seconds of the HERO 2000 profile.",
         "",
     ]
     for number, study in enumerate(studies, 1):

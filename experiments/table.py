@@ -1,5 +1,5 @@
-"""Result rows (what is measured, the paper's figure, ours, the ratio) and each study's
-section of ``results.md``.
+"""Result rows (what is measured, the paper's figure, ours in the paper's conditions and
+its ratio, ours with our defaults) and each study's section of ``results.md``.
 
 Every number in a row is formatted here, so the table reads the same from study to
 study; ratios are ours divided by the paper's, left as ``-`` where the paper gave a
@@ -12,23 +12,39 @@ from __future__ import annotations
 
 import math
 import statistics
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
+from experiments.conditions import OURS, PAPERS, Conditions
+
 HEADERS = ("measured", "paper", "ours", "ours / paper")
+BOTH_HEADERS = ("measured", "paper", "ours, paper's conditions", "ours / paper", "ours, our defaults")
+SAME = "same"  # the last column of a row the conditions do not touch
 
 
 @dataclass(frozen=True)
 class ResultRow:
-    """One line of the results table."""
+    """One line of the results table: ``ours`` (with our defaults, in a study measured
+    both ways) and ``ratio``, ours / the paper's; ``as_paper`` measured in the paper's
+    conditions and its ratio (``experiments.conditions.Conditions``), None when the
+    conditions do not touch what the row measures, so one value holds for both."""
 
     measured: str
     paper: str
     ours: str
     ratio: str = "-"
+    as_paper: str | None = None
+    as_paper_ratio: str = "-"
 
     def cells(self) -> tuple[str, str, str, str]:
         return (self.measured, self.paper, self.ours, self.ratio)
+
+    def both_cells(self) -> tuple[str, str, str, str, str]:
+        """The row in a study measured in both conditions (:data:`BOTH_HEADERS`)."""
+        if self.as_paper is None:
+            return (self.measured, self.paper, self.ours, self.ratio, SAME)
+        defaults = self.ours if self.ratio == "-" else f"{self.ours} (ratio {self.ratio})"
+        return (self.measured, self.paper, self.as_paper, self.as_paper_ratio, defaults)
 
 
 @dataclass(frozen=True)
@@ -42,8 +58,17 @@ class StudyResult:
     plots: tuple[str, ...] = ()
     details: tuple[tuple[tuple[str, ...], tuple[tuple[str, ...], ...]], ...] = field(default=())
     # extra tables: (headers, rows) each
+    both_conditions: bool = False  # its rows are measured in the paper's conditions and with our defaults
 
 
+
+
+def both(measured: str, paper: str, cell: Callable[[Conditions], tuple[str, str]]) -> ResultRow:
+    """A row measured in both conditions: ``cell(conditions)`` gives the value's text and
+    its ratio to the paper's figure, in the paper's conditions and with our defaults."""
+    as_paper, as_paper_ratio = cell(PAPERS)
+    ours, ours_ratio = cell(OURS)
+    return ResultRow(measured, paper, ours, ours_ratio, as_paper, as_paper_ratio)
 
 
 def ratio(ours: float | None, paper: float) -> str:
@@ -102,7 +127,10 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[str]]) -> lis
 def section(result: StudyResult, number: int) -> list[str]:
     """The markdown of one study: heading, table, notes, plots."""
     lines = [f"## {number}. {result.title}", ""]
-    lines += markdown_table(HEADERS, (r.cells() for r in result.rows))
+    if result.both_conditions:
+        lines += markdown_table(BOTH_HEADERS, (r.both_cells() for r in result.rows))
+    else:
+        lines += markdown_table(HEADERS, (r.cells() for r in result.rows))
     lines.append("")
     for headers, rows in result.details:
         lines += [*markdown_table(headers, rows), ""]

@@ -79,15 +79,17 @@ def test_strategies_off_means_nearest_neighbour_at_once() -> None:
     assert STRATEGIES_ON.params().use_appearance and not Control(appearance=False).params().use_appearance
 
 
-def test_appearance_on_is_the_execution_run_so_the_pool_runs_it_once() -> None:
-    """The appearance is on by default, so the study's 'on' runs are study 2's and only
-    the 'off' runs are its own."""
+def test_the_appearance_study_is_the_execution_run_in_both_conditions_so_the_pool_runs_it_once() -> None:
+    """The execution study runs in the paper's conditions (appearance off) and with our
+    defaults (on), so every run of the appearance study is one of its runs."""
     config = ExperimentConfig(quick=True, seeds=(0, 1), jobs=1, out=Path("."), command="csl experiment paper --quick")
     plan = study_appearance.plan(config)
     on = [spec for spec in plan if spec.control.appearance]
     off = [spec for spec in plan if not spec.control.appearance]
-    assert set(on) <= set(study_execution.plan(config)) and len(on) == 4  # 2 object sets x 2 seeds
-    assert not set(off) & set(study_execution.plan(config)) and len(off) == 4
+    execution = set(study_execution.plan_execution(config))
+    assert set(on) <= execution and len(on) == 4  # 2 object sets x 2 seeds
+    assert set(off) <= execution and len(off) == 4
+    assert len(execution) == 8
 
 
 def test_paired_saving_and_verdict_by_hand() -> None:
