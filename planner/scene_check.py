@@ -27,9 +27,12 @@ import cv2
 import numpy as np
 
 # Brighter or darker than the empty floor (after the look's exposure and lighting are
-# divided out) by more than this share: not bare floor. Four noise sigmas of a ratio of
-# two noisy floors (each ~3 % at the floor's level), so noise alone is ~0.01 % of it.
-UNLIKE_BY = 0.12
+# divided out) by more than this share: not bare floor. About four sigmas of the ratio
+# of an image's noise (~2 % at the floor's level, sigma^2 = 2^2 + 0.04 level on the
+# simulated sensor) to the smoothed empty floor's, so noise alone marks a fraction of
+# a percent; two floors of the same kind (the realistic preset's mottle, 7 %) differ
+# by more than this over a large share of the floor.
+UNLIKE_BY = 0.08
 # Of the bare floor, at most this share may be unlike the empty floor. What belongs on
 # a floor covers a few percent of it: the lab's seven objects with their shadows about
 # 1 % of its 40,000 in^2 of floor, a cart crossing (30 x 20 in) 1.5 %, a person 0.6 %.

@@ -178,14 +178,15 @@ def segment(image: CameraImage, floor: EmptyFloor, check: bool = True) -> Masks:
     exposure = float(np.median(ratio[seen])) if seen.any() else 1.0
     ratio /= max(exposure, 1e-3)  # a camera's auto exposure scales every pixel alike
     light = _light_change(ratio)
-    # Bright things against the light where they stand; dark things only against more
-    # light (a lamp), never less: a cart parked in a wide patch is no shadow to divide out.
-    bright, dark = ratio / light, ratio / np.maximum(light, 1.0)
+    # Bright things against the light where they stand (the brightest light within
+    # BACKGROUND_REACH_PX); dark things only against more light (a lamp), never less: a
+    # cart parked in a wide patch is no shadow to divide out.
+    bright, dark = ratio / _reach(light), ratio / np.maximum(light, 1.0)
     body, marker = _robot(dark, bright)
     robot_zone = cv2.dilate(body, _CROSS, iterations=2) > 0
     objects = (bright > OBJECT_RATIO) & ~robot_zone & seen & ~floor.printed
     new_dark = cv2.morphologyEx(((dark < ROBOT_RATIO) & ~robot_zone).astype(np.uint8), cv2.MORPH_OPEN, _CROSS)
-    scene = scene_check.measure(bright, seen & ~floor.printed & ~robot_zone, objects, image.inches_per_pixel)
+    scene = scene_check.measure(ratio / light, seen & ~floor.printed & ~robot_zone, objects, image.inches_per_pixel)
     if check:
         scene_check.check(scene)
     return Masks(robot_body=body > 0, robot_marker=marker > 0, obstacles=floor.obstacles | (new_dark > 0),
@@ -194,8 +195,7 @@ def segment(image: CameraImage, floor: EmptyFloor, check: bool = True) -> Masks:
 
 def _light_change(ratio: np.ndarray) -> np.ndarray:
     """How much the light changed since calibration at each pixel: the ratio's running
-    median over BACKGROUND_WINDOW_PX, its brightest within BACKGROUND_REACH_PX, held to
-    BACKGROUND_RANGE.
+    median over BACKGROUND_WINDOW_PX, held to BACKGROUND_RANGE.
 
     The robot and what is dark (people, carts) are left out of each window's median by
     standing in for them alternately the lowest and the highest value: as many below as
@@ -203,9 +203,13 @@ def _light_change(ratio: np.ndarray) -> np.ndarray:
     code = np.clip(np.round(ratio / BACKGROUND_STEP), 1, 254).astype(np.uint8)
     rows, cols = np.indices(ratio.shape)
     code = np.where(ratio < ROBOT_RATIO, np.where((rows + cols) % 2 == 0, 0, 255), code).astype(np.uint8)
-    median = cv2.medianBlur(code, BACKGROUND_WINDOW_PX)
-    reach = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * BACKGROUND_REACH_PX + 1,) * 2)
-    return np.clip(cv2.dilate(median, reach).astype(np.float32) * BACKGROUND_STEP, *BACKGROUND_RANGE)
+    median = cv2.medianBlur(code, BACKGROUND_WINDOW_PX).astype(np.float32) * BACKGROUND_STEP
+    return np.clip(median, *BACKGROUND_RANGE)
+
+
+def _reach(light: np.ndarray) -> np.ndarray:
+    """The brightest ``light`` within BACKGROUND_REACH_PX of each pixel."""
+    return cv2.dilate(light, cv2.getStructuringElement(cv2.MORPH_RECT, (2 * BACKGROUND_REACH_PX + 1,) * 2))
 
 
 def _without_specks(mask: np.ndarray) -> np.ndarray:

@@ -89,9 +89,9 @@ LAMP_AT_IN, LAMP_SPREAD_IN, LAMP_GAIN = (0.5, 0.4), 40.0, 0.8  # room fractions,
 SHADOW_AREA = (0.6, 0.0, 1.0, 0.62)  # room fractions x0, y0, x1, y1
 SHADOW_LIGHT = 0.6
 SHADOW_EDGE_IN = 2.0
-# The floor re-laid: other tiles (another size, another mottle), as different from
-# the old floor as one floor is from another.
-NEW_TILE_IN, NEW_FLOOR_TEXTURE, NEW_FLOOR_SEED = 16.0, 0.12, 7
+# The floor re-laid: tiles of another size with another mottle, of the same kind as
+# the old (as textured, so a calibration on the new floor reads it as well).
+NEW_TILE_IN, NEW_FLOOR_SEED = 16.0, 7
 # The camera's exposure (or the room's overall light) turned down.
 EXPOSURE = 0.7
 
@@ -213,11 +213,11 @@ def _floor_albedo(spec: WorldSpec, geo: Geometry, relaid: bool = False) -> np.nd
     (``relaid``: the other floor of the ``floor`` scene change)."""
     x, y = geo.world_grid()
     rng = np.random.default_rng(zlib.crc32(spec.name.encode()) + (NEW_FLOOR_SEED if relaid else 0))
-    texture, tile_in = (NEW_FLOOR_TEXTURE, NEW_TILE_IN) if relaid else (FLOOR_TEXTURE, TILE_IN)
+    tile_in = NEW_TILE_IN if relaid else TILE_IN
     coarse = rng.standard_normal((geo.height_px // 6 + 2, geo.width_px // 6 + 2)).astype(np.float32)
     mottle = cv2.resize(coarse, (geo.width_px, geo.height_px), interpolation=cv2.INTER_CUBIC)
     grain = cv2.GaussianBlur(rng.standard_normal((geo.height_px, geo.width_px)).astype(np.float32), (0, 0), 0.8)
-    tile = FLOOR_ALBEDO * (1 + texture * np.clip(0.7 * mottle + 0.5 * grain, -2.5, 2.5))
+    tile = FLOOR_ALBEDO * (1 + FLOOR_TEXTURE * np.clip(0.7 * mottle + 0.5 * grain, -2.5, 2.5))
     joint = (np.mod(x, tile_in) < 0.4) | (np.mod(y, tile_in) < 0.4)
     tile = np.where(joint, tile * GROUT_ALBEDO, tile)
     floor = _coverage(geo, [rect_polygon(spec.room_width_in / 2, spec.room_depth_in / 2,

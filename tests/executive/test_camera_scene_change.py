@@ -25,7 +25,7 @@ from planner.scene_check import SceneChanged
 from planner.segmentation import Camera, calibrated_camera
 
 LINE = re.compile(r"^csl: error: the floor no longer matches the calibration: foreground share \d+% of the floor "
-                  r"\(at most 8%\), \d+ regions \(a floor of \d+ sq ft holds at most \d+\); "
+                  r"\(at most 8%\)(, \d+ regions \(a floor of \d+ sq ft holds at most \d+\))?; "
                   r"recalibrate \(csl camera calibrate\)$")
 
 

@@ -37,15 +37,17 @@ def test_the_preset_before_a_change_is_the_plain_realistic_room() -> None:
 def test_the_measures_are_the_unlike_share_of_the_bare_floor_and_the_blobs() -> None:
     brightness = np.ones((10, 10), np.float32)
     brightness[0, 0:3] = 1.5  # a blob of 3 pixels (4-connected), unlike the floor
-    brightness[5, 5] = 1.13  # just past UNLIKE_BY (0.12): unlike, but no object
-    brightness[9, 9] = 0.5  # darker: unlike too
-    brightness[2, 8] = 1.11  # within UNLIKE_BY: floor
+    brightness[5, 5] = 1.09  # just past UNLIKE_BY (0.08): unlike, but no object
+    brightness[7, 7] = 0.5  # darker: unlike too
+    brightness[2, 8] = 1.07  # within UNLIKE_BY: floor
+    brightness[9, 0] = 3.0  # on the wall
     bare = np.ones((10, 10), bool)
-    bare[9, :] = False  # a wall along one side: not bare floor, its pixel not counted
+    bare[9, :] = False  # a wall along one side: not bare floor, its pixels not counted
     objects = brightness > 1.2
+    objects[9, 0] = False  # segmentation finds no object on a wall
     scene = measure(brightness, bare, objects, inches_per_pixel=2.0)
-    # 90 bare pixels, of which 3 + 1 unlike; one blob; 90 pixels of 4 in^2
-    assert scene == SceneMeasure(unlike_share=4 / 90, regions=1, floor_px=90, floor_in2=360.0)
+    # 90 bare pixels, of which 3 + 1 + 1 unlike; one blob; 90 pixels of 4 in^2
+    assert scene == SceneMeasure(unlike_share=5 / 90, regions=1, floor_px=90, floor_in2=360.0)
     assert scene.regions_allowed == 1 and scene.problems() == []
 
 
