@@ -71,7 +71,7 @@ def main() -> int:
         read = args.poses - stopped
         loc = f"{statistics.mean(errors):.2f} | {max(errors):.2f}" if errors else "– | –"
         print(f"| {preset} | {stopped}/{args.poses} | {found}/{objects} | "
-              f"{phantoms / read if read else float('nan'):.1f} | {loc} | "
+              f"{f'{phantoms / read:.1f}' if read else '–'} | {loc} | "
               f"{100 * first.unlike_share:.1f} % | {first.regions} |")
     return 0
 

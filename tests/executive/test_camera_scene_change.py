@@ -23,6 +23,9 @@ from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from planner.scene_check import SceneChanged
 from planner.segmentation import Camera, calibrated_camera
+from tests.executive.test_camera_processes import csl
+from tests.hero_driver.test_zenoh_support import DriverProcess
+from tests.zenoh_rpc.support import free_endpoint
 
 LINE = re.compile(r"^csl: error: the floor no longer matches the calibration: foreground share \d+% of the floor "
                   r"\(at most 8%\)(, \d+ regions \(a floor of \d+ sq ft holds at most \d+\))?; "
@@ -79,3 +82,24 @@ def test_an_episode_under_a_lamp_switched_on_after_calibration_handles_every_obj
     # (docs/camera.md: an object on a marker cannot be told from the print)
     outcomes = [o.outcome for o in result.objects]
     assert outcomes.count("grasped") >= 5 and "failed" not in outcomes
+
+
+@pytest.mark.zenoh
+@pytest.mark.slow
+def test_a_driver_restarted_on_a_relaid_floor_stops_the_run_through_the_old_calibration(tmp_path: Path) -> None:
+    """As on a real robot: calibrated against the plain room's driver process, then the
+    floor re-laid (the driver restarted with the change): the run says one line, exit 2."""
+    calibration = tmp_path / "camera" / "r1.json"
+    endpoint = free_endpoint()
+    with DriverProcess(["-m", "csl_cli", "driver", "sim", "--camera", "realistic", "--listen", endpoint]) as driver:
+        driver.ready()
+        calibrated = csl("camera", "calibrate", "--connect", endpoint, "--out", str(calibration), home=tmp_path)
+        assert calibrated.returncode == 0, calibrated.stderr
+    endpoint = free_endpoint()
+    with DriverProcess(["-m", "csl_cli", "driver", "sim", "--camera", "realistic-floor", "--listen", endpoint]) as driver:
+        driver.ready()
+        run = csl("run", "--driver", "zenoh", "--connect", endpoint, "--camera-calibration", str(calibration),
+                  "--no-plots", "--library", str(tmp_path / "library.sqlite"), "--out", str(tmp_path / "out"),
+                  home=tmp_path)
+    assert run.returncode == 2 and run.stdout == ""
+    assert len(run.stderr.splitlines()) == 1 and LINE.match(run.stderr.strip()), run.stderr
