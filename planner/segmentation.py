@@ -60,10 +60,10 @@ REFERENCE_SMOOTH_PX = 1.0
 REFERENCE_SMOOTH_LEVELS = 10.0  # about three noise sigmas: edges are kept
 LIGHT_FIT_ROUNDS = 3
 # The light that changed since calibration (a lamp's pool, a large shadow) is the
-# ratio's running median over this window (25 in): wider than twice the largest test
-# object (the 10 in box's diagonal, 14 in) so objects never pull it, narrow enough to
-# follow a lamp's pool; a median keeps a shadow's edge sharp where a mean would smear it
-# into a bright rim (phantoms) outside and a dark one inside.
+# ratio's running median over this window (25 in square): the largest test object
+# (the 10 in box) covers a sixth of it, far from the half that would pull a median, and
+# it is narrow enough to follow a lamp's pool; a median keeps a shadow's edge sharp
+# where a mean would smear it into a bright rim (phantoms) outside and a dark one inside.
 BACKGROUND_WINDOW_PX = 31
 # The change of light divided out is held to this range: darker than a shadow or
 # brighter than a lamp is not light but something on the floor (a cart parked).

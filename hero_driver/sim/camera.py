@@ -139,7 +139,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     obstacle and never takes it for an object to grasp. It is drawn beneath the
     objects: a person stepping over an object hides little of it from above, and
     the executive must not read a passer-by as the object taken away."""
-    if preset == "realistic" or preset.startswith("realistic-") and preset in PRESETS:
+    if preset in PRESETS and preset != "simple":
         change = preset.removeprefix("realistic").removeprefix("-") or None
         return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s, movers, change)
     if preset != "simple":
