@@ -5,13 +5,17 @@ the plain room does."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
+from concurrent.futures import Future
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from camera_model.board import load_board
+from camera_model.image import CameraImage
 from csl_cli.main import main
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
@@ -41,8 +45,34 @@ def lab_camera() -> Camera:
         hero.close()
 
 
-def episode(preset: str, tmp_path: Path) -> tuple[SimulatedHero, Executive]:
-    hero = SimulatedHero("r1", world="lab", seed=0, camera=preset)
+class RugLaidMidRun(SimulatedHero):
+    """The plain realistic lab until a rug is laid over the whole floor after the
+    first RUG_AFTER images: a checkerboard of 8-pixel squares a quarter lighter and
+    a quarter darker (a floor unlike its calibration everywhere)."""
+
+    RUG_AFTER = 3
+
+    def __init__(self) -> None:
+        super().__init__("r1", world="lab", seed=0, camera="realistic")
+        self.images = 0
+        self.clock_at_rug: float | None = None
+
+    def camera(self) -> Future[CameraImage]:
+        image = super().camera().result()
+        self.images += 1
+        if self.images > self.RUG_AFTER:
+            if self.clock_at_rug is None:
+                self.clock_at_rug = self.state().clock_s
+            rows, cols = np.indices(image.pixels.shape)
+            rug = np.where((rows // 8 + cols // 8) % 2 == 0, 1.25, 0.75)
+            image = dataclasses.replace(image, pixels=np.clip(image.pixels * rug, 0, 255).astype(np.uint8))
+        done: Future[CameraImage] = Future()
+        done.set_result(image)
+        return done
+
+
+def episode(preset: str, tmp_path: Path, hero: SimulatedHero | None = None) -> tuple[SimulatedHero, Executive]:
+    hero = hero or SimulatedHero("r1", world="lab", seed=0, camera=preset)
     learner = LocalLearner(tmp_path / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
     return hero, Executive(hero, learner, camera=lab_camera())
 
@@ -54,6 +84,18 @@ def test_the_executive_stops_at_its_first_look_on_a_relaid_floor_before_any_robo
     executive.shutdown()
     assert hero.state().clock_s == 0.0  # no move, sense or grasp was sent
     assert [e["event"] for e in executive.log.events] == []  # not even a region located
+
+
+def test_a_rug_laid_mid_run_stops_it_at_the_first_look_after(tmp_path: Path) -> None:
+    """Robot time before the change was spent on real objects; none after it."""
+    rugged = RugLaidMidRun()
+    hero, executive = episode("realistic", tmp_path, rugged)
+    with pytest.raises(SceneChanged, match=r"^the floor no longer matches the calibration: foreground share"):
+        executive.run()
+    executive.shutdown()
+    assert rugged.images == RugLaidMidRun.RUG_AFTER + 1  # the first image with the rug was the last looked at
+    assert rugged.clock_at_rug is not None and rugged.clock_at_rug > 0  # it worked before the rug
+    assert hero.state().clock_s == rugged.clock_at_rug  # and not a second after
 
 
 @pytest.mark.parametrize("command", ["run", "demo"])
