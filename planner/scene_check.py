@@ -26,17 +26,17 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-# Brighter or darker than the empty floor (after the look's exposure and lighting are
-# divided out) by more than this share: not bare floor. About four sigmas of the ratio
-# of an image's noise (~2 % at the floor's level, sigma^2 = 2^2 + 0.04 level on the
-# simulated sensor) to the smoothed empty floor's, so noise alone marks a fraction of
-# a percent; two floors of the same kind (the realistic preset's mottle, 7 %) differ
-# by more than this over a large share of the floor.
+# Brighter or darker than the empty floor (after the look's exposure and light are
+# divided out) by more than this share: not bare floor. The ratio's noise is the
+# sensor's (sigma^2 = 2^2 + 0.04 level: 3 % at a floor level of about 100) less what
+# rectifying 0.5 in pixels onto 0.8 in ones averages out, so noise alone passes this
+# on a small share of the floor only; two floors of the same kind (the realistic
+# preset's 7 % mottle, tile joints 15 % darker) differ by more over a large share.
 UNLIKE_BY = 0.08
 # Of the bare floor, at most this share may be unlike the empty floor. What belongs on
-# a floor covers a few percent of it: the lab's seven objects with their shadows about
-# 1 % of its 40,000 in^2 of floor, a cart crossing (30 x 20 in) 1.5 %, a person 0.6 %.
-# Past several times that, it is the floor itself that changed.
+# a floor covers a small share of it: on the lab's 40,000 in^2 of floor a 30 x 20 in
+# cart 1.5 %, a person 0.6 %, the seven objects' footprints 0.5 % and their shadows
+# about as much again. Past several times that, it is the floor itself that changed.
 MAX_FOREGROUND_SHARE = 0.08
 # The robot must reach each object from some side, so objects the robot can work on
 # stand about a robot's width apart (a HERO base is 18 in across; touching objects
