@@ -79,8 +79,8 @@ READ_NOISE, SHOT_NOISE = 2.0, 0.04  # sigma^2 = READ^2 + SHOT * level
 
 # Scene changes after calibration (docs/camera.md, "When the room changes").
 SCENE_CHANGES = ("lamp", "shadow", "floor", "exposure")
-# A floor lamp switched on: a pool of light, brightest at LAMP_AT (a pale spot over
-# the soda bottle and the magazine box of the lab), falling off as a Gaussian of
+# A floor lamp switched on: a pool of light, brightest at LAMP_AT_IN (in the lab,
+# between the upright soda bottle and the magazine box), falling off as a Gaussian of
 # LAMP_SPREAD_IN; the light there is (1 + LAMP_GAIN) times what it was.
 LAMP_AT_IN, LAMP_SPREAD_IN, LAMP_GAIN = (0.5, 0.4), 40.0, 0.8  # room fractions, in, share
 # Something outside the camera's view (a partition, a person by the window) throws a
