@@ -21,7 +21,8 @@ from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
-CAMERA_PRESETS = ("simple", "realistic")  # hero_driver.sim.camera.PRESETS, without importing OpenCV
+# hero_driver.sim.camera.PRESETS, without importing OpenCV (a test holds them equal)
+CAMERA_PRESETS = ("simple", "realistic", "realistic-lamp", "realistic-shadow", "realistic-floor", "realistic-exposure")
 
 
 def disturb_preset(text: str) -> object:
@@ -104,7 +105,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--camera", default="simple", choices=CAMERA_PRESETS,
                      help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
-                          "default simple)")
+                          "default simple); realistic-lamp, -shadow, -floor, -exposure: that room after a change "
+                          "(docs/camera.md, 'When the room changes')")
     add_disturb_option(sim)
     add_movers_option(sim)
     sim.add_argument("--profile", default=None, metavar="FILE",

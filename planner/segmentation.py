@@ -12,6 +12,14 @@ The empty floor is taken from one image, at calibration or the first one seen: w
 is bright on it (objects) and the robot are painted out (``cv2.inpaint``), so any
 image may serve. Static obstacles (walls, furniture, whatever the camera does not
 see) are what is dark on it relative to a smooth fit of the floor's lighting.
+
+Light that changed since calibration is divided out too, where it can be told from
+objects: a global exposure change (the median ratio), and a lamp's pool of light or a
+large shadow, which change the ratio over a wide area where objects are small (the
+ratio's running median over BACKGROUND_WINDOW_PX, :func:`_light_change`). What cannot
+be divided out (a new floor texture) is caught by :mod:`planner.scene_check`: a look
+unlike its empty floor past a stated bound raises ``SceneChanged`` rather than report
+phantoms.
 """
 
 from __future__ import annotations
@@ -24,7 +32,9 @@ import cv2
 import numpy as np
 
 from camera_model.image import CameraImage
+from planner import scene_check
 from planner.calibration import Calibration, MarkerBoard, calibrate, load_calibration, save_calibration
+from planner.scene_check import SceneMeasure
 
 OBJECT_RATIO = 1.2  # brighter than the floor by this much: an object (5 noise sigmas)
 ROBOT_RATIO = 0.5  # darker than this: the robot's paint (a shadow darkens to ~0.65 at most)
@@ -49,6 +59,20 @@ PRINT_INK_SHARE = 0.1  # a printed marker is at least this much ink; a light obj
 REFERENCE_SMOOTH_PX = 1.0
 REFERENCE_SMOOTH_LEVELS = 10.0  # about three noise sigmas: edges are kept
 LIGHT_FIT_ROUNDS = 3
+# The light that changed since calibration (a lamp's pool, a large shadow) is the
+# ratio's running median over this window (25 in square): the largest test object
+# (the 10 in box) covers a sixth of it, far from the half that would pull a median, and
+# it is narrow enough to follow a lamp's pool; a median keeps a shadow's edge sharp
+# where a mean would smear it into a bright rim (phantoms) outside and a dark one inside.
+BACKGROUND_WINDOW_PX = 31
+# The change of light divided out is held to this range: darker than a shadow or
+# brighter than a lamp is not light but something on the floor (a cart parked).
+BACKGROUND_RANGE = (0.5, 2.5)
+BACKGROUND_STEP = 0.01  # the median is taken on the ratio in steps of this (8-bit)
+# Where the light changes fast (a shadow's soft edge, above all where it meets a wall)
+# the median lags the ratio by several noise sigmas; the brightest light within this
+# many pixels is taken instead, so the lit side of an edge never reads as an object.
+BACKGROUND_REACH_PX = 2
 
 _CROSS = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
 
@@ -118,6 +142,7 @@ class Masks:
     obstacles: np.ndarray
     objects: np.ndarray
     brightness: np.ndarray  # float: the image over the empty floor (1 = bare floor)
+    scene: SceneMeasure  # how far the look is from its empty floor (planner.scene_check)
 
 
 def empty_floor(image: CameraImage) -> EmptyFloor:
@@ -127,7 +152,7 @@ def empty_floor(image: CameraImage) -> EmptyFloor:
     ratio = (level + 1.0) / (light + 1.0)
     printed = _printed_marks(ratio)
     dark = ratio < OBSTACLE_RATIO
-    body, _ = _robot(ratio)
+    body, _ = _robot(ratio, ratio)
     bright = _without_specks((ratio > OBJECT_RATIO) & ~printed)
     painted_out = cv2.dilate(((body > 0) | bright).astype(np.uint8), _CROSS, iterations=INPAINT_MARGIN_PX)
     # Filled from the floor around, never from a wall: a wall's dark pixels drawn into
@@ -140,8 +165,10 @@ def empty_floor(image: CameraImage) -> EmptyFloor:
     return EmptyFloor(level=_smooth(filled), obstacles=obstacles, printed=printed)
 
 
-def segment(image: CameraImage, floor: EmptyFloor) -> Masks:
-    """Robot, obstacles and objects of one rectified image against the empty floor."""
+def segment(image: CameraImage, floor: EmptyFloor, check: bool = True) -> Masks:
+    """Robot, obstacles and objects of one rectified image against the empty floor;
+    with ``check``, a look past the bounds of :mod:`planner.scene_check` raises
+    ``SceneChanged`` (one line: what differs, and to recalibrate)."""
     level = np.asarray(image.pixels, dtype=np.float32)
     if level.shape != floor.level.shape:
         raise ValueError(f"image is {level.shape[1]}x{level.shape[0]} on the floor grid, its empty floor "
@@ -150,12 +177,39 @@ def segment(image: CameraImage, floor: EmptyFloor) -> Masks:
     seen = ~floor.obstacles
     exposure = float(np.median(ratio[seen])) if seen.any() else 1.0
     ratio /= max(exposure, 1e-3)  # a camera's auto exposure scales every pixel alike
-    body, marker = _robot(ratio)
+    light = _light_change(ratio)
+    # Bright things against the light where they stand (the brightest light within
+    # BACKGROUND_REACH_PX); dark things only against more light (a lamp), never less: a
+    # cart parked in a wide patch is no shadow to divide out.
+    bright, dark = ratio / _reach(light), ratio / np.maximum(light, 1.0)
+    body, marker = _robot(dark, bright)
     robot_zone = cv2.dilate(body, _CROSS, iterations=2) > 0
-    objects = (ratio > OBJECT_RATIO) & ~robot_zone & seen & ~floor.printed
-    new_dark = cv2.morphologyEx(((ratio < ROBOT_RATIO) & ~robot_zone).astype(np.uint8), cv2.MORPH_OPEN, _CROSS)
+    objects = (bright > OBJECT_RATIO) & ~robot_zone & seen & ~floor.printed
+    new_dark = cv2.morphologyEx(((dark < ROBOT_RATIO) & ~robot_zone).astype(np.uint8), cv2.MORPH_OPEN, _CROSS)
+    scene = scene_check.measure(ratio / light, seen & ~floor.printed & ~robot_zone, objects, image.inches_per_pixel)
+    if check:
+        scene_check.check(scene)
     return Masks(robot_body=body > 0, robot_marker=marker > 0, obstacles=floor.obstacles | (new_dark > 0),
-                 objects=objects, brightness=ratio)
+                 objects=objects, brightness=bright, scene=scene)
+
+
+def _light_change(ratio: np.ndarray) -> np.ndarray:
+    """How much the light changed since calibration at each pixel: the ratio's running
+    median over BACKGROUND_WINDOW_PX, held to BACKGROUND_RANGE.
+
+    The robot and what is dark (people, carts) are left out of each window's median by
+    standing in for them alternately the lowest and the highest value: as many below as
+    above, they move no median, so floor beside a parked cart stays floor."""
+    code = np.clip(np.round(ratio / BACKGROUND_STEP), 1, 254).astype(np.uint8)
+    rows, cols = np.indices(ratio.shape)
+    code = np.where(ratio < ROBOT_RATIO, np.where((rows + cols) % 2 == 0, 0, 255), code).astype(np.uint8)
+    median = cv2.medianBlur(code, BACKGROUND_WINDOW_PX).astype(np.float32) * BACKGROUND_STEP
+    return np.clip(median, *BACKGROUND_RANGE)
+
+
+def _reach(light: np.ndarray) -> np.ndarray:
+    """The brightest ``light`` within BACKGROUND_REACH_PX of each pixel."""
+    return cv2.dilate(light, cv2.getStructuringElement(cv2.MORPH_RECT, (2 * BACKGROUND_REACH_PX + 1,) * 2))
 
 
 def _without_specks(mask: np.ndarray) -> np.ndarray:
@@ -205,8 +259,9 @@ def _printed_marks(ratio: np.ndarray) -> np.ndarray:
     return cv2.dilate(marks, _CROSS) > 0
 
 
-def _robot(ratio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The robot's body and its white disc (0/255 masks; empty when absent).
+def _robot(ratio: np.ndarray, bright_ratio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The robot's body and its white disc (0/255 masks; empty when absent): dark in
+    ``ratio``, the disc bright in ``bright_ratio`` (the same but for a change of light).
 
     A candidate is a dark region that is a solid disc (the dark share of its convex
     hull at least ROBOT_SOLIDITY, the hull taking in the white disc wherever blur opens
@@ -218,7 +273,7 @@ def _robot(ratio: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     dark = cv2.morphologyEx((ratio < ROBOT_RATIO).astype(np.uint8), cv2.MORPH_CLOSE, _CROSS)
     # Outer boundaries of every dark region, those inside the walls' ring included.
     contours, hierarchy = cv2.findContours(dark, cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
-    bright = ratio > MARKER_RATIO
+    bright = bright_ratio > MARKER_RATIO
     best = (math.inf, np.zeros(ratio.shape, np.uint8), np.zeros(ratio.shape, np.uint8))
     for contour, links in zip(contours, hierarchy[0] if hierarchy is not None else []):
         if links[3] != -1 or cv2.contourArea(contour) < MIN_ROBOT_PIXELS:

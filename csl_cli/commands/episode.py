@@ -78,19 +78,20 @@ def _setup(args: argparse.Namespace) -> Setup:
                         use_appearance=args.appearance, battery_low=args.battery_low,
                         wait_driver_s=getattr(args, "wait_driver", 0.0),  # csl run only
                         learned_grasp_costs=args.learned_grasp_costs),
-                 criterion_from_args(args), *_camera(args))
+                 criterion_from_args(args), *_camera(args, profile))
 
 
-def _camera(args: argparse.Namespace) -> tuple[Camera | None, MarkerBoard | None]:
+def _camera(args: argparse.Namespace, profile: RobotProfile) -> tuple[Camera | None, MarkerBoard | None]:
     """The calibration file, read and checked now (a bad one is one line, before any
     training or robot time); else, for the simulator's realistic camera, the board of
-    the world it prints (the first image calibrates it)."""
+    the world it prints (the first image calibrates it), or, for a scene change
+    (``realistic-lamp`` ...), a calibration on the room before the change."""
     if args.camera_calibration is not None:
         try:
             return load_camera(args.camera_calibration), None
         except ValueError as exc:
             raise ValueError(f"--camera-calibration: {exc}") from None
-    if args.camera != "realistic":
+    if not (args.camera or "simple").startswith("realistic"):
         return None, None
     saved = _saved_camera(args)
     if saved is not None:
@@ -98,9 +99,29 @@ def _camera(args: argparse.Namespace) -> tuple[Camera | None, MarkerBoard | None
     from hero_driver.sim.render_board import board_path
 
     try:
-        return None, load_board(board_path(args.world or "lab"))
+        board = load_board(board_path(args.world or "lab"))
     except ValueError as exc:
-        raise ValueError(f"--camera realistic: {exc}; or give --camera-calibration FILE") from None
+        raise ValueError(f"--camera {args.camera}: {exc}; or give --camera-calibration FILE") from None
+    if args.camera != "realistic":
+        return _calibrated_before_the_change(args, profile, board), None
+    return None, board
+
+
+def _calibrated_before_the_change(args: argparse.Namespace, profile: RobotProfile, board: MarkerBoard) -> Camera:
+    """A scene change of the simulator's realistic camera (docs/camera.md, "When the room
+    changes") is the room changed after it was calibrated: the calibration is made on
+    the plain realistic room's first image, as 'csl camera calibrate' would have been
+    before the lamp went on, and the run then meets the changed room."""
+    from hero_driver.sim.camera import before_change
+    from hero_driver.sim_driver import SimulatedHero
+    from planner.segmentation import calibrated_camera
+
+    before = SimulatedHero("calibration", world=args.world or "lab", seed=args.seed or 0, profile=profile,
+                           camera=before_change(args.camera))
+    try:
+        return calibrated_camera(before.camera().result().pixels, board)
+    finally:
+        before.close()
 
 
 def _saved_camera(args: argparse.Namespace) -> Camera | None:
@@ -141,7 +162,10 @@ def _camera_of_driver(args: argparse.Namespace, driver: Driver, setup: Setup) ->
 
 
 def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Namespace) -> None:
-    """A calibration is for one camera: an image of another size is another camera."""
+    """A calibration is for one camera: an image of another size is another camera; and
+    for one room: an image whose floor no longer matches the calibration's empty floor
+    stops here with the one line of ``planner.scene_check`` (exit 2), before any robot
+    or training time is spent."""
     if camera is None:
         return
     height, width = image.pixels.shape[:2]
@@ -150,6 +174,9 @@ def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Name
         raise ValueError(f"--camera-calibration: {given} is for {camera.calibration.image_size[0]}x"
                          f"{camera.calibration.image_size[1]} images, the driver's camera gives {width}x{height} "
                          "(another camera, or the simulator without --camera realistic)")
+    from planner.vision import look
+
+    look(image, camera)  # raises SceneChanged
 
 
 def run_demo(args: argparse.Namespace) -> int:
@@ -158,6 +185,12 @@ def run_demo(args: argparse.Namespace) -> int:
     knowledge = setup.knowledge
     output_folder(args.out, "--out")
     driver = _simulator(args, "r1", setup.profile)  # a bad world fails first
+    if setup.camera is not None:  # a calibration of another camera or room: said before training
+        try:
+            _check_camera(setup.camera, driver.camera().result(), args)
+        except BaseException:
+            driver.close()
+            raise
     with console.status("training on the Table 3 objects in the simulator..."):
         from csl_cli.demo_library import trained_library  # the simulator: csl demo only
 

@@ -12,7 +12,7 @@ from csl_cli.args import (add_criterion_options, add_learned_grasp_costs_option,
                             add_retrain_option, add_verb_timeout_option, battery_level, endpoint,
                             non_negative_seconds)
 from csl_cli.commands import modes
-from hero_driver.cli import add_disturb_option, add_movers_option
+from hero_driver.cli import CAMERA_PRESETS, add_disturb_option, add_movers_option
 from hero_driver.sim.noise import NOISE_PRESETS
 from zenoh_rpc.argtypes import non_negative_int, positive_int
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
@@ -131,10 +131,12 @@ def _noise_option(p: argparse.ArgumentParser) -> None:
 
 
 def _camera_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--camera", choices=("simple", "realistic"), default=None,
+    p.add_argument("--camera", choices=CAMERA_PRESETS, default=None,
                    help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
                         "camera's image; calibrated from the world's marker board on the first image unless "
-                        "--camera-calibration is given; docs/camera.md) (default simple)")
+                        "--camera-calibration is given; docs/camera.md) (default simple); realistic-lamp, "
+                        "-shadow, -floor, -exposure: the room changed after a calibration on the plain one "
+                        "(docs/camera.md, 'When the room changes')")
 
 
 def _handler(name: str):  # noqa: ANN202

@@ -2,7 +2,10 @@
 intensity bands of docs/conventions.md (:mod:`camera_model.bands`), optionally seen
 through a fish-eye lens, with pixel noise and with each object's orientation misjudged
 by a few degrees. This is the ``simple`` preset; ``realistic`` (:mod:`hero_driver.sim.render_realistic`) draws
-what a real ceiling camera would see instead (docs/camera.md).
+what a real ceiling camera would see instead (docs/camera.md), and ``realistic-CHANGE``
+the same room after a scene change (a lamp, a shadow, a new floor, lower exposure:
+``render_realistic.SCENE_CHANGES``), to be read through a calibration made on the
+plain ``realistic`` room (:func:`before_change`).
 
 A pixel takes a layer's intensity when the layer covers at least half of it (each
 layer is drawn SUPERSAMPLE times finer and area-averaged), so a region's pixel count
@@ -35,7 +38,13 @@ SHIFT = 4  # fillPoly fractional bits
 SUPERSAMPLE = 5
 FISHEYE_D = (0.05, 0.01, 0.0, 0.0)  # mild barrel on top of the equidistant projection
 FISHEYE_FOCAL_FRACTION = 0.8  # focal length as a fraction of the image width
-PRESETS = ("simple", "realistic")
+PRESETS = ("simple", "realistic", *(f"realistic-{change}" for change in render_realistic.SCENE_CHANGES))
+
+
+def before_change(preset: str) -> str:
+    """The preset of the room as it was calibrated: ``realistic`` for a scene change
+    (``realistic-lamp``: the room before the lamp went on), else ``preset`` itself."""
+    return "realistic" if preset.startswith("realistic-") else preset
 
 
 @dataclass(frozen=True)
@@ -130,8 +139,9 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     obstacle and never takes it for an object to grasp. It is drawn beneath the
     objects: a person stepping over an object hides little of it from above, and
     the executive must not read a passer-by as the object taken away."""
-    if preset == "realistic":
-        return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s, movers)
+    if preset in PRESETS and preset != "simple":
+        change = preset.removeprefix("realistic").removeprefix("-") or None
+        return render_realistic.render(spec, objects, robot, base_radius_in, rng, clock_s, movers, change)
     if preset != "simple":
         raise ValueError(f"camera preset {preset!r}: expected one of {', '.join(PRESETS)}")
     frame = Frame.for_room(spec)

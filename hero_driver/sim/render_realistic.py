@@ -12,6 +12,13 @@ painted dark with a white disc ahead of its centre. The lab's marker board
 The image says only what a real camera could: its nominal scale and origin (what
 the mapping would be with a perfect lens mounted square), no lens model. The
 executive recovers the true mapping from the markers (``csl camera calibrate``).
+
+A *scene change* (:data:`SCENE_CHANGES`) draws the same room after something changed
+in it the way real rooms change between a calibration and a run: a lamp switched on,
+a large shadow thrown across the floor, the floor re-laid with another texture, the
+camera's exposure turned down. Calibrating on the plain room and then reading the
+changed one is how the vision's scene-change check and its robustness are tried
+(docs/camera.md, "When the room changes").
 """
 
 from __future__ import annotations
@@ -70,6 +77,24 @@ LENS_CENTRE_OFFSET_PX = (2.5, -1.5)
 OPTICS_BLUR_PX = 0.5
 READ_NOISE, SHOT_NOISE = 2.0, 0.04  # sigma^2 = READ^2 + SHOT * level
 
+# Scene changes after calibration (docs/camera.md, "When the room changes").
+SCENE_CHANGES = ("lamp", "shadow", "floor", "exposure")
+# A floor lamp switched on: a pool of light, brightest at LAMP_AT_IN (in the lab,
+# between the upright soda bottle and the magazine box), falling off as a Gaussian of
+# LAMP_SPREAD_IN; the light there is (1 + LAMP_GAIN) times what it was.
+LAMP_AT_IN, LAMP_SPREAD_IN, LAMP_GAIN = (0.5, 0.4), 40.0, 0.8  # room fractions, in, share
+# Something outside the camera's view (a partition, a person by the window) throws a
+# large soft-edged shadow over a quarter of the room (the tumbler and the 10 in box of
+# the lab stand in it): the light there falls to SHADOW_LIGHT.
+SHADOW_AREA = (0.6, 0.0, 1.0, 0.62)  # room fractions x0, y0, x1, y1
+SHADOW_LIGHT = 0.6
+SHADOW_EDGE_IN = 2.0
+# The floor re-laid: tiles of another size with another mottle, of the same kind as
+# the old (as textured, so a calibration on the new floor reads it as well).
+NEW_TILE_IN, NEW_FLOOR_SEED = 16.0, 7
+# The camera's exposure (or the room's overall light) turned down.
+EXPOSURE = 0.7
+
 
 @dataclass(frozen=True)
 class Geometry:
@@ -120,12 +145,15 @@ def lens_model(width_px: int, height_px: int) -> tuple[np.ndarray, np.ndarray]:
 
 def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, float]], robot: Pose,
            base_radius_in: float, rng: np.random.Generator, clock_s: float,
-           movers: Sequence[Sequence[tuple[float, float]]] = ()) -> CameraImage:
+           movers: Sequence[Sequence[tuple[float, float]]] = (), change: str | None = None) -> CameraImage:
     """Draw the room as a real overhead camera would see it (module docstring);
     ``movers`` are the outlines of the people and carts on the floor, drawn dark
-    (MOVER_ALBEDO) beneath the objects."""
+    (MOVER_ALBEDO) beneath the objects; ``change`` one of SCENE_CHANGES, or None for
+    the room as calibrated."""
+    if change is not None and change not in SCENE_CHANGES:
+        raise ValueError(f"scene change {change!r}: expected one of {', '.join(SCENE_CHANGES)}")
     geo = Geometry.for_room(spec)
-    albedo = _floor_albedo(spec, geo)
+    albedo = _floor_albedo(spec, geo, relaid=change == "floor")
     board = board_for(spec)
     if board is not None:
         print_board(board, albedo, geo.world_to_pixel, PAPER_ALBEDO, INK_ALBEDO)
@@ -150,7 +178,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
                                    base_radius_in / 4.0)])
     albedo = marker * ROBOT_MARKER_ALBEDO + (1 - marker) * albedo
 
-    level = 255.0 * GAIN * albedo * _light(spec, geo)
+    level = 255.0 * GAIN * albedo * _light(spec, geo, change)
     level = cv2.GaussianBlur(level.astype(np.float32), (0, 0), OPTICS_BLUR_PX)
     map_x, map_y = _distortion_maps(geo.width_px, geo.height_px)
     level = cv2.remap(level, map_x, map_y, interpolation=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
@@ -160,7 +188,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     pixels = np.clip(np.round(level), 0, 255).astype(np.uint8)
     return CameraImage(pixels=pixels, inches_per_pixel=INCHES_PER_PIXEL, origin_x_in=geo.origin_x_in,
                        origin_y_in=geo.origin_y_in, clock_s=clock_s,
-                       meta={"world": spec.name, "camera": "realistic"})
+                       meta={"world": spec.name, "camera": "realistic" if change is None else f"realistic-{change}"})
 
 
 def _disc(x: float, y: float, r: float) -> list[tuple[float, float]]:
@@ -180,23 +208,26 @@ def _coverage(geo: Geometry, polygons: Sequence[Sequence[tuple[float, float]]]) 
     return cv2.resize(fine, (shape[1], shape[0]), interpolation=cv2.INTER_AREA).astype(np.float32) / 255.0
 
 
-def _floor_albedo(spec: WorldSpec, geo: Geometry) -> np.ndarray:
-    """Walls everywhere, the room's floor tiled and mottled, the same for a given world."""
+def _floor_albedo(spec: WorldSpec, geo: Geometry, relaid: bool = False) -> np.ndarray:
+    """Walls everywhere, the room's floor tiled and mottled, the same for a given world
+    (``relaid``: the other floor of the ``floor`` scene change)."""
     x, y = geo.world_grid()
-    rng = np.random.default_rng(zlib.crc32(spec.name.encode()))
+    rng = np.random.default_rng(zlib.crc32(spec.name.encode()) + (NEW_FLOOR_SEED if relaid else 0))
+    tile_in = NEW_TILE_IN if relaid else TILE_IN
     coarse = rng.standard_normal((geo.height_px // 6 + 2, geo.width_px // 6 + 2)).astype(np.float32)
     mottle = cv2.resize(coarse, (geo.width_px, geo.height_px), interpolation=cv2.INTER_CUBIC)
     grain = cv2.GaussianBlur(rng.standard_normal((geo.height_px, geo.width_px)).astype(np.float32), (0, 0), 0.8)
     tile = FLOOR_ALBEDO * (1 + FLOOR_TEXTURE * np.clip(0.7 * mottle + 0.5 * grain, -2.5, 2.5))
-    joint = (np.mod(x, TILE_IN) < 0.4) | (np.mod(y, TILE_IN) < 0.4)
+    joint = (np.mod(x, tile_in) < 0.4) | (np.mod(y, tile_in) < 0.4)
     tile = np.where(joint, tile * GROUT_ALBEDO, tile)
     floor = _coverage(geo, [rect_polygon(spec.room_width_in / 2, spec.room_depth_in / 2,
                                          spec.room_width_in, spec.room_depth_in, 0.0)])
     return (floor * tile + (1 - floor) * WALL_ALBEDO).astype(np.float32)
 
 
-def _light(spec: WorldSpec, geo: Geometry) -> np.ndarray:
-    """Illumination: a gradient across the room times vignetting."""
+def _light(spec: WorldSpec, geo: Geometry, change: str | None = None) -> np.ndarray:
+    """Illumination: a gradient across the room times vignetting, times what a lamp,
+    a large shadow or the exposure of a scene change adds."""
     x, y = geo.world_grid()
     u = np.clip(x / spec.room_width_in, 0, 1)
     v = np.clip(y / spec.room_depth_in, 0, 1)
@@ -204,7 +235,18 @@ def _light(spec: WorldSpec, geo: Geometry) -> np.ndarray:
     cols, rows = np.meshgrid(np.arange(geo.width_px), np.arange(geo.height_px))
     rn2 = ((cols - geo.width_px / 2) ** 2 + (rows - geo.height_px / 2) ** 2) / (
         (geo.width_px / 2) ** 2 + (geo.height_px / 2) ** 2)
-    return (gradient * (1 - VIGNETTE * rn2)).astype(np.float32)
+    light = gradient * (1 - VIGNETTE * rn2)
+    if change == "lamp":
+        lx, ly = LAMP_AT_IN[0] * spec.room_width_in, LAMP_AT_IN[1] * spec.room_depth_in
+        light = light * (1 + LAMP_GAIN * np.exp(-((x - lx) ** 2 + (y - ly) ** 2) / (2 * LAMP_SPREAD_IN ** 2)))
+    elif change == "shadow":
+        x0, y0, x1, y1 = (f * d for f, d in zip(SHADOW_AREA, (spec.room_width_in, spec.room_depth_in) * 2))
+        area = _coverage(geo, [rect_polygon((x0 + x1) / 2, (y0 + y1) / 2, x1 - x0, y1 - y0, 0.0)])
+        area = cv2.GaussianBlur(area, (0, 0), SHADOW_EDGE_IN / INCHES_PER_PIXEL)
+        light = light * (1 - (1 - SHADOW_LIGHT) * area)
+    elif change == "exposure":
+        light = light * EXPOSURE
+    return light.astype(np.float32)
 
 
 def _shadow(geo: Geometry, polygons: Sequence[Sequence[tuple[float, float]]]) -> np.ndarray:

@@ -228,6 +228,7 @@ def calibrated_reader(path: Path) -> Vision:
     The planner is imported here, and only here, because a real camera's image means
     only what that vision makes of it: a check with its own reading could pass images
     an episode then misreads."""
+    from planner.scene_check import SceneChanged
     from planner.segmentation import load_camera
     from planner.vision import look
 
@@ -239,7 +240,10 @@ def calibrated_reader(path: Path) -> Vision:
         if (cols, rows) != (width, height):
             raise MappingError(f"the calibration {path} is for {width}x{height} images, the driver's camera gives "
                                f"{cols}x{rows} (a calibration of another camera?)")
-        scene = look(image, camera)
+        try:
+            scene = look(image, camera)
+        except SceneChanged as exc:  # a camera moved or a room changed since calibration: a failed check
+            raise MappingError(f"the calibrated vision: {exc}") from None
         robot = None if scene.robot is None else Pose(scene.robot.x_in, scene.robot.y_in, scene.robot.heading_deg)
         # look() measures every region from pixels, so each has its area
         return Sight(robot, tuple(SeenObject(r.centroid[0], r.centroid[1], float(r.area_in2 or 0.0))

@@ -39,7 +39,8 @@ def test_the_driver_passes_the_preset_through_and_keeps_it_over_reset() -> None:
 
 
 def test_an_unknown_preset_is_one_line() -> None:
-    with pytest.raises(ValueError, match=r"^camera preset 'fisheye': expected one of simple, realistic$"):
+    with pytest.raises(ValueError, match=r"^camera preset 'fisheye': expected one of simple, realistic, realistic-lamp, "
+                                         r"realistic-shadow, realistic-floor, realistic-exposure$"):
         SimWorld("lab", camera="fisheye")
 
 

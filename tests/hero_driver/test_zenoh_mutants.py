@@ -142,9 +142,9 @@ def test_a_band_camera_through_a_fisheye_lens_passes(server: zenoh.Session, endp
 @pytest.mark.slow
 def test_a_camera_turned_after_calibration_fails_through_the_calibration(server: zenoh.Session, endpoint: str,
                                                                          tmp_path: Path) -> None:
-    """Read through the calibration of the camera as it was, the turned camera's robot
-    and objects are far from where they are: both image checks fail, naming what the
-    executive's vision saw."""
+    """Read through the calibration of the camera as it was, the turned camera's floor
+    no longer matches the calibration's empty floor: both image checks fail with the
+    scene-change line of the executive's vision (planner/scene_check.py)."""
     calibration = tmp_path / "cam.json"
     good = SimulatedHero("cal", camera="realistic")
     pixels = good.camera().result().pixels
@@ -155,7 +155,8 @@ def test_a_camera_turned_after_calibration_fails_through_the_calibration(server:
     # a mirrored image shows every turn the other way round
     assert failed(results) == {"camera-mapping", "reset-objects", "turns"}
     assert results["camera-mapping"].detail.startswith("the calibrated vision")
-    assert "world 'lab': closed-box-2x2x2/upright: " in results["reset-objects"].detail
+    assert results["reset-objects"].detail.startswith(
+        "world 'lab': the calibrated vision: the floor no longer matches the calibration: ")
 
 
 def test_a_driver_that_drops_its_token_first_passes_shutdown_order(server: zenoh.Session, endpoint: str) -> None:
