@@ -12,7 +12,10 @@ through its calibration, with the executive's vision (``vision``, given by ``csl
 check --camera-calibration``); a non-band image without one is "not checked".
 
 The robot must start from its reset pose with nothing within contact range of the
-sonar; the suite only turns the robot in place, so it is safe to run on hardware.
+sonar; the suite only turns the robot in place, so it is safe to run on hardware. The
+reference checks after it (:mod:`.reference_check`), which drive round objects an
+operator placed, run only once the operator was asked (or said ``--placed`` when
+starting the suite, or the driver, a simulator, placed them itself).
 Against a robot nobody serves (no token, no answer), and against a driver that names
 another robot profile than the one given, it stops after one line: every later check
 would only repeat that.
@@ -208,7 +211,8 @@ class _Suite:
         """Reset the shipped world KNOWN_WORLD and look: the robot at the world's start
         pose and every object drawn where the world file puts it. A driver that cannot
         restore that world refuses it ``bad_request`` (as the protocol asks), which
-        leaves the check to a driver that can."""
+        leaves the check to a driver that can, and its sensing and grasping to the
+        reference checks."""
         outcome = self.probe.outcome("reset", {"world": KNOWN_WORLD, "seed": None})
         if isinstance(outcome, DriverError):
             if outcome.code != BAD_REQUEST:

@@ -95,6 +95,19 @@ class YawReversed(RealRobot):
                                           movers=sim.physics.movers.outlines()))
 
 
+class FrozenCamera(RealRobot):
+    """Sends the first image it took, whatever changed on the floor since."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)
+        self.first: Future | None = None
+
+    def camera(self) -> Future:
+        if self.first is None:
+            self.first = super().camera()
+        return self.first
+
+
 def _settled(value: object) -> Future:
     future: Future = Future()
     future.set_result(value)
@@ -154,8 +167,8 @@ def test_sonar_lengths_in_centimetres_fail_sensing(server: zenoh.Session,
                                                    client: zenoh.Session) -> None:
     results = check_reference(Centimetres("cm", world=WORLD), server, client)
     assert failed(results) == {"reference-sensing"}
-    # the can's D-Scan at 6 in: Depth 2.7 in by the library (± 3 x 0.5), read 2.54 times too long
-    assert re.fullmatch(rf"D-Scan-0\.3 at {re.escape(CAN)} at \(6 in, \d+ deg\): Depth read [\d.]+, [\d.]+, [\d.]+; "
+    # the can's D-Scan at 6 in: Depth 2.7 in by the library (± 3 x 0.5), read 2.54 times too long, twice
+    assert re.fullmatch(rf"D-Scan-0\.3 at {re.escape(CAN)} at \(6 in, \d+ deg\): Depth read [\d.]+, [\d.]+; "
                         r"the library has 2\.7 in within 1\.5 \(3 x its expected error 0\.5\)",
                         results["reference-sensing"].detail), results["reference-sensing"].detail
 
@@ -187,6 +200,15 @@ def test_objects_yaw_drawn_the_other_way_round_fails_sensing(server: zenoh.Sessi
     assert "reference-sensing" in failed(results)
     assert f"at {BOX} at (" in results["reference-sensing"].detail
     assert results["reference-grasp"].passed  # the can is round: its yaw does not matter
+
+
+def test_a_camera_that_shows_the_floor_as_it_was_fails_the_grasp(server: zenoh.Session,
+                                                                 client: zenoh.Session) -> None:
+    """The can was lifted (the fingers say so), yet the image still shows it where it stood."""
+    results = check_reference(FrozenCamera("frozen", world=WORLD), server, client)
+    assert failed(results) == {"reference-grasp"}
+    assert results["reference-grasp"].detail == (f"Front-Wrap on {CAN} reported held, but the camera still sees it "
+                                                 "on the floor at (70.0, 110.0)")
 
 
 @pytest.mark.parametrize("ids, problem", [
