@@ -61,6 +61,7 @@ ARC_STEP_DEG = 30.0  # ... in straight chords of at most this angle
 EDGE_MARGIN_IN = 3.0  # the base stays this far inside the floor the camera sees
 SIDE_STEP_DEG = 30.0  # a side tried for a position of any orientation ("*"), turning from the floor's middle
 NOT_CHECKED = "sensing and grasping NOT checked: run with --reference"
+NOT_PLACED = "sensing and grasping NOT checked: the reference objects were not placed"
 
 
 @dataclass(frozen=True)
@@ -209,8 +210,12 @@ def reference_checks(probe: Probe, reference: Reference) -> list[CheckResult]:
     that failed says so. A driver that restores the shipped world REFERENCE_WORLD (a
     simulator) places the default objects itself; otherwise the operator is asked, and
     one who declines gets the one failing ``reference`` line."""
-    if not _restored(probe, reference) and reference.ask is not None and not reference.ask(prompt(reference)):
-        return [CheckResult("reference", False, f"{NOT_CHECKED} (the objects were not placed)")]
+    try:
+        restored = _restored(probe, reference)
+    except CheckFailed as exc:  # the reset's reply: malformed, or none
+        return [CheckResult("reference-objects", False, f"reset to world {REFERENCE_WORLD!r}: {exc}")]
+    if not restored and reference.ask is not None and not reference.ask(prompt(reference)):
+        return [CheckResult("reference", False, NOT_PLACED)]
     run = _Run(probe, reference)
     results = []
     for name, check in run.checks():

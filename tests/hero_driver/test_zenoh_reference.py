@@ -6,6 +6,7 @@ it senses or grasps fails the check that names it."""
 from __future__ import annotations
 
 import dataclasses
+import io
 import json
 import re
 from collections.abc import Iterator, Sequence
@@ -15,16 +16,19 @@ from pathlib import Path
 import pytest
 import zenoh
 
+from camera_model.board import load_board
 from csl_cli.main import main
 from hero_driver.interface import BAD_REQUEST, DriverError, GraspResult, RobotState, SenseResult
 from hero_driver.sim import camera as sim_camera
+from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.shipped import WORLDS_DIR
 from hero_driver.zenoh_link.checking import CheckResult, Probe
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.reference_check import (
-    DEFAULT_OBJECTS, LIBRARY, NOT_CHECKED, Reference, reference_checks, reference_objects,
+    DEFAULT_OBJECTS, LIBRARY, NOT_CHECKED, NOT_PLACED, Reference, reference_checks, reference_objects,
 )
+from planner.segmentation import calibrated_camera
 from robot_profile import DEFAULT_PROFILE, load_profile
 from zenoh_rpc.config import open_session
 
@@ -135,6 +139,7 @@ def check_reference(driver: SimulatedHero, server: zenoh.Session, client: zenoh.
     with DriverNode(driver, server):
         probe = Probe(client, driver.robot, 5.0)
         try:
+            assert probe.rpc.wait_alive(5.0)  # the suite's first check, before which nothing is asked
             results = reference_checks(probe, reference())
         finally:
             probe.close()
@@ -161,6 +166,25 @@ def test_a_real_robot_passes_on_the_reference(server: zenoh.Session, client: zen
     # the box's Width-Degree-5° is 85 at 6 in on its long side and 15 at 39 in: 14 expected errors apart
     assert results["reference-stale"].detail.startswith("Width-Degree-5° read ")
     assert results["reference-stale"].detail.endswith("(library 85, 15)")
+
+
+def test_a_real_looking_camera_is_read_through_its_calibration(server: zenoh.Session, client: zenoh.Session,
+                                                               tmp_path: Path) -> None:
+    """The realistic camera, calibrated on the same room with nothing on the floor (the
+    board of the lab, which the world names): the executive's vision finds both objects."""
+    empty = tmp_path / "empty.json"
+    empty.write_text(json.dumps({**json.loads(WORLD.read_text(encoding="utf-8")), "objects": []}), encoding="utf-8")
+    floor = SimulatedHero("empty", world=empty, camera="realistic").camera().result().pixels
+    camera = calibrated_camera(floor, load_board(board_path("lab")))
+    with DriverNode(RealRobot("seen", world=WORLD, camera="realistic"), server):
+        probe = Probe(client, "seen", 5.0)
+        try:
+            assert probe.rpc.wait_alive(5.0)
+            results = {r.name: r for r in reference_checks(probe, dataclasses.replace(reference(), camera=camera))}
+        finally:
+            probe.close()
+    assert failed(results) == set(), results
+    assert results["reference-objects"].detail.startswith(f"{BOX} seen at (")
 
 
 def test_sonar_lengths_in_centimetres_fail_sensing(server: zenoh.Session,
@@ -248,10 +272,11 @@ def test_an_operator_who_does_not_place_the_objects_leaves_them_not_checked(serv
     with DriverNode(RealRobot("asked", world=WORLD), server):
         probe = Probe(client, "asked", 5.0)
         try:
+            assert probe.rpc.wait_alive(5.0)
             results = reference_checks(probe, dataclasses.replace(reference(), ask=decline))
         finally:
             probe.close()
-    assert results == [CheckResult("reference", False, f"{NOT_CHECKED} (the objects were not placed)")]
+    assert results == [CheckResult("reference", False, NOT_PLACED)]
     (text,) = asked
     assert f"  - {BOX}\n  - {CAN}\n" in text
     assert "grasp soda-can-12oz/upright with Front-Wrap" in text and "Press Enter" in text
@@ -287,6 +312,19 @@ def test_a_real_robot_without_a_reference_fails_not_checked(server: zenoh.Sessio
     assert {name for name, verdict in verdicts.items() if verdict == "FAIL"} == {"reference"}
     assert details["reference"] == NOT_CHECKED
     assert not REFERENCE_CHECKS & set(verdicts)
+    assert status == 1
+
+
+@pytest.mark.slow
+def test_an_operator_asked_on_standard_error_may_skip(server: zenoh.Session, endpoint: str,
+                                                      capsys: pytest.CaptureFixture[str],
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("sys.stdin", io.StringIO("skip\n"))
+    with DriverNode(RealRobot("ask", world=WORLD), server):
+        status = main(["driver", "check", "--robot", "ask", "--connect", endpoint, "--timeout", "10", "--reference"])
+    out, err = capsys.readouterr()
+    assert re.search(rf"^reference +FAIL +{NOT_PLACED}$", out, re.MULTILINE), out
+    assert err.startswith("reference check: place these objects anywhere on the floor") and "Press Enter" in err
     assert status == 1
 
 
