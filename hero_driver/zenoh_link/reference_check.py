@@ -191,13 +191,14 @@ def prompt(reference: Reference) -> str:
     plan = reference.objects
     senses = sum(len({(e.procedure, e.distance_in, e.orientation_deg) for e in o.expected}) for o in plan)
     lifted = next(o for o in plan if o.liftable)
+    nearest = min(min(e.distance_in for e in o.expected) for o in plan)
     lines = [
         "reference check: place these objects anywhere on the floor the camera sees, each standing as named,",
         *(f"  - {o.id}" for o in plan),
         "at least 5 ft apart, 4 ft from the robot and 3 ft from walls and furniture; take everything else off "
         "the floor and keep people out of the room.",
         f"The robot will then drive straight lines around each object to the library's training positions "
-        f"(as near as 6 in), apply about {senses + 2} sensing procedures, grasp {lifted.id} with {lifted.grasp} "
+        f"(as near as {nearest:g} in), apply about {senses + 2} sensing procedures, grasp {lifted.id} with {lifted.grasp} "
         "and put it in its bin, and try one wrong grasp on another object (which may nudge it).",
         "Press Enter when they are placed (type 'skip' to leave sensing and grasping NOT checked; Ctrl-C stops "
         "the suite).",
@@ -291,6 +292,7 @@ class _Run:
         self.sides: dict[str, float] = {}  # the side each object is approached from for "any side" positions
         self.at: tuple[str, float] | None = None  # the object the robot stands at, and its bearing from it
         self.pose: Pose | None = None
+        self.ready = False  # reference-objects passed: the objects are found and the plan fits the floor
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
         return [
@@ -307,11 +309,7 @@ class _Run:
         """Each object is the one region of its footprint's size and shape; then every
         position the robot will stand at is checked against the floor and the other
         objects before anything moves (and each straight drive before it is driven)."""
-        image = self.probe.result("camera", {})
-        try:
-            scene = look(image, self.reference.camera)
-        except ValueError as exc:
-            raise CheckFailed(f"the camera's image cannot be read: {exc}") from None
+        scene = self._look()
         for obj in self.reference.objects:
             fitting = [r for r in scene.regions if obj.fits(r)]
             if not fitting:
@@ -330,9 +328,26 @@ class _Run:
             self.visits.extend(self._visits(obj))
         for visit in self.visits:
             self._check_stand(visit.object, visit.distance_in, visit.orientation_deg)
+        self.ready = True
         return "; ".join(f"{o.id} seen at ({self.regions[o.id].centroid[0]:.1f}, {self.regions[o.id].centroid[1]:.1f})"
                          f" over {self.regions[o.id].area_in2 or 0:.1f} sq in" for o in self.reference.objects) + \
             f"; {len(self.visits)} training positions reachable"
+
+    def _look(self) -> Scene:
+        """What the executive's vision makes of a fresh image: by the grey bands, or
+        through the camera's calibration."""
+        image = self.probe.result("camera", {})
+        camera = self.reference.camera
+        if camera is not None:
+            width, height = camera.calibration.image_size
+            rows, cols = image.pixels.shape[:2]
+            if (cols, rows) != (width, height):
+                raise CheckFailed(f"the calibration is for {width}x{height} images, the driver's camera gives "
+                                  f"{cols}x{rows} (a calibration of another camera?)")
+        try:
+            return look(image, camera)
+        except ValueError as exc:
+            raise CheckFailed(f"the camera's image cannot be read: {exc}") from None
 
     def _published_pose(self) -> Pose:
         start = time.monotonic()
@@ -484,7 +499,7 @@ class _Run:
     def sensing(self) -> str:
         """Every procedure with library values at each training position; a reading
         with a value off its library value is repeated, and most readings must pass."""
-        if not self.visits:
+        if not self.ready:
             raise CheckFailed("needs reference-objects to pass")
         values, worst = 0, 0.0
         for visit in self.visits:
@@ -512,7 +527,7 @@ class _Run:
         """One feature sensed twice in a row from two positions whose library values
         differ the most (in expected errors): the readings must differ by at least
         STALE_SHARE of that. A sensor that repeats its last value fails."""
-        if not self.visits:
+        if not self.ready:
             raise CheckFailed("needs reference-objects to pass")
         pairs = [(abs(a.value - b.value) / max(a.error, 1e-9), va, a, vb, b)
                  for va in self.visits for vb in self.visits if va is not vb
@@ -549,7 +564,7 @@ class _Run:
 
     def _still_on_floor(self, obj: ReferenceObject) -> Region | None:
         """The region of ``obj`` the camera still sees at its place, or None."""
-        scene = look(self.probe.result("camera", {}), self.reference.camera)
+        scene = self._look()
         centre, reach = np.asarray(self.regions[obj.id].centroid), _circumradius(self.regions[obj.id]) + 3.0
         return next((r for r in scene.regions if obj.fits(r)
                      and math.hypot(*(np.asarray(r.centroid) - centre)) <= reach), None)
@@ -557,7 +572,7 @@ class _Run:
     def grasp(self) -> str:
         """The first liftable object, with the library's grasp: reported held, and gone
         from the floor in the next image; then released."""
-        if not self.visits:
+        if not self.ready:
             raise CheckFailed("needs reference-objects to pass")
         obj = next(o for o in self.reference.objects if o.liftable)
         result = self._grasp_at(obj, obj.grasp)
@@ -575,7 +590,7 @@ class _Run:
         sensor confirms and the catalogue does not list for it): it must report not
         held. An object no grasp lifts is preferred, so the fingers have nothing to
         knock over."""
-        if not self.visits:
+        if not self.ready:
             raise CheckFailed("needs reference-objects to pass")
         lifted = next(o for o in self.reference.objects if o.liftable)
         others = sorted((o for o in self.reference.objects if o is not lifted), key=lambda o: o.liftable)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import io
 import json
+import math
 import re
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
@@ -185,6 +186,25 @@ def test_a_real_looking_camera_is_read_through_its_calibration(server: zenoh.Ses
             probe.close()
     assert failed(results) == set(), results
     assert results["reference-objects"].detail.startswith(f"{BOX} seen at (")
+
+
+def test_objects_placed_too_close_stop_the_checks_before_the_robot_moves(server: zenoh.Session,
+                                                                        client: zenoh.Session, tmp_path: Path) -> None:
+    """The can 28 in from the box's centre along its long axis (turned 30 deg): the
+    library has positions at 6 in off both ends and 15 in off one, where the base
+    (9 in round, its centre 11 in behind the sonar) would stand on the can."""
+    world = json.loads(WORLD.read_text(encoding="utf-8"))
+    world["objects"][1].update(x_in=round(150 - 28 * math.cos(math.radians(30)), 1),
+                               y_in=round(100 - 28 * math.sin(math.radians(30)), 1))
+    path = tmp_path / "close.json"
+    path.write_text(json.dumps(world), encoding="utf-8")
+    driver = RealRobot("close", world=path)
+    results = check_reference(driver, server, client)
+    assert not results["reference-objects"].passed
+    assert results["reference-objects"].detail.endswith("place the objects farther apart")
+    assert all(results[name].detail == "needs reference-objects to pass" for name in REFERENCE_CHECKS - {
+        "reference-objects"})
+    assert driver.state().clock_s == 0  # not one move, sense or grasp
 
 
 def test_sonar_lengths_in_centimetres_fail_sensing(server: zenoh.Session,
