@@ -36,6 +36,7 @@ import numpy as np
 
 from hero_driver.interface import DriverError, GraspResult, MoveResult, Pose, SenseResult
 from hero_driver.sim.catalogue import CatalogueEntry, load_catalogue
+from hero_driver.zenoh_link.camera_check import CENTRE_TOLERANCE_IN
 from hero_driver.zenoh_link.checking import CheckFailed, CheckResult, Probe, valid_states
 from planner.geometry import Pose as PlannerPose
 from planner.positions import beam_blockers, pose_for_position
@@ -59,6 +60,7 @@ STALE_SHARE = 0.5  # two readings from positions whose library values differ by 
 RING_MARGIN_IN = 3.0  # the ring the robot drives round an object clears it by this much
 ARC_STEP_DEG = 30.0  # ... in straight chords of at most this angle
 EDGE_MARGIN_IN = 3.0  # the base stays this far inside the floor the camera sees
+LOCALISE_DEADBAND_IN = 0.5  # as the executive's (behaviours/localisation.py DEADBAND_IN)
 SIDE_STEP_DEG = 30.0  # a side tried for a position of any orientation ("*"), turning from the floor's middle
 NOT_CHECKED = "sensing and grasping NOT checked: run with --reference"
 NOT_PLACED = "sensing and grasping NOT checked: the reference objects were not placed"
@@ -291,7 +293,8 @@ class _Run:
         self.visits: list[_Visit] = []
         self.sides: dict[str, float] = {}  # the side each object is approached from for "any side" positions
         self.at: tuple[str, float] | None = None  # the object the robot stands at, and its bearing from it
-        self.pose: Pose | None = None
+        self.pose: Pose | None = None  # as the driver reports it
+        self.offset = np.zeros(2)  # the camera's robot position less the driver's (_localise)
         self.ready = False  # reference-objects passed: the objects are found and the plan fits the floor
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
@@ -436,9 +439,11 @@ class _Run:
         """Drive to a position: away from the object the robot stands at onto its ring,
         straight onto the target's ring where it faces the robot (unless it is the same
         object), round that ring to the position's side in chords, straight in; facing
-        and centred on the object."""
+        and centred on the object. Planned in the camera's frame, sent in the driver's
+        (:meth:`_localise`)."""
         if self.pose is None:
             raise CheckFailed("needs reference-objects to pass")
+        self._localise()
         region = self.regions[obj.id]
         goal = self._stand(obj, distance_in, side_deg)
         bearing = region.reference_axis_deg + side_deg
@@ -453,11 +458,11 @@ class _Run:
                 other = np.asarray(self.regions[name].centroid)
                 points.extend(_arc(other, self._ring(name), left, _bearing(other, centre)))
         if was is None:  # onto the target's ring where it faces the robot
-            start = points[-1] if points else np.array([self.pose.x_in, self.pose.y_in])
+            start = points[-1] if points else np.array([self.pose.x_in, self.pose.y_in]) + self.offset
             was = _bearing(centre, start)
         points.extend(_arc(centre, ring, was, bearing))
         points.append(np.array([goal.x_in, goal.y_in]))
-        here = np.array([self.pose.x_in, self.pose.y_in])
+        here = np.array([self.pose.x_in, self.pose.y_in]) + self.offset
         for a, b in zip([here, *points[:-1]], points):
             self._check_inside(b, obj.id)
             for name, other in self.regions.items():
@@ -469,8 +474,10 @@ class _Run:
         for i, point in enumerate(points):
             ahead = points[i + 1] if i + 1 < len(points) else None
             heading = goal.heading_deg if ahead is None else math.degrees(math.atan2(*(ahead - point)[::-1]))
-            waypoints.append({"x_in": float(point[0]), "y_in": float(point[1]), "heading_deg": heading})
-        outcome = self.probe.outcome("move", {"waypoints": waypoints, "face": list(region.centroid)})
+            sent = point - self.offset
+            waypoints.append({"x_in": float(sent[0]), "y_in": float(sent[1]), "heading_deg": heading})
+        face = centre - self.offset
+        outcome = self.probe.outcome("move", {"waypoints": waypoints, "face": [float(face[0]), float(face[1])]})
         if isinstance(outcome, DriverError):
             raise CheckFailed(f"the move to {obj.id} at ({distance_in:g} in, {side_deg:.0f} deg) was refused "
                               f"{outcome.code}: {outcome.message}")
@@ -480,6 +487,28 @@ class _Run:
         if outcome.collided or outcome.blocked is not None:
             raise CheckFailed(f"the robot met something driving to {obj.id} at ({distance_in:g} in, {side_deg:.0f} "
                               "deg): clear the floor around the objects")
+
+    def _localise(self) -> None:
+        """Correct the driver's dead reckoning as the executive does
+        (behaviours/localisation.py): a wheeled base drifts while the pose it reports
+        stays put, and at 6 in a drift of 1.5 in puts the object out of a procedure's
+        range. The offset is where the camera sees the robot less where the driver says
+        it is, changed only when the camera sees it more than LOCALISE_DEADBAND_IN from
+        the corrected pose (less is the camera's own error). A robot seen farther than
+        CENTRE_TOLERANCE_IN from where the driver says it is, is no drift but an image
+        or a pose not to be trusted: driving by it could run the robot into an object."""
+        assert self.pose is not None
+        seen = self._look().robot
+        if seen is None:
+            return
+        reported = np.array([self.pose.x_in, self.pose.y_in])
+        off = np.array([seen.x_in, seen.y_in]) - reported
+        if math.hypot(*off) > CENTRE_TOLERANCE_IN:
+            raise CheckFailed(f"the camera sees the robot at ({seen.x_in:.1f}, {seen.y_in:.1f}), {math.hypot(*off):.1f} "
+                              f"in from where the driver says it is ({reported[0]:.1f}, {reported[1]:.1f}); at most "
+                              f"{CENTRE_TOLERANCE_IN:g} in (a stale image, or a pose that is not the robot's?)")
+        if math.hypot(*(off - self.offset)) > LOCALISE_DEADBAND_IN:
+            self.offset = off
 
     # -- sensing ------------------------------------------------------------------
 
@@ -498,7 +527,8 @@ class _Run:
 
     def sensing(self) -> str:
         """Every procedure with library values at each training position; a reading
-        with a value off its library value is repeated, and most readings must pass."""
+        with a value off its library value is repeated (up to READINGS), and most
+        readings of each value must be within its tolerance."""
         if not self.ready:
             raise CheckFailed("needs reference-objects to pass")
         values, worst = 0, 0.0
@@ -507,17 +537,18 @@ class _Run:
             for procedure in sorted({e.procedure for e in visit.expected}):
                 expected = [e for e in visit.expected if e.procedure == procedure]
                 readings = [self._sense(visit, procedure)]
-                if not _agrees(expected, readings[0]):  # read again until most of READINGS agree, or cannot
+                if not _agrees(expected, readings[0]):  # read again until each value is settled one way
+                    majority = READINGS // 2 + 1
                     while len(readings) < READINGS:
                         readings.append(self._sense(visit, procedure))
-                        agreed = sum(_agrees(expected, r) for r in readings)
-                        if agreed > READINGS // 2 or len(readings) - agreed > READINGS // 2:
+                        agreed = [sum(_off(e, r) is None for r in readings) for e in expected]
+                        if min(agreed) >= majority or len(readings) - min(agreed) >= majority:
                             break
-                    if sum(_agrees(expected, r) for r in readings) <= READINGS // 2:
+                    if any(sum(_off(e, r) is None for r in readings) < majority for e in expected):
                         raise CheckFailed(_disagreement(visit, procedure, expected, readings))
-                good = next(r for r in readings if _agrees(expected, r))
                 for e in expected:
                     values += 1
+                    good = next(r for r in readings if _off(e, r) is None)
                     if e.error > 0:
                         worst = max(worst, abs(float(good.values[e.feature]) - e.value) / e.error)
         return (f"{values} values at {len(self.visits)} training positions within {ERROR_FACTOR:g} expected errors "
@@ -630,7 +661,7 @@ def _value(value: float | None) -> str:
 
 
 def _disagreement(visit: _Visit, procedure: str, expected: Sequence[Expected], readings: Sequence[SenseResult]) -> str:
-    e = next(e for e in expected if any(_off(e, r) is not None for r in readings))
+    e = min(expected, key=lambda e: sum(_off(e, r) is None for r in readings))
     read = ", ".join(_value(r.values.get(e.feature)) for r in readings)
     return (f"{procedure} at {visit.text()}: {e.feature} read {read}; the library has {e.value:g} {e.unit} "
             f"within {e.tolerance:g} ({ERROR_FACTOR:g} x its expected error {e.error:g})")
