@@ -340,10 +340,11 @@ def run_cli(driver: SimulatedHero, server: zenoh.Session, endpoint: str, capsys:
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("flags", [("--reference", "--placed"), ("--placed",)], ids=["reference", "placed-only"])
 def test_a_real_robot_passes_the_suite_with_a_reference(server: zenoh.Session, endpoint: str,
-                                                       capsys: pytest.CaptureFixture[str]) -> None:
-    status, verdicts, details = run_cli(RealRobot("real", world=WORLD), server, endpoint, capsys,
-                                        "--reference", "--placed")
+                                                       capsys: pytest.CaptureFixture[str], flags: Sequence[str]) -> None:
+    """With ``--placed`` alone, the default objects are taken as placed."""
+    status, verdicts, details = run_cli(RealRobot("real", world=WORLD), server, endpoint, capsys, *flags)
     assert {name for name, verdict in verdicts.items() if verdict == "FAIL"} == set()
     assert REFERENCE_CHECKS <= set(verdicts) and "reference" not in verdicts
     assert details["reset-objects"] == "not checked: the driver cannot restore world 'lab' (a real robot cannot " \
