@@ -12,6 +12,7 @@ import dataclasses
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from hero_driver.inspect_cli import connect_endpoint, connect_options, register_inspect
 from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
@@ -19,6 +20,10 @@ from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.argtypes import non_negative_int, positive_seconds
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
+
+if TYPE_CHECKING:
+    from hero_driver.zenoh_link.reference_check import Reference
+    from robot_profile import RobotProfile
 
 DEFAULT_CHECK_TIMEOUT_S = 30.0
 # hero_driver.sim.camera.PRESETS, without importing OpenCV (a test holds them equal)
@@ -129,7 +134,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "the profile and the camera. Prints one PASS/FAIL line per named "
             "check; exits 0 when all pass, 1 otherwise. The robot must be free to turn in "
             "place and have nothing within contact range of its sonar after a reset (it "
-            "drives 3 in straight ahead)."
+            "drives 3 in straight ahead). A driver that "
+            "cannot restore the simulated lab (a real robot) has its sensing and grasping checked "
+            "on objects placed on its floor (--reference), or fails the check 'reference'."
         ),
     )
     check.add_argument("--robot", default="r1", help="robot name to check (default r1)")
@@ -146,6 +153,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="the driver camera's calibration ('csl camera calibrate'; the empty floor image beside "
                             "it): the camera-mapping and reset-objects checks read a real camera's images through "
                             "it, as 'csl run' does (default: band images; others are not checked; docs/camera.md)")
+    check.add_argument("--reference", nargs="?", const="", default=None, metavar="ID,ID",
+                       help="check sensing and grasping on objects placed on the robot's floor, even on a driver "
+                            "that restores the simulated lab: the command asks you (on standard error) to place the "
+                            "catalogue objects ID,ID (hero_driver/worlds/catalogue.json; at least two the shipped "
+                            "library describes, one of them liftable; default closed-box-11x9x12/upright,"
+                            "soda-can-12oz/upright), finds them with the camera, drives to the library's training "
+                            "positions around them, compares each value with the library's, grasps one and tries a "
+                            "wrong grasp on another. Without it, a driver that refuses to restore the lab (a real "
+                            "robot) fails the check 'reference' unless you place the default objects when asked at "
+                            "a terminal (docs/vendor-guide.md, 'The reference check')")
+    check.add_argument("--placed", action="store_true",
+                       help="the reference objects are already on the floor: do not ask (for scripts and tests; "
+                            "with or without --reference)")
     check.add_argument("--shutdown-order", action="store_true",
                        help="after the suite, also check the liveliness order at shutdown: the command pings the "
                             "driver and asks you (on standard error) to stop it within --timeout seconds; passes "
@@ -193,6 +213,40 @@ def _run_sim(args: argparse.Namespace) -> int:
     return 0
 
 
+def _reference(args: argparse.Namespace, profile: RobotProfile) -> Reference | None:
+    """The reference objects of the suite's reference checks: those of ``--reference``
+    (checked always), else the default ones when ``--placed`` says they lie there or a
+    person at a terminal can be asked to place them (checked on a driver that cannot
+    restore the lab); None when nobody can place them. A bad id is one line naming
+    the flag and the id."""
+    from hero_driver.zenoh_link.reference_check import DEFAULT_OBJECTS, Reference, reference_objects
+
+    if args.reference is None and not args.placed and not sys.stdin.isatty():
+        return None
+    ids = [i.strip() for i in args.reference.split(",")] if args.reference else list(DEFAULT_OBJECTS)
+    try:
+        objects = reference_objects(ids, profile)
+    except ValueError as exc:
+        if args.reference is None and not args.placed:  # the default objects do not suit this robot's profile
+            return None
+        raise ValueError(f"--reference: {exc}") from None
+    camera = None
+    if args.camera_calibration is not None:
+        from planner.segmentation import load_camera
+
+        camera = load_camera(args.camera_calibration)
+    return Reference(objects, profile, always=args.reference is not None,
+                     ask=None if args.placed else _ask_operator, camera=camera)
+
+
+def _ask_operator(prompt: str) -> bool:
+    """Show ``prompt`` on standard error and wait for Enter; False when the person
+    types 'skip' or standard input ends."""
+    print(prompt, file=sys.stderr, flush=True)
+    answer = sys.stdin.readline()
+    return bool(answer) and answer.strip().lower() != "skip"
+
+
 def _run_check(args: argparse.Namespace) -> int:
     robot_keys(args.robot)
     connect, _, zenoh_config = connect_endpoint(args)
@@ -210,9 +264,10 @@ def _run_check(args: argparse.Namespace) -> int:
             vision = calibrated_reader(args.camera_calibration)
         except ValueError as exc:
             raise ValueError(f"--camera-calibration: {exc}") from None
+    reference = _reference(args, profile)
     results = run_checks(args.robot, [connect], timeout_s=args.timeout, procedures=Procedures.from_profile(profile),
                          zenoh_config=zenoh_config, profile=profile_stamp(profile), vision=vision,
-                         timing=Timing.from_profile(profile))
+                         timing=Timing.from_profile(profile), reference=reference)
     if args.shutdown_order and any(r.passed for r in results):  # no driver at all: the suite said so
         from hero_driver.zenoh_link.conformance import shutdown_order
 

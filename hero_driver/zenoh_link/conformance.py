@@ -13,7 +13,10 @@ check --camera-calibration``); a non-band image without one is "not checked".
 
 The robot must start from its reset pose with nothing within contact range of the
 sonar; the suite turns the robot in place and drives it a few inches straight ahead
-(:mod:`.motion_check`), so it is safe to run on hardware.
+(:mod:`.motion_check`), so it is safe to run on hardware. The reference checks after it
+(:mod:`.reference_check`), which drive round objects an operator placed, run only once
+the operator was asked (or said ``--placed`` when starting the suite, or the driver, a
+simulator, placed them itself).
 Against a robot nobody serves (no token, no answer), and against a driver that names
 another robot profile than the one given, it stops after one line: every later check
 would only repeat that.
@@ -50,6 +53,7 @@ from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, CheckR
                                               valid_states)
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
+from hero_driver.zenoh_link.reference_check import NOT_CHECKED, Reference, reference_checks
 from hero_driver.zenoh_link.verbs import VERBS
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
@@ -114,6 +118,7 @@ class _Suite:
         self.image: CameraImage | None = None
         self.greeting: Greeting | None = None
         self.motion = MotionChecks(probe, timing or Timing.from_profile(), procedures.sense, vision)
+        self.lab_refused = False  # reset-objects found a driver that cannot restore KNOWN_WORLD (a real robot)
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
         return [
@@ -210,12 +215,14 @@ class _Suite:
         """Reset the shipped world KNOWN_WORLD and look: the robot at the world's start
         pose and every object drawn where the world file puts it. A driver that cannot
         restore that world refuses it ``bad_request`` (as the protocol asks), which
-        leaves the check to a driver that can."""
+        leaves the check to a driver that can, and its sensing and grasping to the
+        reference checks."""
         outcome = self.probe.outcome("reset", {"world": KNOWN_WORLD, "seed": None})
         if isinstance(outcome, DriverError):
             if outcome.code != BAD_REQUEST:
                 raise CheckFailed(f"reset to world {KNOWN_WORLD!r}: expected a state or {BAD_REQUEST}, "
                                   f"got {outcome.code}: {outcome.message}")
+            self.lab_refused = True
             return f"not checked: the driver cannot restore world {KNOWN_WORLD!r} ({outcome.message})"
         start, placed = known_world()
         pose = outcome.pose
@@ -564,14 +571,17 @@ def _procedure_outcome(outcome: Any, kind: type, name: str) -> str:
 def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
                procedures: Procedures | None = None, zenoh_config: UserConfig | None = None,
                profile: ProfileStamp | None = None, vision: Vision | None = None,
-               timing: Timing | None = None) -> list[CheckResult]:
+               timing: Timing | None = None, reference: Reference | None = None) -> list[CheckResult]:
     """Run every check against the driver serving ``robot`` at ``connect``; ``zenoh_config``
     is the user's zenoh file (credentials, TLS) for a driver that requires them.
     ``profile`` is the stamp of the robot profile the driver should serve: a driver
     that names another in ``hello`` stops the suite with one line (None: not compared).
     ``vision`` reads a real camera's images (:func:`camera_check.calibrated_reader`;
     None: the images are band images, and the image checks skip any that is not).
-    ``timing`` is what the robot profile says verbs take (None: the HERO 2000's)."""
+    ``timing`` is what the robot profile says verbs take (None: the HERO 2000's).
+    ``reference`` is the placed objects of the reference checks (:mod:`.reference_check`),
+    run last when it asks for them always, or when the driver cannot restore
+    KNOWN_WORLD; such a driver without one fails the check ``reference``."""
     robot_keys(robot)
     if not timeout_s > 0:
         raise ValueError(f"timeout must be a positive number of seconds, got {timeout_s}")
@@ -587,15 +597,25 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         if mismatch:
             return [CheckResult("profile", False, mismatch)]
         results = []
-        for name, check in _Suite(probe, chosen, profile, vision, timing).checks():
+        suite = _Suite(probe, chosen, profile, vision, timing)
+        for name, check in suite.checks():
             try:
                 results.append(CheckResult(name, True, check()))
             except CheckFailed as exc:
                 results.append(CheckResult(name, False, str(exc)))
-        return results
+        return results + _reference_results(probe, reference, suite.lab_refused)
     finally:
         probe.close()
         session.close()
+
+
+def _reference_results(probe: Probe, reference: Reference | None, lab_refused: bool) -> list[CheckResult]:
+    """The reference checks, when asked for or needed. A driver that cannot restore
+    KNOWN_WORLD has had its sensing and grasping tried against nothing (``no_target``
+    passes ``sense`` and ``grasp``), so without a reference it fails, never passes."""
+    if reference is not None and (reference.always or lab_refused):
+        return reference_checks(probe, reference)
+    return [CheckResult("reference", False, NOT_CHECKED)] if lab_refused else []
 
 
 def _named_profile_mismatch(probe: Probe, profile: ProfileStamp | None) -> str:
