@@ -24,6 +24,7 @@ from hero_driver.sim import camera as sim_camera
 from hero_driver.sim.render_board import board_path
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.shipped import WORLDS_DIR
+from hero_driver.zenoh_link import verbs
 from hero_driver.zenoh_link.checking import CheckResult, Probe
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.reference_check import (
@@ -396,3 +397,20 @@ def test_bad_reference_ids_exit_2_with_one_line(ids: str, problem: str, capsys: 
     assert main(["driver", "check", "--reference", ids, "--timeout", "1"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"csl: error: --reference: {problem}") and err.count("\n") == 1, err
+
+
+def test_an_extra_field_in_the_sense_reply_fails_sensing(server: zenoh.Session, client: zenoh.Session,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """The mistake the lab's checks never saw (from the reset pose nothing is in range,
+    so no sense result is ever decoded there): on the reference every reply is read as
+    strictly as the executive reads it."""
+    sense = verbs.BY_NAME["sense"]
+
+    def chatty_out(result: SenseResult) -> dict[str, object]:
+        return {**sense.reply.write(result), "gain_db": 12}
+
+    monkeypatch.setitem(verbs.BY_NAME, "sense", dataclasses.replace(
+        sense, reply=dataclasses.replace(sense.reply, write=chatty_out)))  # the node's wire
+    results = check_reference(RealRobot("chatty", world=WORLD), server, client)
+    assert "reference-sensing" in failed(results)
+    assert "gain_db: unknown field" in results["reference-sensing"].detail
