@@ -11,6 +11,10 @@ is judged as ``csl run`` judges it (``executive.exit_status.run_status``).
 from __future__ import annotations
 
 import json
+import os
+import re
+import subprocess
+import sys
 from collections import Counter
 from collections.abc import Callable
 from concurrent.futures import Future
@@ -38,6 +42,7 @@ from zenoh_rpc.config import open_session
 from zenoh_rpc.server import reply
 
 T = TypeVar("T")
+REPO = Path(__file__).resolve().parents[2]
 PROFILE = load_profile()
 ARM_ONLY = Params(use_appearance=False)
 
@@ -243,3 +248,22 @@ def test_an_extra_field_in_the_sense_reply_is_driver_faults_over_zenoh(tmp_path:
     assert faults and {e["verb"] for e in faults} == {"sense"}
     assert all("malformed reply" in e["message"] for e in faults)
     assert status == LOST and lines[0].startswith(f"{len(faults)} driver faults (sense: {len(faults)})")
+
+
+@pytest.mark.zenoh
+@pytest.mark.slow
+def test_csl_run_says_how_many_driver_faults_in_one_line_and_exits_3(tmp_path: Path) -> None:
+    endpoint = free_endpoint()
+    env = {**os.environ, "PYTHONPATH": str(REPO), "CSL_HOME": str(tmp_path)}
+    with open_session(listen=[endpoint]) as server, ExtraFieldNode(SimulatedHero("vy", world="lab"), server):
+        proc = subprocess.run(
+            [sys.executable, "-m", "csl_cli", "run", "--driver", "zenoh", "--robot", "vy", "--connect", endpoint,
+             "--no-appearance", "--out", str(tmp_path / "out"), "--no-plots"],
+            cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == LOST, proc.stderr
+    faults = [line for line in proc.stderr.splitlines() if "driver faults" in line]
+    assert len(faults) == 1 and re.fullmatch(
+        r"csl: (\d+) driver faults \(sense: \1\): driver vy failed verbs \(`internal` or malformed replies\); "
+        r"look at the robot", faults[0])
+    assert "Traceback" not in proc.stderr
+    assert proc.stdout.splitlines()[-1].startswith(f"exit status 3: {faults[0].removeprefix('csl: ')}; ")
