@@ -133,6 +133,9 @@ class DriverAction(CslBehaviour):
     :meth:`verb`: the run's exit status counts them (``executive.exit_status``).
     """
 
+    VERB = ""
+    """The driver verb this behaviour sends, as driver faults are counted per verb."""
+
     def __init__(self, name: str, robot: str) -> None:
         super().__init__(name, robot)
         self._robot = robot
@@ -141,9 +144,6 @@ class DriverAction(CslBehaviour):
         self._future: Future[Any] | None = None
         self._skip: Status | None = None
         self._lost: LostVerb | None = None
-
-    VERB = ""
-    """The driver verb this behaviour sends, as driver faults are counted per verb."""
 
     def verb(self) -> str:
         """The verb under way (a behaviour that sends one of several says which)."""
