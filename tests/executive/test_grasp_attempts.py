@@ -67,7 +67,8 @@ def test_a_duration_beyond_ten_times_its_procedure_time_either_way_is_implausibl
     assert plausible_duration("Front-Wrap", 6.0, knowledge) and plausible_duration("Front-Wrap", 600.0, knowledge)
     assert not plausible_duration("Front-Wrap", 60_000.0, knowledge)  # milliseconds
     assert not plausible_duration("Front-Wrap", 1.0, knowledge)  # minutes
-    assert not plausible_duration("Front-Wrap", 600.5, knowledge) and not plausible_duration("Front-Wrap", 5.9, knowledge)
+    assert not plausible_duration("Front-Wrap", 600.5, knowledge)
+    assert not plausible_duration("Front-Wrap", 5.9, knowledge)
     assert plausible_duration("No-Grab", 12_345.0, knowledge)  # nothing to compare with
 
 
