@@ -9,16 +9,18 @@ the object's steps and ``Learn``::
     approach and recognize
       RememberAppearance
       recognize and grasp
-      GraspVerified?     a grasp reported held: one image, the object gone from the floor
+      grasp verified
+        GraspVerified?   a grasp reported held: one image, the object gone from the floor
+        LetGo            else: open the hand (whatever it holds is not the object), fail
       Learn
       LookForTheRest
 
 It passes an object left (No-Grab) or not grasped untouched, and every object when
 ``Params.verify_grasps`` is off. When the image still shows
 a region where the grasped object lay (:func:`still_on_floor`), the grasp is
-unverified: event ``grasp_unverified`` naming the driver suspect, the object fails, and
-since the sequence then stops, nothing is learned from it and its grasp is not put
-away. The run's closing lines name the driver (``executive.exit_status``).
+unverified: event ``grasp_unverified`` naming the driver suspect, the object fails,
+``LetGo`` opens the hand (a driver that believes it holds something would refuse the
+next grasp), and since the sequence then stops, nothing is learned from it. The run's closing lines name the driver (``executive.exit_status``).
 
 The image is segmented on its own (:func:`planner.look`), not made the planner's
 current scene: the plans of the next object are made on the image they were made on
@@ -30,12 +32,15 @@ from __future__ import annotations
 import math
 from concurrent.futures import Future
 
+import py_trees
 from py_trees.common import Access, Status
+from py_trees.composites import Selector
 
 from behaviours.base import DriverAction
 from behaviours.events import Event
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
 from camera_model.image import CameraImage
+from hero_driver.interface import RobotState
 from planner import Region, look
 from planner.geometry import Pose
 
@@ -105,3 +110,25 @@ class GraspVerified(DriverAction):
                   reason="the driver reported the grasp held; the camera still sees the object on the floor")
         self.feedback_message = f"{grasp} reported held, the object still on the floor: driver suspect"
         return Status.FAILURE
+
+
+class LetGo(DriverAction):
+    """After a grasp the camera did not confirm: open the hand, then fail, so the
+    object's sequence stops before ``Learn``."""
+
+    VERB = "release"
+
+    def __init__(self, robot: str, name: str = "LetGo") -> None:
+        super().__init__(name, robot)
+
+    def start(self) -> Future[RobotState]:
+        return self.services.driver.release()
+
+    def finish(self, result: RobotState) -> Status:
+        self.feedback_message = "hand opened: the object failed"
+        return Status.FAILURE
+
+
+def grasp_verified(robot: str) -> py_trees.behaviour.Behaviour:
+    """``GraspVerified?``, else ``LetGo``: see the module docstring."""
+    return Selector("grasp verified", memory=True, children=[GraspVerified(robot), LetGo(robot)])

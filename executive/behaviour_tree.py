@@ -20,7 +20,7 @@ out of range is re-approached, gated by ``RefusedForRange?`` (``behaviours.reapp
 What the robot says is checked where it can be: ``Plausible?`` makes a sensing whose
 value its feature cannot take unusable there (``behaviours.plausible``), and
 ``GraspVerified?`` fails an object reported grasped that the camera still sees on the
-floor (``behaviours.verified_grasp``).
+floor, and ``LetGo`` opens the hand (``behaviours.verified_grasp``).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.plausible import Plausible
 from behaviours.reapproach import reapproached
 from behaviours.reconnect import reconnecting
-from behaviours.verified_grasp import GraspVerified
+from behaviours.verified_grasp import grasp_verified
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
                                  GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
 
@@ -68,7 +68,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
     per_object = Sequence("approach and recognize", memory=True, children=[
         StartObject(robot),
         UntilHandled(step, robot, name="recognize and grasp"),
-        GraspVerified(robot),
+        grasp_verified(robot),
         Learn(robot),
         LookForTheRest(robot),
     ])

@@ -29,7 +29,8 @@ from behaviours.services import Params
 from executive.defaults import EXAMPLE_LIBRARY
 from executive.executive import Executive
 from executive.exit_status import ALL_HANDLED, LOST, SOME_FAILED, run_status
-from hero_driver.interface import INTERNAL, OUT_OF_RANGE, DriverError, GraspResult, MoveResult, SenseResult
+from hero_driver.interface import (INTERNAL, OUT_OF_RANGE, DriverError, GraspResult, MoveResult, RobotState,
+                                  SenseResult)
 from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.node import DriverNode
@@ -79,8 +80,14 @@ class InternalSenses(SimulatedHero):
 class StuckFinger(SimulatedHero):
     """The finger infrared sensor stuck at "held": every grasp is reported holding."""
 
+    releases = 0
+
     def grasp(self, procedure: str) -> Future[GraspResult]:
         return _then(super().grasp(procedure), lambda result: replace(result, success=True))
+
+    def release(self) -> Future[RobotState]:
+        self.releases += 1
+        return super().release()
 
 
 class SonarCentimetres(SimulatedHero):
@@ -186,6 +193,7 @@ def test_a_finger_stuck_at_held_never_reports_an_object_grasped_on_the_floor(tmp
     assert {e["object"] for e in unverified} <= {r.index for r in records if r.outcome == "failed"}
     learned = {e["object"] for e in _kinds(events, "learn")}
     assert not learned & {e["object"] for e in unverified}  # nothing learned from them
+    assert hero.releases == len(_kinds(events, "learn")) + len(unverified)  # the hand opened after each
     assert status == LOST and any(line.startswith(f"driver r1 suspect: {len(unverified)} grasps reported held")
                                   for line in lines)
 
