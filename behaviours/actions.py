@@ -29,6 +29,8 @@ class LocateObjects(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
+    VERB = "camera"
+
     def __init__(self, robot: str, name: str = "LocateObjects") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)
@@ -82,6 +84,8 @@ class MoveTo(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # a move changes where the robot stands
     ROLES = ("first", "around", "retry")
+
+    VERB = "move"
 
     def __init__(self, robot: str, target: str, name: str | None = None, role: str = "first") -> None:
         super().__init__(name or f"MoveTo {target}", robot)
@@ -190,8 +194,14 @@ class ApplyTest(DriverAction):
     """Apply the chosen test: its sensing procedure, or its grasp when a grasp is tried
     as a binary feature. A value already measured (free) needs no robot time."""
 
+    VERB = "sense"
+
     def __init__(self, robot: str, name: str = "ApplyTest") -> None:
         super().__init__(name, robot)
+
+    def verb(self) -> str:
+        test = self.step.test
+        return "grasp" if test is not None and test.test.is_grasp else "sense"
 
     def start(self) -> Future[SenseResult] | Future[GraspResult] | Status:
         step = self.step
@@ -236,6 +246,8 @@ class Grasp(DriverAction):
     A grasp the finger sensor cannot confirm (No-Grab) is not executed: the robot leaves
     the object, which is that grasp's success.
     """
+
+    VERB = "grasp"
 
     def __init__(self, robot: str, name: str = "Grasp") -> None:
         super().__init__(name, robot)
@@ -282,6 +294,8 @@ class Learn(DriverAction):
     appearance alone got right first time teaches nothing new and is not saved: with no
     sensed value it would be unknown on every test, follow every branch of every later
     tree, and leave an ambiguous leaf for every later object that looks alike."""
+
+    VERB = "release"
 
     def __init__(self, robot: str, name: str = "Learn") -> None:
         super().__init__(name, robot)

@@ -23,7 +23,7 @@ from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb, ObjectRecord,
 from behaviours.resume import Reconnecting
 from behaviours.services import Services, namespace
 from camera_model.image import CameraImage
-from hero_driver.interface import OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError
+from hero_driver.interface import INTERNAL, OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError
 from planner import Pose as PlannerPose, Scene
 
 T = TypeVar("T")
@@ -127,8 +127,14 @@ class DriverAction(CslBehaviour):
     (``DRIVER_BACK``). Then it fails, so the step under way starts over from where the
     robot now stands; or, with nothing located yet (the first image), it sends its verb
     again. A procedure refused as out of range is recorded on the step for the
-    re-approach branch (:meth:`refused_for_range`, ``behaviours.reapproach``).
+    re-approach branch (:meth:`refused_for_range`, ``behaviours.reapproach``). An
+    ``internal`` reply (the driver failed, or its reply was malformed: the zenoh client
+    says so with that code) is also a ``driver_fault`` event under the behaviour's
+    :meth:`verb`: the run's exit status counts them (``executive.exit_status``).
     """
+
+    VERB = ""
+    """The driver verb this behaviour sends, as driver faults are counted per verb."""
 
     def __init__(self, name: str, robot: str) -> None:
         super().__init__(name, robot)
@@ -138,6 +144,10 @@ class DriverAction(CslBehaviour):
         self._future: Future[Any] | None = None
         self._skip: Status | None = None
         self._lost: LostVerb | None = None
+
+    def verb(self) -> str:
+        """The verb under way (a behaviour that sends one of several says which)."""
+        return self.VERB or self.name
 
     def initialise(self) -> None:
         self._future, self._skip, self._lost = None, None, None
@@ -166,6 +176,8 @@ class DriverAction(CslBehaviour):
         except DriverError as exc:
             self.feedback_message = str(exc)
             self.note(Event.DRIVER_ERROR, code=exc.code, message=exc.message)
+            if exc.code == INTERNAL:  # an `internal` or malformed reply: the driver failed, not the test
+                self.note(Event.DRIVER_FAULT, verb=self.verb(), message=exc.message)
             if exc.code == UNAVAILABLE:
                 return self._driver_lost(exc)
             if exc.code == TIMEOUT:

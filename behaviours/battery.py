@@ -79,6 +79,8 @@ class DriveToDock(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # the move changes where the robot stands
 
+    VERB = "move"
+
     def __init__(self, robot: str, name: str = "DriveToDock") -> None:
         super().__init__(name, robot)
         self.bb.register_key(DOCK_TRIP, access=Access.WRITE)
@@ -106,6 +108,8 @@ class DriveToDock(DriverAction):
 class Charge(DriverAction):
     """Charge at the dock until full, log the visit (event ``charge``) and place the
     object in hand relative to the dock, where the robot now stands."""
+
+    VERB = "charge"
 
     def __init__(self, robot: str, name: str = "Charge") -> None:
         super().__init__(name, robot)

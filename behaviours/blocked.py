@@ -104,6 +104,8 @@ class LookAgain(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
+    VERB = "camera"
+
     def __init__(self, robot: str, name: str = "LookAgain") -> None:
         super().__init__(name, robot)
         self.bb.register_key(BLOCKED, access=Access.READ)
@@ -129,6 +131,8 @@ class LookAgain(DriverAction):
 class WaitForMover(DriverAction):
     """Stand still ``Params.blocked_wait_s`` for the obstacle to walk on, then forget
     where it stood (the retry plans on the image alone)."""
+
+    VERB = "wait"
 
     def __init__(self, robot: str, name: str = "WaitForMover") -> None:
         super().__init__(name, robot)

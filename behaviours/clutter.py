@@ -92,6 +92,8 @@ class LookForTheRest(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
+    VERB = "camera"
+
     def __init__(self, robot: str, name: str = "LookForTheRest") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)

@@ -117,6 +117,8 @@ class Disturbed(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
+    VERB = "camera"
+
     def __init__(self, robot: str, what: str, name: str = "Disturbed?") -> None:
         super().__init__(name, robot)
         if what not in ("test", "grasp"):

@@ -48,6 +48,14 @@ class Event(str, Enum):
     REST_OF_CLUSTER = "rest_of_cluster", "a cluster's grasped object put away: what the camera sees left of it, queued next", True
     GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"
+    DRIVER_FAULT = "driver_fault", ("an `internal` or malformed reply: the driver failed, not the test (verb, "
+                                    "message); counted, and the run ends non-zero")
+    IMPLAUSIBLE = "implausible", ("a sensed value outside its feature's span or far outside every library "
+                                  "description (feature, value, why): the test is unusable here, reselected"), True
+    GRASP_UNVERIFIED = "grasp_unverified", ("a grasp reported held, yet the camera still sees the object on the "
+                                            "floor: the object fails, nothing is learned, the driver is suspect")
+    GRASP_COST_IGNORED = "grasp_cost_ignored", ("a grasp's duration implausible against its procedure's time "
+                                                "(grasp, seconds, expected): not counted in learned grasp costs")
     REAPPROACH = "reapproach", ("the driver refused a procedure as out of range: nothing was tried; the robot "
                                 "re-approaches its position and tries again (procedure, tries)"), True
     NO_PATH = "no_path", "no collision-free path to a position: unusable there", True

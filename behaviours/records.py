@@ -104,6 +104,8 @@ class ObjectRecord:
     #   Reapproach, behaviours.reapproach; cleared by MoveTo)
     arrived: DriverPose | None = None  # MoveTo: where its last move ended, before any look corrected it
     reapproaches: Counter[str] = field(default_factory=Counter)  # re-approaches per procedure refused
+    verified: bool = True  # False from a grasp reported held until GraspVerified? checked it (finish, and
+    #   GraspVerified?, behaviours.verified_grasp)
 
     @property
     def done(self) -> bool:
@@ -115,9 +117,16 @@ class ObjectRecord:
         (``Region.cluster``, docs/planner.md "Clutter")."""
         return self.region.cluster or self.first_region.cluster
 
+    @property
+    def settled(self) -> bool:
+        """Done, and a grasp reported held checked by the camera: what the run may report."""
+        return self.done and self.verified
+
     def finish(self, outcome: str, grasp: str | None = None, position: Position | None = None) -> None:
-        """The object is handled (grasped, left) or given up on (failed)."""
+        """The object is handled (grasped, left) or given up on (failed); a grasp is
+        the driver's word until the camera verified it."""
         self.outcome, self.grasp, self.grasp_position = outcome, grasp, position
+        self.verified = outcome != "grasped"
 
 
 DRIVER_LOST = "driver_lost"

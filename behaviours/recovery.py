@@ -179,6 +179,8 @@ class CheckSideEffects(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
+    VERB = "camera"
+
     def __init__(self, robot: str, name: str = "SideEffects?") -> None:
         super().__init__(name, robot)
 
@@ -287,6 +289,8 @@ class Discriminate(DriverAction):
     (docs/method.md §5.8). The move is one more driver verb before the sense."""
 
     POSE_ACCESS = Access.WRITE  # the move to a discriminating test changes where the robot stands
+
+    VERB = "sense"
 
     def __init__(self, robot: str, name: str = "Discriminate") -> None:
         super().__init__(name, robot)

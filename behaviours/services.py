@@ -54,6 +54,8 @@ class Params:
     blocked_wait_s: float = 20.0  # and before a retry, the robot waits this long for the obstacle to pass
     reapproach_tries: int = 2  # a procedure refused as out of range: re-approached and tried again this
     #   often per object, then the refusal counts as the verb failing; 0: at once (behaviours.reapproach)
+    verify_grasps: bool = True  # a grasp reported held: one camera look that it left the floor
+    #   (behaviours.verified_grasp); off: the driver's word, and no image taken
 
 
 class GivenUp:

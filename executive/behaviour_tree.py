@@ -17,6 +17,10 @@ and gives the object up after a bound (``behaviours.blocked``). Between a test's
 and the move to it, ``BeamClear?`` makes a test whose sonar beam another object would
 meet unusable there (``behaviours.clutter``). A sensing or grasp the driver refuses as
 out of range is re-approached, gated by ``RefusedForRange?`` (``behaviours.reapproach``).
+What the robot says is checked where it can be: ``Plausible?`` makes a sensing whose
+value its feature cannot take unusable there (``behaviours.plausible``), and
+``GraspVerified?`` fails an object reported grasped that the camera still sees on the
+floor, and ``LetGo`` opens the hand (``behaviours.verified_grasp``).
 """
 
 from __future__ import annotations
@@ -31,8 +35,10 @@ from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.clutter import BeamClear, LookForTheRest
 from behaviours.disturbance import look_before
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
+from behaviours.plausible import Plausible
 from behaviours.reapproach import reapproached
 from behaviours.reconnect import reconnecting
+from behaviours.verified_grasp import grasp_verified
 from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Discriminate, DropFailedGrasp,
                                  GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
 
@@ -47,7 +53,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
     follow = Sequence("follow the tree", memory=True, children=[
         choose, BeamClear(robot), _move(robot, "test"),
         look_before(robot, "test", Sequence("measure", memory=True, children=[
-            reapproached(robot, ApplyTest(robot)), FollowBranch(robot)]))])
+            reapproached(robot, ApplyTest(robot)), Plausible(robot), FollowBranch(robot)]))])
     grasp = Sequence("grasp", memory=True, children=[
         Selector("choose a grasp", memory=True, children=[ChooseGrasp(robot), AmbiguousGrasp(robot)]),
         Selector("reach the grasp", memory=True, children=[_move(robot, "grasp"), OtherEnd(robot)]),
@@ -62,6 +68,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
     per_object = Sequence("approach and recognize", memory=True, children=[
         StartObject(robot),
         UntilHandled(step, robot, name="recognize and grasp"),
+        grasp_verified(robot),
         Learn(robot),
         LookForTheRest(robot),
     ])

@@ -77,7 +77,7 @@ class Executive:
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
             library=LibraryMatrix(learner, knowledge), served=_served(driver))
         self.grasp_costs = (  # docs/method.md §5.7: priced by what grasps cost, recorded after each object
-            LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events)
+            LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events, self.log)
             if params.learned_grasp_costs and isinstance(learner, KeepsGraspCosts) else None)
         self.namespace = namespace(driver.robot)
         self.root = build_tree(driver.robot)
@@ -99,10 +99,12 @@ class Executive:
         reported = 0
         tick = 0
 
-        def report_finished() -> list[ObjectRecord]:
+        def report_finished(last: bool = False) -> list[ObjectRecord]:
+            """Report each object once it is settled (a grasp verified by the camera:
+            ``GraspVerified?``); at the ``last``, each one done."""
             nonlocal reported
             results = py_trees.blackboard.Blackboard.get(f"{self.namespace}/results")
-            while reported < len(results) and results[reported].done:
+            while reported < len(results) and (results[reported].settled or last and results[reported].done):
                 if self.grasp_costs is not None:
                     self.grasp_costs.finished(results[reported])
                 if on_object is not None:
@@ -120,7 +122,7 @@ class Executive:
         finally:
             if self.root.status == Status.RUNNING:
                 self.root.stop(Status.INVALID)
-        results = report_finished()
+        results = report_finished(last=True)
         self.log.event("episode_end", status=self.root.status.value, ticks=tick)
         return EpisodeResult(list(results), tick, self.root.status.value, lines, time.perf_counter() - began)
 

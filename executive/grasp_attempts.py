@@ -13,6 +13,12 @@ cost the paper's knowledge folded into its side-effect penalty.
 An object the world disturbed (someone moved, swapped or took it: a ``disturbance``
 event, ``behaviours.disturbance``) is not counted at all: what its grasps cost says
 how the world behaved, not what the grasp costs on this robot.
+
+Nor is an attempt whose duration is implausible against its procedure's ``time_s`` in
+the robot profile (more than :data:`DURATION_FACTOR` times longer or shorter): a
+driver reporting milliseconds, or minutes, would otherwise price that grasp for every
+later object. Each one left out is a ``grasp_cost_ignored`` event, and the run's
+closing lines count them (``executive.exit_status``).
 """
 
 from __future__ import annotations
@@ -24,10 +30,16 @@ from dataclasses import dataclass
 
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
-from behaviours.services import LibraryMatrix
+from behaviours.services import EventSink, LibraryMatrix
 from learner.costs import with_learned_grasp_costs
 from learner.knowledge import Knowledge
 from learner.service.interface import KeepsGraspCosts
+
+
+DURATION_FACTOR = 10.0
+"""How far an attempt's seconds may lie from its procedure's ``time_s``, either way,
+before they are implausible: milliseconds (x 1000) and minutes (/ 60) both lie beyond;
+the simulator's grasps take their ``time_s`` exactly, a real arm within a few times."""
 
 
 @dataclass(frozen=True)
@@ -72,6 +84,23 @@ def attempt_costs(events: Iterable[Mapping[str, object]]) -> list[AttemptCost]:
     return out
 
 
+def plausible_duration(grasp: str, seconds: float, knowledge: Knowledge) -> bool:
+    """Whether a ``grasp`` the driver says took ``seconds`` lies within
+    :data:`DURATION_FACTOR` of the procedure's ``time_s`` either way (a grasp the profile
+    prices at 0 s, or does not know, takes no judging: nothing to compare with)."""
+    try:
+        expected = knowledge.grasp(grasp).time_s
+    except KeyError:
+        return True
+    return expected <= 0 or expected / DURATION_FACTOR <= seconds <= expected * DURATION_FACTOR
+
+
+def implausible_grasps(events: Iterable[Mapping[str, object]], knowledge: Knowledge) -> list[Mapping[str, object]]:
+    """The ``grasp`` events of ``events`` whose seconds are implausible (:func:`plausible_duration`)."""
+    return [e for e in events if e.get("event") == Event.GRASP and isinstance(s := e.get("seconds"), (int, float))
+            and not plausible_duration(str(e.get("grasp")), float(s), knowledge)]
+
+
 def disturbed_objects(events: Iterable[Mapping[str, object]]) -> frozenset[int]:
     """The objects the camera check found moved, changed or gone at least once."""
     return frozenset(index for e in events
@@ -93,8 +122,11 @@ class LearnedGraspCosts:
     on are priced by every record so far, the knowledge file's costs the prior."""
 
     def __init__(self, learner: KeepsGraspCosts, knowledge: Knowledge, library: LibraryMatrix,
-                 events: Sequence[Mapping[str, object]]) -> None:
+                 events: Sequence[Mapping[str, object]], log: EventSink | None = None) -> None:
+        """``log`` hears of each attempt left out for an implausible duration
+        (``grasp_cost_ignored``); None: nobody is told."""
         self.learner, self.knowledge, self.library, self.events = learner, knowledge, library, events
+        self.log = log
         self._episode = uuid.uuid4().hex  # keys are this episode's object indices under it
         self.reprice()
 
@@ -103,9 +135,16 @@ class LearnedGraspCosts:
         self.library.priced_by(with_learned_grasp_costs(self.knowledge, self.learner.grasp_costs()))
 
     def finished(self, record: ObjectRecord) -> list[AttemptCost]:
-        """Record what ``record``'s grasps cost (none when it was disturbed) and reprice;
-        returns what was recorded."""
-        attempts = recordable_attempts(self.events, [record.index])
+        """Record what ``record``'s grasps cost (none when it was disturbed, none whose
+        duration is implausible) and reprice; returns what was recorded."""
+        ignored = implausible_grasps((e for e in self.events if e.get("object") == record.index), self.knowledge)
+        for event in ignored:
+            if self.log is not None:
+                grasp = str(event.get("grasp"))
+                self.log.event(Event.GRASP_COST_IGNORED, object=record.index, behaviour="LearnedGraspCosts",
+                               grasp=grasp, seconds=event.get("seconds"),
+                               expected=self.knowledge.grasp(grasp).time_s, factor=DURATION_FACTOR)
+        attempts = recordable_attempts((e for e in self.events if not any(e is i for i in ignored)), [record.index])
         if attempts:
             self.learner.record_grasp_attempts([a.as_record() for a in attempts],
                                                key=f"{self._episode}/{record.index}")

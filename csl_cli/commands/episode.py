@@ -27,7 +27,7 @@ from csl_cli.args import criterion_from_args, library_path, output_folder
 from csl_cli.commands.learner_cmd import report_quarantined
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
-from executive.exit_status import episode_status
+from executive.exit_status import run_status
 from reporting.history import append_run, default_history, episode_run
 from reporting.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from csl_cli.recording_options import check_recording_options, open_recording
@@ -409,13 +409,15 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     clusters_left = [r.index for r in result.objects if r.clustered and r.outcome == "left"]
     outcomes = ["failed" if record.index in unanswered or record.index in clusters_left else record.outcome
                 for record in result.objects]
-    status, why = episode_status(outcomes)
+    status, why, doubts = run_status(outcomes, log.events, driver.robot)
     history = _append_history(args, setup, learner, library, outcomes, table, log.events)
     for index, message in unanswered.items():
         print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
     for index in clusters_left:
         print(f"csl: object {index} not handled: touching objects the camera saw as one region (a cluster), "
               "left on the floor when no grasp held", file=sys.stderr)
+    for line in doubts:  # what the robot said that was checked and found wanting (executive/exit_status.py)
+        print(f"csl: {line}", file=sys.stderr)
     if as_json:
         print_json(episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out, plots=not args.no_plots,
                                 library=library, library_created=created, status=status, why=why))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from executive.exit_status import ALL_HANDLED, SOME_FAILED, episode_status
+from executive.exit_status import ALL_HANDLED, LOST, SOME_FAILED, episode_status, run_status
 
 
 def test_all_grasped_or_left_is_success() -> None:
@@ -16,3 +16,53 @@ def test_one_failed_or_unfinished_object_fails_the_run() -> None:
 def test_no_object_located_is_a_failure_not_a_success() -> None:
     status, why = episode_status([])
     assert status == SOME_FAILED and "no object was located" in why
+
+
+def test_no_object_grasped_is_nothing_really_done() -> None:
+    assert episode_status(["left", "left", "failed"]) == (
+        SOME_FAILED, "nothing really done: no object of 3 was grasped (2 left as No-Grab, 1 not handled)")
+    assert episode_status(["left", "grasped"]) == (ALL_HANDLED, "all 2 objects were handled")
+    assert episode_status(["gone", "left"])[0] == ALL_HANDLED  # taken away: not the robot's doing
+
+
+FAULTS = [{"event": "driver_fault", "object": i % 3, "verb": verb, "message": "x"}
+          for i, verb in enumerate(["grasp"] * 7 + ["sense"] * 2)]
+
+
+def test_driver_faults_end_the_run_3_with_a_count_per_verb() -> None:
+    status, why, lines = run_status(["left", "grasped", "left"], FAULTS, "r1")
+    line = "9 driver faults (grasp: 7, sense: 2): driver r1 failed verbs (`internal` or malformed replies); " \
+           "look at the robot"
+    assert (status, lines) == (LOST, [line])
+    assert why == f"{line}; all 3 objects were handled"
+
+
+def test_an_unverified_grasp_names_the_driver_suspect() -> None:
+    events = [{"event": "grasp_unverified", "object": 2, "driver": "hero7"}]
+    status, why, lines = run_status(["grasped", "grasped", "failed"], events, "hero7")
+    assert status == LOST
+    assert lines == ["driver hero7 suspect: 1 grasps reported held while the camera still saw the object on the "
+                     "floor (objects 2); check its finger sensor"]
+
+
+def test_implausible_values_are_counted_and_fail_the_run_only_when_an_object_failed() -> None:
+    events = [{"event": "implausible", "feature": f} for f in ("Width", "Height", "Width")]
+    line = "3 implausible values (Width: 2, Height: 1): those tests were reselected; check the sensors' units"
+    assert run_status(["grasped", "left"], events) == (ALL_HANDLED, "all 2 objects were handled", [line])
+    assert run_status(["grasped", "failed"], events) == (SOME_FAILED, "1 of 2 objects were not handled", [line])
+
+
+def test_refusals_for_range_are_said_only_when_the_run_did_not_succeed() -> None:
+    events = [{"event": "driver_error", "object": 0, "code": "out_of_range", "message": "m"}] * 4
+    assert run_status(["grasped"], events) == (ALL_HANDLED, "all 1 objects were handled", [])
+    status, why, lines = run_status(["left", "left"], events)
+    assert (status, why) == (SOME_FAILED, "nothing really done: no object of 2 was grasped (2 left as No-Grab, "
+                                          "0 not handled)")
+    assert lines == ["4 procedures refused for range: check the sonar's unit and the robot's range check "
+                     "against the profile"]
+
+
+def test_durations_left_out_of_the_grasp_costs_make_the_driver_suspect() -> None:
+    events = [{"event": "grasp_cost_ignored", "object": 0, "grasp": "Front-Wrap"}] * 2
+    status, _, lines = run_status(["grasped"], events, "r1")
+    assert status == LOST and lines[0].startswith("driver r1 suspect: 2 grasp durations implausible")

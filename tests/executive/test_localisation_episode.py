@@ -18,12 +18,15 @@ from experiments.conditions import EXECUTION_NOISE, noise_config
 from tests.executive.floors import play_floor, refused_for_range
 
 FLOOR_SEED = 24_000  # the experiment's floor of seed 24: drift past 1.5 in, one object lost trusting it
+# The floor's story was measured before GraspVerified?: its image after each grasp draws from
+# the simulator's one random stream, so these runs keep it off to stay that story
+# (docs/executive.md, "Verifying the robot").
 
 
 def episode(tmp_path: Path, localise: bool) -> tuple[list[dict[str, object]], list[bool]]:
     """The floor's events and, per record, whether its object was handled right."""
     return play_floor(tmp_path / ("on" if localise else "off"), FLOOR_SEED, noise_config(EXECUTION_NOISE),
-                      Params(localise=localise))
+                      Params(localise=localise, verify_grasps=False))
 
 
 @pytest.mark.slow

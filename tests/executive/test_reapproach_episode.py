@@ -22,8 +22,10 @@ FLOOR_SEED = 13_000  # the floor of the experiment's seed 13; measured: 9 refusa
 @pytest.mark.slow
 def test_a_grasp_refused_for_range_is_re_approached_not_dropped(tmp_path: Path) -> None:
     noise = noise_config("paper", 3.0)
-    old_events, old = play_floor(tmp_path / "old", FLOOR_SEED, noise, Params(reapproach_tries=0))
-    new_events, new = play_floor(tmp_path / "new", FLOOR_SEED, noise, Params())
+    # measured before GraspVerified?, whose image after each grasp draws from the simulator's
+    # one random stream: off, to stay this floor's story (docs/executive.md, "Verifying the robot")
+    old_events, old = play_floor(tmp_path / "old", FLOOR_SEED, noise, Params(reapproach_tries=0, verify_grasps=False))
+    new_events, new = play_floor(tmp_path / "new", FLOOR_SEED, noise, Params(verify_grasps=False))
     # the old way: the refused grasps dropped one by one (measured: 9 refusals, 7 of 8 right)
     assert len(refused_for_range(old_events)) >= 5 and sum(old) < len(old)
     assert not any(e["event"] == "reapproach" for e in old_events)
