@@ -21,7 +21,8 @@ Layout, by concern; each layer imports only those above it in this list:
   (``stage``), Phase 2's trees (``trees``), finding grasps by trying them
   (``grasps``), its fidelity and its numbers (``fidelity``, ``summary``);
 - ``library/``, the descriptions at rest, beside choosing and training: the JSON
-  format (``format``, ``columnar``), the SQLite store (``store``), whether a robot can
+  format (``format``, ``columnar``), the SQLite store (``store``, checked and backed up
+  by ``backup``), whether a robot can
   use them (``checks``), the readers of outside input (``input_file``, ``json_text``)
   and synthetic libraries (``synthetic``);
 - ``service/``, the library shared by robots, in process or over zenoh.

@@ -13,6 +13,7 @@ from csl_cli.args import library_path, writable_file
 from reporting.history import Run, default_history, learning_curve, read_history
 from robot_profile import load_knowledge
 from reporting.tables import Column, print_json, print_table
+from learner.library.backup import RESTORE_HINT, backup, check_file, restore
 from learner.library.checks import check_library
 from learner.library.format import descriptions_to_json, read_library_json, write_library_json
 from learner.library.store import LibraryStore
@@ -73,6 +74,24 @@ def register(sub: argparse._SubParsersAction) -> None:
                          help="draw the learning curve to this PNG file")
     history.add_argument("--json", action="store_true", help="print the runs as one JSON document")
     history.set_defaults(handler=run_history)
+    check = action("check", help="SQLite's full integrity check of the library",
+                   description=("Run SQLite's full integrity check (every page, every index against its table) on "
+                                "the library. Prints 'ok' and the number of descriptions, or what is damaged; exits "
+                                "0 when sound, 1 when damaged. Every opening of the library already runs the quick "
+                                "check (the b-trees, not the indexes) and refuses a damaged store in one line."))
+    check.set_defaults(handler=run_check)
+    backup = action("backup", help="copy the library to a file while it may be serving",
+                    description=("Copy a consistent snapshot of the library through SQLite's online backup API "
+                                 "(a learner service may go on writing), check it, and only then put it at FILE: "
+                                 "a failed or damaged copy never replaces a good backup."))
+    backup.add_argument("file", type=Path, help="the backup file to write (replaced when the copy checks out)")
+    backup.set_defaults(handler=run_backup)
+    restore = action("restore", help="make the library a backup's copy",
+                     description=("Check the backup and copy it into the library through SQLite's backup API; a "
+                                  "library too damaged to be written is moved aside first (named on the output). "
+                                  "Stop the learner service that serves the library before restoring it."))
+    restore.add_argument("file", type=Path, help="a backup written by 'csl library backup'")
+    restore.set_defaults(handler=run_restore)
 
 
 def _store(args: argparse.Namespace) -> LibraryStore:
@@ -185,3 +204,43 @@ def _history_cells(n: int, run: Run) -> list[str]:
 
 def _count(n: int, noun: str) -> str:
     return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
+def run_check(args: argparse.Namespace) -> int:
+    path = library_path(args.db, "--db")
+    if not path.exists():
+        raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
+    found = check_file(path)
+    if found:
+        print(f"{path}: damaged: {len(found)} problem(s) found by SQLite's integrity check")
+        for line in found[:20]:
+            print(f"  {line}")
+        print(RESTORE_HINT.format(path=path))
+        return 1
+    with LibraryStore(path) as store:
+        count = len(store.descriptions())
+    print(f"{path}: ok ({_count(count, 'description')})")
+    return 0
+
+
+def run_backup(args: argparse.Namespace) -> int:
+    path = library_path(args.db, "--db")
+    if not path.exists():
+        raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
+    target = writable_file(args.file, "backup FILE")
+    backup(path, target)
+    print(f"backed up {path} to {target}")
+    return 0
+
+
+def run_restore(args: argparse.Namespace) -> int:
+    if not args.file.is_file():
+        raise ValueError(f"restore FILE {args.file}: no such file")
+    path = library_path(args.db, "--db")
+    aside = restore(args.file, path)
+    if aside is not None:
+        print(f"the damaged library was moved aside to {aside}")
+    with LibraryStore(path) as store:
+        count = len(store.descriptions())
+    print(f"restored {path} from {args.file} ({_count(count, 'description')})")
+    return 0

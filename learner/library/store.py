@@ -22,6 +22,7 @@ from typing import TypeVar
 from learner.appearance import Appearance
 from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription, Observation, in_order
+from learner.library.backup import damage_line, problems
 from learner.library.format import FORMAT, READS, VERSION, read_library_json
 from learner.position import Position
 
@@ -122,6 +123,10 @@ class LibraryStore:
             # one connection used from whichever thread holds the owner's lock (the zenoh
             # node answers from zenoh's threads); LocalLearner serialises every call
             self._db = sqlite3.connect(self.path, check_same_thread=False, timeout=10.0)
+            found = problems(self._db)  # a damaged store is refused, not served (learner.library.backup)
+            if found:
+                self._db.close()
+                raise ValueError(damage_line(self.path, found))
             self._db.execute("PRAGMA foreign_keys = ON")
             durable_and_quick(self._db)
             with self._db:
