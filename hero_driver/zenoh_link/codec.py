@@ -33,6 +33,7 @@ from hero_driver.interface import (
     ERROR_CODES, PROTOCOL_VERSION, DriverError, GraspResult, Hello, MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, PROFILE, Greeting
+from zenoh_rpc.numbers import whole_number
 from robot_profile import ProfileStamp
 
 Json = dict[str, Any]
@@ -178,13 +179,12 @@ def _real(value: object, path: str) -> float:
 
 
 def _integer(value: object, path: str) -> int:
-    """An integer; ``3.0`` counts, as in JSON Schema, because JSON has one number type
-    and some writers (a C double, JavaScript) cannot tell ``3`` from ``3.0``."""
-    if isinstance(value, float) and value.is_integer():
-        return int(value)
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+    """An integer by the wire's one rule (:func:`zenoh_rpc.numbers.whole_number`:
+    ``3.0`` counts, as in JSON Schema)."""
+    whole = whole_number(value)
+    if whole is None:
         raise CodecError(f"{path}: expected an integer, got {_kind(value)}")
-    return int(value)
+    return whole
 
 
 def _boolean(value: object, path: str) -> bool:

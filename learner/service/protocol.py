@@ -21,6 +21,7 @@ from learner.library.format import FORMAT, VERSION, descriptions_from_json, desc
 from learner.library.json_text import NotJson, parse_json
 from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
 from zenoh_rpc.keys import KeySpace
+from zenoh_rpc.numbers import whole_number
 
 PREFIX = "csl/learner"
 PROTOCOL_VERSION = 1
@@ -227,7 +228,7 @@ def _fields(data: bytes, expected: tuple[str, ...], optional: tuple[str, ...] = 
         raise ProtocolError(f"not valid JSON: {exc}") from None
     if not isinstance(message, dict):
         raise ProtocolError(f"a message must be a JSON object, got {type(message).__name__}")
-    if type(message.get("v")) is not int or message["v"] != PROTOCOL_VERSION:
+    if whole_number(message.get("v")) != PROTOCOL_VERSION:
         raise ProtocolError(f"v: unsupported protocol version {message.get('v')!r} "
                             f"(this learner speaks {PROTOCOL_VERSION})")
     unknown = sorted(set(message) - {"v", *expected, *optional})
@@ -240,9 +241,10 @@ def _fields(data: bytes, expected: tuple[str, ...], optional: tuple[str, ...] = 
 
 
 def _version(value: object, field: str = "version") -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+    whole = whole_number(value)
+    if whole is None or whole < 0:
         raise ProtocolError(f"{field}: must be a non-negative integer, got {value!r}")
-    return value
+    return whole
 
 
 def _entry(description: ObjectDescription) -> object:
