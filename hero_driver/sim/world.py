@@ -364,7 +364,7 @@ class SimWorld:
         spec = self.profile.sensing_procedure(procedure)
         model = sonar.PROCEDURES.get(procedure)
         if spec is None or model is None:
-            raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure '{procedure}'")
+            raise DriverError(UNKNOWN_PROCEDURE, f"sense: unknown sensing procedure {procedure!r:.120}")
         self.battery.require("sense")
         aim = self._aim(procedure, spec.range_in)
         ideal = model(self.physics, aim)
@@ -400,7 +400,7 @@ class SimWorld:
     def grasp(self, procedure: str) -> GraspResult:
         spec = self.profile.grasping_procedure(procedure)
         if spec is None:
-            raise DriverError(UNKNOWN_PROCEDURE, f"grasp: unknown grasping procedure '{procedure}'")
+            raise DriverError(UNKNOWN_PROCEDURE, f"grasp: unknown grasping procedure {procedure!r:.120}")
         if self.held is not None:
             raise DriverError(BAD_REQUEST, f"grasp: the hand holds object {self.held.index}; release it first")
         self.battery.require("grasp")

@@ -90,6 +90,9 @@ def _description(entry: object, where: str, version: int) -> ObjectDescription:
     for key in ("id", "grasp"):
         if not isinstance(entry.get(key), str) or not entry[key]:
             raise ValueError(f"{where}: missing or empty string field '{key}'")
+        if not entry[key].isprintable():
+            raise ValueError(f"{where}: '{key}' must be printable text (no control or format characters: a "
+                             f"newline, NUL, a right-to-left override), got {entry[key]!r:.120}")
     where = f"{where} ({entry['id']})"
     if "grasp_position" not in entry:
         raise ValueError(f"{where}: missing field 'grasp_position'")

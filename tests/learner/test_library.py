@@ -86,3 +86,16 @@ def test_json_files_are_written_whole(tmp_path) -> None:  # noqa: ANN001
     write_library_json(path, four_objects())
     assert load_library(path) == four_objects()
     assert not list(tmp_path.glob("*.tmp"))
+
+
+@pytest.mark.parametrize(("key", "text", "shown"), [
+    ("id", "cup\nmug", "'cup\\nmug'"), ("id", "cup\x00", "'cup\\x00'"), ("grasp", "Front\u202eWrap", "'Front\\u202eWrap'"),
+])
+def test_ids_and_grasp_names_must_be_printable_and_the_refusal_escapes_them(key: str, text: str, shown: str) -> None:
+    entry = {"id": "cup", "grasp": "Front-Wrap", "grasp_position": [6, "*"], "features": [], key: text}
+    with pytest.raises(ValueError) as refused:
+        descriptions_from_json({"format": "csl-library", "version": 1, "descriptions": [entry]}, "lib.json")
+    line = str(refused.value)
+    assert line == (f"lib.json: descriptions[0]: '{key}' must be printable text (no control or format characters: "
+                    f"a newline, NUL, a right-to-left override), got {shown}")
+    assert line.isprintable()
