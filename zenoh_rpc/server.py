@@ -67,9 +67,20 @@ class _Logged:
                      (time.perf_counter() - self._started) * 1000)
 
 
-def payload_of(query: zenoh.Query) -> bytes:
-    """The query's payload; empty when it carried none."""
-    return b"" if query.payload is None else query.payload.to_bytes()
+class TooLarge(ValueError):
+    """A request larger than its service accepts: refused by its size alone, before it
+    is copied or parsed (a parse holds several times a document's size in memory)."""
+
+
+def payload_of(query: zenoh.Query, limit: int | None = None) -> bytes:
+    """The query's payload; empty when it carried none. Past ``limit`` bytes,
+    :class:`TooLarge` before anything is copied out of zenoh's buffer."""
+    if query.payload is None:
+        return b""
+    size = len(query.payload)
+    if limit is not None and size > limit:
+        raise TooLarge(f"message: {size} bytes, more than the {limit} a request may have")
+    return query.payload.to_bytes()
 
 
 def reply(query: zenoh.Query, body: bytes) -> None:

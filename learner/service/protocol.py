@@ -35,6 +35,14 @@ INTERNAL = "internal"  # the service failed (disk full, a bug); the library is u
 ERROR_CODES = (BAD_REQUEST, INTERNAL)
 
 
+MAX_REQUEST_BYTES = 256 * 1024
+"""The largest request the service reads, refused by its size before it is copied or
+parsed (a parse holds several times a document's size in memory, so one oversized
+request could grow the service by gigabytes): far above the largest ``learn`` (one
+description) or ``record_grasps`` (``MAX_GRASP_ATTEMPTS`` attempts) a client sends,
+which tests/learner/test_service_zenoh.py holds under it; twice the driver's cap."""
+
+
 class ProtocolError(ValueError):
     """A message that does not follow the protocol; the text names the field."""
 

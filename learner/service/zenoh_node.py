@@ -57,7 +57,7 @@ class LearnerNode:
 
     def _serve(self, verb: str, query: zenoh.Query) -> None:
         try:
-            body = self._answer(verb, payload_of(query))
+            body = self._answer(verb, payload_of(query, protocol.MAX_REQUEST_BYTES))
         except ValueError as exc:  # ProtocolError included: the request's fault
             self._server.reply_error(query, BAD_REQUEST, f"{verb}: {exc}")
         except Exception as exc:  # the node outlives any service failure

@@ -24,7 +24,8 @@ from learner.description import ObjectDescription
 from learner.library.checks import check_library
 from learner.library.format import descriptions_to_json, write_library_json
 from learner.library.store import LibraryStore, load_library
-from learner.service.protocol import learner_keys
+from learner.service.protocol import (MAX_REQUEST_BYTES, encode_learn_request, encode_record_grasps_request,
+                                       learner_keys)
 from learner.service.zenoh_client import ZenohLearner
 from tests.learner.fixtures import P, desc, four_objects, hero
 from tests.zenoh_rpc.support import free_endpoint
@@ -144,6 +145,8 @@ BAD_REQUESTS = [
                                                   "features": [{"feature": "H", "position": [6, "*"],
                                                                 "value": float("nan")}]}}).encode(),
      "'value' must be a finite number"),
+    ("learn", b'{"v": 1, "description": ' + b" " * MAX_REQUEST_BYTES + b"{}}",
+     f"learn: message: {MAX_REQUEST_BYTES + 27} bytes, more than the {MAX_REQUEST_BYTES} a request may have"),
     ("*", b'{"v": 1}', "verbs must be addressed by their exact key"),
     ("forget", b'{"v": 1}', "'forget' is not a verb"),
 ]
@@ -279,3 +282,24 @@ def test_serve_refuses_a_missing_knowledge_file_with_exit_2(tmp_path: Path, caps
                  "--knowledge", str(tmp_path / "nope.toml"), "--listen", free_endpoint()]) == 2
     err = capsys.readouterr().err
     assert "nope.toml" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_largest_requests_a_client_sends_are_well_under_the_cap() -> None:
+    """The size cap refuses only what no client sends: the largest description of the
+    exhaustive-training library as a learn, and a record of the most attempts allowed,
+    each with the longest key."""
+    from executive.sim_training import train_in_simulator
+    from experiments.exhaustive import exhaustive_library
+    from learner.service.interface import MAX_GRASP_ATTEMPTS, MAX_KEY_CHARS
+    from robot_profile import load_profile
+
+    profile = load_profile()
+    knowledge = profile.knowledge()
+    trained = train_in_simulator(knowledge, profile)
+    log = trained.result.log
+    richest, _ = exhaustive_library(list(trained.seen.objects), knowledge, trained.source, log.distances,
+                                    log.orientations)
+    key = "k" * MAX_KEY_CHARS
+    largest = max(len(encode_learn_request(d, key)) for d in richest)
+    grasps = len(encode_record_grasps_request([("Top-Vert-Grip", 86_399.999999, False)] * MAX_GRASP_ATTEMPTS, key))
+    assert max(largest, grasps) * 2 < MAX_REQUEST_BYTES
