@@ -19,7 +19,7 @@ from hero_driver.sim.noise import NOISE_PRESETS, NoiseConfig
 from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.argtypes import non_negative_int, positive_seconds
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LISTEN_KEY, check_endpoint
-from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, open_listen_warning, reached_at, user_config
 
 if TYPE_CHECKING:
     from hero_driver.zenoh_link.reference_check import Reference
@@ -184,6 +184,9 @@ def _run_sim(args: argparse.Namespace) -> int:
         raise ValueError(f"--worlds-dir {args.worlds_dir}: not a folder")
     zenoh_config = user_config(args.zenoh_config)
     listen = endpoint_of("--listen", args.listen, DRIVER_ENDPOINT, LISTEN_KEY, zenoh_config)
+    warning = open_listen_warning(listen, zenoh_config)
+    if warning:
+        print(warning, file=sys.stderr, flush=True)
     # Imported here: the simulator pulls in pymunk and the world files, which
     # `csl --help` and `csl driver check` have no use for.
     from hero_driver.sim.events import DisturbPreset

@@ -75,3 +75,25 @@ def reached_at(listen: str, user: UserConfig | None) -> str:
     routers = json.loads(user.load().get_json(CONNECT_KEY)) or ["a router found by scouting"]
     return (f"as a zenoh client connected to {' or '.join(routers)} (client mode, set by {user.path}: "
             f"it listens on nothing)")
+
+
+AUTH_KEYS = ("transport/auth/usrpwd/user", "transport/auth/usrpwd/dictionary_file")
+SECURE_SCHEMES = ("tls", "quic")
+
+
+def open_listen_warning(listen: str, user: UserConfig | None) -> str | None:
+    """The warning a serving command prints when it listens where others can reach it
+    with nothing to keep them out: an endpoint on another address than loopback, no
+    password in the user's zenoh file, and not TLS. None when it is loopback or secured.
+
+    A warning rather than a refusal (docs/security.md, "Listening beyond this
+    computer"): a lab network may be trusted, and a refusal would only teach a flag;
+    but nobody should open a robot to the network without being told so."""
+    scheme, _, address = listen.partition("/")
+    host = address.rsplit(":", 1)[0].strip("[]")
+    if host in ("localhost", "::1") or host.startswith("127."):
+        return None
+    if scheme in SECURE_SCHEMES or (user is not None and any(user.sets(key) for key in AUTH_KEYS)):
+        return None
+    return (f"warning: listening on {listen} with no password and no TLS: anyone who can reach this address can "
+            "use this service; see docs/security.md")

@@ -14,7 +14,7 @@ from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint
-from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, reached_at, user_config
+from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, open_listen_warning, reached_at, user_config
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -67,6 +67,9 @@ def run_serve(args: argparse.Namespace) -> int:
         check_endpoint(args.listen)
     zenoh_config = user_config(args.zenoh_config)
     listen = endpoint_of("--listen", args.listen, LEARNER_ENDPOINT, LISTEN_KEY, zenoh_config)
+    warning = open_listen_warning(listen, zenoh_config)
+    if warning:
+        print(warning, file=sys.stderr, flush=True)
     # Imported here: zenoh costs `csl --help` and every other command its start-up time.
     from learner.service.zenoh_node import serve_learner
     from zenoh_rpc.serving import stop_on_signals
