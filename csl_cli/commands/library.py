@@ -94,12 +94,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     restore.set_defaults(handler=run_restore)
 
 
-def _store(args: argparse.Namespace) -> LibraryStore:
-    """The library store to read; one that does not exist is an error, not a new file."""
+def _existing(args: argparse.Namespace) -> Path:
+    """The library database's path; one that does not exist is an error, not a new file."""
     path = library_path(args.db, "--db")
     if not path.exists():
         raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
-    return LibraryStore(path)
+    return path
+
+
+def _store(args: argparse.Namespace) -> LibraryStore:
+    """The library store to read (it must exist)."""
+    return LibraryStore(_existing(args))
 
 
 SHOW_COLUMNS = (Column("id"), Column("grasp"), Column("features", fold=True))
@@ -207,9 +212,7 @@ def _count(n: int, noun: str) -> str:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    path = library_path(args.db, "--db")
-    if not path.exists():
-        raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
+    path = _existing(args)
     found = check_file(path)
     if found:
         print(f"{path}: damaged: {len(found)} problem(s) found by SQLite's integrity check")
@@ -224,9 +227,7 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_backup(args: argparse.Namespace) -> int:
-    path = library_path(args.db, "--db")
-    if not path.exists():
-        raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
+    path = _existing(args)
     target = writable_file(args.file, "backup FILE")
     backup(path, target)
     print(f"backed up {path} to {target}")
