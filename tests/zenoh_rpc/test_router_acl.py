@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -205,6 +206,42 @@ def test_the_monitor_watches_but_cannot_move_the_robot_or_learn(in_folder: Deplo
     finally:
         driver.close()
         learner.close()
+
+
+def test_a_monitors_forged_state_and_token_never_reach_the_executive(in_folder: Deployment) -> None:
+    """Only the driver speaks for its robot: a monitor that publishes a state (a pose
+    far away, the battery nearly flat) and declares the robot's liveliness token is
+    dropped by the router, so a session of the executive's sees neither (every state it
+    receives meanwhile is the driver's; no token appears)."""
+    executive = open_session(user=in_folder.config("executive.json5"))
+    received: list[dict[str, object]] = []
+    appeared: list[str] = []
+    states = executive.declare_subscriber("hero/r1/state", lambda sample: received.append(
+        json.loads(sample.payload.to_bytes())))
+    tokens = executive.liveliness().declare_subscriber("hero/r1/alive", lambda sample: appeared.append(
+        str(sample.kind)))
+    try:
+        time.sleep(0.5)  # the driver's 5 Hz states arrive: the path is open
+        assert received
+        monitor = open_session(user=in_folder.config("monitor.json5"))
+        try:
+            forged = {"v": 1, "pose": {"x_in": 999.0, "y_in": 999.0, "heading_deg": 90.0}, "clock_s": 1.0,
+                      "battery": 0.02}
+            token = monitor.liveliness().declare_token("hero/r1/alive")
+            for _ in range(20):
+                monitor.put("hero/r1/state", json.dumps(forged).encode())
+                time.sleep(0.05)
+            time.sleep(0.5)
+            token.undeclare()
+            time.sleep(0.2)
+        finally:
+            monitor.close()
+    finally:
+        states.undeclare()
+        tokens.undeclare()
+        executive.close()
+    assert len(received) > 5 and all(state["pose"] != forged["pose"] for state in received)
+    assert appeared == []  # neither the monitor's token nor its going
 
 
 def test_the_monitor_reads_the_state_with_csl_driver_state(in_folder: Deployment) -> None:
