@@ -44,6 +44,7 @@ from hero_driver.interface import (
 from hero_driver.zenoh_link import codec
 from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, Request
 from hero_driver.zenoh_link.keys import robot_keys
+from hero_driver.zenoh_link.state_check import StateCheck
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS, Verb
 from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
 from robot_profile import ProfileStamp
@@ -161,6 +162,8 @@ class ZenohDriver:
         self._greeting: Greeting | None = None  # its hello (profile, dock), once agreed on a version
         self._refusal: str | None = None  # why the live driver cannot be used, if it cannot
         self._pending: set[_Call] = set()
+        self._check = StateCheck()  # what a state publication may say, from what was asked
+        self.refused_states = 0  # publications nothing asked of the robot explains (each logged)
         self._closed = False
         self._state_sub = self._session.declare_subscriber(self._keys.state, self._on_state)
         self._token_sub = self._rpc.watch_alive(self._on_token)
@@ -248,6 +251,7 @@ class ZenohDriver:
         """With the lock held: no driver, no state; the verbs in flight, to fail."""
         self._alive = False
         self._state = None
+        self._check.forget()
         self._agreement = self._refusal = self._greeting = None
         orphans, self._pending = self._pending, set()
         self._lock.notify_all()
@@ -316,13 +320,24 @@ class ZenohDriver:
         except CodecError as exc:
             log.warning("ignoring malformed state on %s: %s", sample.key_expr, exc)
             return
-        self._set_state(state)
+        self._set_state(state, published=True)
 
-    def _set_state(self, state: RobotState) -> None:
+    def _set_state(self, state: RobotState, published: bool = False) -> None:
+        """Believe ``state``: a verb's own reply always, a publication when what was
+        asked of the robot explains it (:class:`StateCheck`); one that nothing explains
+        is refused, counted and logged, and the last believed state stays."""
         with self._lock:
-            if self._alive:
-                self._state = state
-                self._lock.notify_all()
+            if not self._alive:
+                return
+            why = self._check.judge(state) if published else ""
+            if why:
+                self.refused_states += 1
+                log.warning("%s: state publication refused: %s", self.robot, why)
+                return
+            if not published:
+                self._check.last = state
+            self._state = state
+            self._lock.notify_all()
 
     def state(self) -> RobotState:
         """The latest state the live driver published (or returned from ``release`` or
@@ -368,6 +383,7 @@ class ZenohDriver:
             else:
                 refusal = ""
                 self._pending.add(call)
+                self._check.started(verb)
         if refusal:
             future.set_exception(DriverError(UNAVAILABLE, f"{verb}: {refusal}"))
             return future
@@ -381,7 +397,9 @@ class ZenohDriver:
 
     def _forget(self, call: _Call) -> None:
         with self._lock:
-            self._pending.discard(call)
+            if call in self._pending:
+                self._pending.discard(call)
+                self._check.finished(call.verb)
 
     def close(self) -> None:
         """Stop following the driver; pending and later verbs fail with ``unavailable``."""

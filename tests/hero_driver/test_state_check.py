@@ -1,0 +1,89 @@
+"""A state publication nothing asked of the robot explains is refused, not believed
+(hero_driver/zenoh_link/state_check.py; docs/security.md): the rules by hand, then a
+real node and client on 127.0.0.1 with a forger publishing on the robot's state key."""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+
+import pytest
+import zenoh
+
+from hero_driver.interface import Pose, RobotState
+from hero_driver.sim_driver import SimulatedHero
+from hero_driver.zenoh_link.client import ZenohDriver
+from hero_driver.zenoh_link.node import DriverNode
+from hero_driver.zenoh_link.state_check import StateCheck
+
+
+def _state(x: float = 30.0, y: float = 30.0, heading: float = 0.0, clock: float = 10.0,
+           battery: float = 0.8) -> RobotState:
+    return RobotState(Pose(x, y, heading), clock, battery)
+
+
+def test_the_first_state_and_a_still_robot_are_believed() -> None:
+    check = StateCheck()
+    assert check.judge(_state()) == ""
+    assert check.judge(_state(x=31.5, clock=11.0, battery=0.79)) == ""  # odometry settling, the clock running
+
+
+def test_a_pose_jump_no_move_explains_is_refused_and_the_last_state_kept() -> None:
+    check = StateCheck()
+    check.judge(_state())
+    assert check.judge(_state(x=130.0, y=130.0, heading=90.0)) == (
+        "the pose moved 141.4 in and turned 90.0 deg, to (130.0, 130.0, 90.0 deg), with no move, reset or charge "
+        "under way")
+    assert check.last == _state()
+
+
+def test_a_move_under_way_or_just_answered_explains_a_new_pose_once() -> None:
+    check = StateCheck()
+    check.judge(_state())
+    check.started("move")
+    assert check.judge(_state(x=60.0)) == ""  # published while the move runs
+    check.finished("move")
+    assert check.judge(_state(x=80.0)) == ""  # the move's last pose, published after its reply
+    assert check.judge(_state(x=20.0)) != ""  # nothing since explains another
+
+
+def test_the_battery_rises_only_with_a_charge_and_the_clock_goes_back_only_with_a_reset() -> None:
+    check = StateCheck()
+    check.judge(_state(battery=0.3))
+    assert check.judge(_state(battery=0.9)) == "the battery rose from 0.300 to 0.900 with no charge"
+    assert check.judge(_state(clock=2.0, battery=0.3)) == "the clock went back from 10.0 to 2.0 s with no reset"
+    check.started("charge")
+    check.finished("charge")
+    assert check.judge(_state(battery=0.9)) == ""
+    check.started("reset")
+    assert check.judge(_state(clock=0.0, battery=1.0)) == ""
+
+
+def test_a_new_driver_starts_a_new_story() -> None:
+    check = StateCheck()
+    check.judge(_state())
+    check.forget()
+    assert check.judge(_state(x=200.0)) == ""
+
+
+@pytest.mark.zenoh
+def test_a_forged_state_on_the_robots_key_never_becomes_the_clients_state(
+        server: zenoh.Session, endpoint: str, caplog: pytest.LogCaptureFixture) -> None:
+    hero = SimulatedHero("forged")
+    with DriverNode(hero, server), ZenohDriver("forged", connect=[endpoint], discover_s=5.0) as client:
+        assert client.wait_ready(5.0)
+        real = client.state()
+        # the forger publishes through the driver's own session (one the client is linked to)
+        forged = {"v": 1, "pose": {"x_in": 999.0, "y_in": 999.0, "heading_deg": 90.0}, "clock_s": real.clock_s,
+                  "battery": 0.02}
+        with caplog.at_level(logging.WARNING, logger="hero_driver.zenoh_link.client"):
+            for _ in range(10):
+                server.put("hero/forged/state", json.dumps(forged).encode())
+                time.sleep(0.05)
+                assert client.state().pose != Pose(999.0, 999.0, 90.0)
+            moved = client.move([Pose(real.pose.x_in + 20.0, real.pose.y_in, 0.0)]).result(timeout=10)
+        time.sleep(0.5)  # the driver's own publications of the new pose are believed
+        assert client.state().pose == moved.pose and client.state().battery > 0.5
+    assert client.refused_states >= 5  # the forger's, not the driver's
+    assert "forged: state publication refused: the pose moved" in caplog.text
