@@ -8,11 +8,13 @@ import sys
 from pathlib import Path
 
 from executive import defaults
-from csl_cli.args import library_path
+from csl_cli.args import library_path, writable_file
 from robot_profile import load_knowledge
+from learner.library.backup import keep_backed_up
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from learner.service.protocol import learner_keys
+from zenoh_rpc.argtypes import positive_seconds
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, open_listen_warning, reached_at, user_config
 
@@ -56,6 +58,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                             "do not are quarantined, kept but not served (default: the HERO 2000 profile)")
     serve.add_argument("--listen", default=None, metavar="ENDPOINT",
                        help=f"zenoh endpoint to listen on (default {LEARNER_ENDPOINT})")
+    serve.add_argument("--backup", type=Path, default=None, metavar="FILE",
+                       help="keep a backup of the library in FILE: taken when serving starts, every "
+                            "--backup-every seconds and when it stops, through SQLite's online backup API "
+                            "(csl library restore brings it back; docs/reliability.md; default: none)")
+    serve.add_argument("--backup-every", type=positive_seconds, default=3600.0, metavar="S",
+                       help="seconds between backups with --backup (default 3600)")
     add_zenoh_config_option(serve)
     serve.set_defaults(handler=run_serve)
 
@@ -75,6 +83,7 @@ def run_serve(args: argparse.Namespace) -> int:
     from zenoh_rpc.serving import stop_on_signals
 
     db = library_path(args.db, "--db")  # the database is opened and checked before the port is bound
+    backup_to = None if args.backup is None else writable_file(args.backup, "--backup")
     created = "" if db.exists() else f" (a new library, seeded from {args.seed_library})"
     service = LocalLearner(db, seed_library=read_library_json(args.seed_library),
                            knowledge=load_knowledge(args.knowledge))
@@ -86,9 +95,16 @@ def run_serve(args: argparse.Namespace) -> int:
               f"{len(snapshot.descriptions)} "
               f"descriptions, version {snapshot.version}, from {db}{created} (Ctrl-C to stop)", flush=True)
 
+    backups = None
     try:
         with stop_on_signals() as stop:
+            if backup_to is not None:
+                backups = keep_backed_up(db, backup_to, args.backup_every, stop,
+                                         lambda line: print(f"learner {args.name!r}: {line}", file=sys.stderr))
             serve_learner(service, args.name, [listen], stop, on_ready=on_ready, zenoh_config=zenoh_config)
+            stop.set()
+            if backups is not None:
+                backups.join()  # the last backup, with everything learned, before the store closes
     finally:
         service.close()
     print(f"learner {args.name!r} stopped", file=sys.stderr)

@@ -10,10 +10,15 @@ time before the damaged page is read), so every opening runs SQLite's quick chec
 
 from __future__ import annotations
 
+import logging
 import os
 import sqlite3
+import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
+
+log = logging.getLogger(__name__)
 
 RESTORE_HINT = "restore a backup (csl library restore --db {path} BACKUP) or recover what is left with sqlite3's .recover"
 
@@ -108,3 +113,26 @@ def _copy_into(src: sqlite3.Connection, target: Path) -> None:
             raise sqlite3.DatabaseError(found[0])
     finally:
         dst.close()
+
+
+def keep_backed_up(source: Path, target: Path, every_s: float, stop: threading.Event,
+                   said: Callable[[str], None] = log.warning) -> threading.Thread:
+    """Back ``source`` up to ``target`` now, every ``every_s`` seconds, and once more when
+    ``stop`` is set, on a thread of its own (returned, started; join it after setting
+    ``stop``). A failed backup is one line through ``said`` and never stops the service:
+    the previous backup stays whole (:func:`backup`)."""
+    def one() -> None:
+        try:
+            backup(source, target)
+        except (OSError, ValueError, sqlite3.Error) as exc:
+            said(f"library backup to {target} failed: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}")
+
+    def run() -> None:
+        one()
+        while not stop.wait(every_s):
+            one()
+        one()
+
+    thread = threading.Thread(target=run, name=f"backup-{target.name}", daemon=True)
+    thread.start()
+    return thread

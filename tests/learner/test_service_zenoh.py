@@ -14,6 +14,7 @@ import signal
 import socket
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -21,6 +22,7 @@ import pytest
 
 from csl_cli.main import main
 from learner.description import ObjectDescription
+from learner.library.backup import check_file
 from learner.library.checks import check_library
 from learner.library.format import descriptions_to_json, write_library_json
 from learner.library.store import LibraryStore, load_library
@@ -303,3 +305,30 @@ def test_the_largest_requests_a_client_sends_are_well_under_the_cap() -> None:
     largest = max(len(encode_learn_request(d, key)) for d in richest)
     grasps = len(encode_record_grasps_request([("Top-Vert-Grip", 86_399.999999, False)] * MAX_GRASP_ATTEMPTS, key))
     assert max(largest, grasps) * 2 < MAX_REQUEST_BYTES
+
+
+def test_the_service_keeps_a_backup_while_it_serves_and_a_last_one_when_it_stops(tmp_path: Path, seed: Path) -> None:
+    """``--backup``: taken when serving starts, every ``--backup-every`` seconds (so what a
+    robot learned is in it soon after), and once more on SIGTERM."""
+    copy = tmp_path / "backup.sqlite"
+    process = ServiceProcess(tmp_path / "lib.sqlite", free_endpoint(), seed,
+                             extra=("--backup", str(copy), "--backup-every", "0.3"))
+    try:
+        process.ready()
+        with robot(process) as r1:
+            r1.learn(MUG)
+        deadline = time.monotonic() + 10.0
+        while "mug" not in _backed_up(copy) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert "mug" in _backed_up(copy)  # a periodic backup, the service still serving
+        assert process.terminate() == 0
+    finally:
+        process.close()
+    assert check_file(copy) == [] and "mug" in _backed_up(copy)
+
+
+def _backed_up(path: Path) -> set[str]:
+    if not path.exists():
+        return set()
+    with LibraryStore(path) as store:
+        return {d.object_id for d in store.descriptions()}
