@@ -36,7 +36,7 @@ from csl_cli.args import world_argument
 from hero_driver.shipped import shipped_worlds
 from executive.exit_status import BAD_INPUT, LOST
 from hero_driver.interface import DriverError
-from learner.service.interface import LearnerUnavailable
+from learner.service.interface import LearnerTimedOut, LearnerUnavailable
 
 
 class _Parser(argparse.ArgumentParser):
@@ -196,6 +196,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _error(exc: Exception) -> tuple[str, int]:
     """The one line for an error ``csl`` expects, and its exit status: a learner service
     or robot lost is exit 3, anything else a bad input (exit 2)."""
+    if isinstance(exc, LearnerTimedOut):  # there, but slower than it was given: the line says how to give more
+        return f"csl: learner error: {_one_line(exc)}", LOST
     if isinstance(exc, LearnerUnavailable):  # the learner service could not be reached or vanished
         return f"csl: learner error: {_one_line(exc)} (is one serving? start it with 'csl learner serve')", LOST
     if isinstance(exc, DriverError):  # the robot refused or vanished while the executive ran

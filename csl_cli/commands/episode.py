@@ -248,7 +248,7 @@ def _learner(args: argparse.Namespace, zenoh_config: UserConfig | None, setup: S
         name = args.learner_name or "default"
         outbox = Outbox(args.outbox or defaults.library_db().with_name("outbox.sqlite"))  # a bad file fails first
         try:
-            service = ZenohLearner(name, connect=[connect], zenoh_config=zenoh_config)
+            service = ZenohLearner(name, connect=[connect], timeout_s=args.learner_timeout, zenoh_config=zenoh_config)
         except BaseException:
             outbox.close()
             raise

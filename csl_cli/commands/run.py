@@ -14,7 +14,7 @@ from csl_cli.args import (add_criterion_options, add_learned_grasp_costs_option,
 from csl_cli.commands import modes
 from hero_driver.cli import CAMERA_PRESETS, add_disturb_option, add_movers_option
 from hero_driver.sim.noise import NOISE_PRESETS
-from zenoh_rpc.argtypes import non_negative_int, positive_int
+from zenoh_rpc.argtypes import non_negative_int, positive_int, positive_seconds
 from zenoh_rpc.endpoints import DRIVER_ENDPOINT, LEARNER_ENDPOINT
 from zenoh_rpc.options import add_zenoh_config_option
 
@@ -103,6 +103,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     shared.add_argument("--learner-name", default=None, help="name of the zenoh learner service (default 'default')")
     shared.add_argument("--learner-connect", type=endpoint, default=None, metavar="ENDPOINT",
                         help=f"zenoh endpoint of the learner service (default {LEARNER_ENDPOINT})")
+    shared.add_argument("--learner-timeout", type=positive_seconds, default=5.0, metavar="S",
+                        help="seconds the learner service is given to be found and to answer each request (a "
+                             "fleet starting at once against a large library wants more; default 5)")
     shared.add_argument("--outbox", type=Path, default=None, metavar="FILE",
                         help="where learned descriptions wait while the learner service is unreachable (SQLite; "
                              "default $CSL_HOME/outbox.sqlite)")

@@ -22,6 +22,12 @@ class LearnerUnavailable(ConnectionError):
     command line tells the two apart by exit status)."""
 
 
+class LearnerTimedOut(LearnerUnavailable):
+    """A service that is there did not answer one request in time (busy, or a large
+    library on a slow link): the message names the request and the time it was given,
+    which a client can raise (``csl run --learner-timeout``)."""
+
+
 @dataclass(frozen=True)
 class LibrarySnapshot:
     """The library as of one ``version``.

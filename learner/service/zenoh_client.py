@@ -23,7 +23,7 @@ import zenoh
 from learner.costs import GraspCostRecord
 from learner.description import Descriptions, ObjectDescription
 from learner.service import protocol
-from learner.service.interface import LearnerUnavailable, LibraryChanges, LibrarySnapshot
+from learner.service.interface import LearnerTimedOut, LearnerUnavailable, LibraryChanges, LibrarySnapshot
 from learner.service.protocol import (CHANGES, GRASP_COSTS, LEARN, LIBRARY, RECORD_GRASPS, VERSION_VERB,
                                       ProtocolError)
 from zenoh_rpc.client import RpcClient
@@ -145,9 +145,14 @@ class ZenohLearner:
             if self._closed:
                 raise LearnerUnavailable(f"learner {self.name!r}: {verb}: the client is closed")
         try:
-            reply = self._rpc.ask(verb, payload, self.timeout_s).first
+            answer = self._rpc.ask(verb, payload, self.timeout_s)
         except zenoh.ZError as exc:
             raise LearnerUnavailable(f"learner {self.name!r}: {verb}: {exc}") from None
+        if answer.late:  # zenoh ended the query at its deadline: the service is there, the reply was not
+            raise LearnerTimedOut(f"learner {self.name!r}: {verb}: no reply within {self.timeout_s:g} s "
+                                  "(a busy service, or a large library on a slow link: give it longer with "
+                                  "--learner-timeout)")
+        reply = answer.first
         if reply is None:
             raise LearnerUnavailable(f"learner {self.name!r}: {verb}: no service answered on "
                                      f"{self._rpc.keys.rpc(verb)} (is 'csl learner serve' running at {self._where}?)")
