@@ -14,6 +14,7 @@ say, so the run ends 3: look at the robot.
 
 from __future__ import annotations
 
+import dataclasses
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -75,6 +76,7 @@ class Doubts:
     implausible: Mapping[str, int]
     durations_ignored: int
     range_refusals: int
+    refused_states: int = 0  # state publications nothing asked of the robot explained (the driver link's count)
 
     @classmethod
     def of(cls, events: Iterable[Mapping[str, object]]) -> Doubts:
@@ -113,6 +115,9 @@ class Doubts:
         if self.implausible:
             out.append(f"{sum(self.implausible.values())} implausible values ({_counts(self.implausible)}): "
                        "those tests were reselected; check the sensors' units")
+        if self.refused_states:
+            out.append(f"{self.refused_states} state publications for {robot} refused: nothing asked of the robot "
+                       "explained them (a second client driving it, or a forged state; docs/security.md)")
         if refusals and self.range_refusals:
             out.append(f"{self.range_refusals} procedures refused for range: check the sonar's unit and the "
                        "robot's range check against the profile")
@@ -121,17 +126,18 @@ class Doubts:
     @property
     def driver_suspect(self) -> bool:
         """The driver failed verbs or said what was checked and found untrue."""
-        return bool(self.faults or self.unverified or self.durations_ignored)
+        return bool(self.faults or self.unverified or self.durations_ignored or self.refused_states)
 
 
 def run_status(outcomes: Sequence[str | None], events: Iterable[Mapping[str, object]],
-               robot: str = "r1") -> tuple[int, str, list[str]]:
+               robot: str = "r1", refused_states: int = 0) -> tuple[int, str, list[str]]:
     """The exit status of a run: :func:`episode_status` of its objects, made 3 (LOST)
     when the driver is suspect (:class:`Doubts`); with the line that says why and the
     closing lines that say what was doubted (driver faults per verb, unconfirmed grasps,
-    implausible values and durations; refusals for range when the run did not succeed)."""
+    implausible values and durations, ``refused_states`` the driver link would not
+    believe; refusals for range when the run did not succeed)."""
     status, why = episode_status(outcomes)
-    doubts = Doubts.of(events)
+    doubts = dataclasses.replace(Doubts.of(events), refused_states=refused_states)
     lines = doubts.lines(robot, refusals=status != ALL_HANDLED)
     if doubts.driver_suspect:
         return LOST, f"{lines[0]}; {why}", lines

@@ -66,3 +66,12 @@ def test_durations_left_out_of_the_grasp_costs_make_the_driver_suspect() -> None
     events = [{"event": "grasp_cost_ignored", "object": 0, "grasp": "Front-Wrap"}] * 2
     status, _, lines = run_status(["grasped"], events, "r1")
     assert status == LOST and lines[0].startswith("driver r1 suspect: 2 grasp durations implausible")
+
+
+def test_state_publications_the_link_refused_end_the_run_3_and_say_so() -> None:
+    status, why, lines = run_status(["grasped", "left"], [], "r1", refused_states=4)
+    assert status == LOST
+    assert lines == ["4 state publications for r1 refused: nothing asked of the robot explained them (a second "
+                     "client driving it, or a forged state; docs/security.md)"]
+    assert why.startswith(lines[0]) and why.endswith("all 2 objects were handled")
+    assert run_status(["grasped", "left"], [], "r1")[0] == ALL_HANDLED  # none refused: nothing said
