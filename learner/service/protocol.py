@@ -93,21 +93,20 @@ def decode_changes_request(data: bytes) -> int:
     return _version(_fields(data, ("since",))["since"], "since")
 
 
-def encode_record_grasps_request(attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> bytes:
-    """``{"v": 1, "attempts": [[grasp, seconds, success], ...], "key": <idempotency key>}``
-    (the key optional, as learn's)."""
-    return _dumps({"attempts": [[g, s, ok] for g, s, ok in attempts], **({} if key is None else {"key": key})})
+def encode_record_grasps_request(attempts: Sequence[tuple[str, float, bool]], key: str) -> bytes:
+    """``{"v": 1, "attempts": [[grasp, seconds, success], ...], "key": <idempotency key>}``."""
+    return _dumps({"attempts": [[g, s, ok] for g, s, ok in attempts], "key": key})
 
 
-def decode_record_grasps_request(data: bytes) -> tuple[list[tuple[str, float, bool]], str | None]:
+def decode_record_grasps_request(data: bytes) -> tuple[list[tuple[str, float, bool]], str]:
     """The attempts a ``record_grasps`` request carries, each checked (a grasp name,
-    finite seconds >= 0, a boolean; at most ``MAX_GRASP_ATTEMPTS``), and its key."""
-    fields = _fields(data, ("attempts",), optional=("key",))
-    key = fields.get("key")
+    finite seconds >= 0, a boolean; at most ``MAX_GRASP_ATTEMPTS``), and its key. The
+    key is required: a record sent again (a retry, or a replay) must count once, or one
+    client could skew every robot's grasp prices by repeating itself."""
+    fields = _fields(data, ("attempts", "key"))
     try:
-        if key is not None:
-            check_learn_key(key)
-        return check_grasp_attempts(fields["attempts"]), cast("str | None", key)
+        key = check_learn_key(fields["key"])
+        return check_grasp_attempts(fields["attempts"]), key
     except ValueError as exc:
         raise ProtocolError(str(exc)) from None
 

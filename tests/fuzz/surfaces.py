@@ -575,7 +575,7 @@ learner_changes_cases = st.tuples(st.just("changes"), payloads({"v": 1, "since":
 _RECORD = {"v": 1, "attempts": [["Front-Wrap", 60.0, True], ["Front-Pinch", 45.0, False]], "key": "fuzz-grasps"}
 learner_grasps_cases = st.one_of(
     st.tuples(st.just("record_grasps"), payloads(_RECORD)),
-    st.tuples(st.just("record_grasps"), payloads({"v": 1, "attempts": _RECORD["attempts"]})),  # no key: each adds
+    st.tuples(st.just("record_grasps"), payloads({"v": 1, "attempts": _RECORD["attempts"]})),  # no key: refused
     st.tuples(st.just("grasp_costs"), payloads({"v": 1})),
 )
 """``record_grasps`` (with and without an idempotency key) and ``grasp_costs``: the

@@ -52,19 +52,21 @@ def test_attempts_recorded_by_one_robot_are_the_totals_another_reads(service: Se
 
 
 BAD_RECORDS = [
-    (b'{"v": 1}', "missing field 'attempts'"),
-    (b'{"v": 1, "attempts": {}}', "attempts: must be a list"),
-    (b'{"v": 1, "attempts": [["Front-Wrap", 60]]}', "attempts[0]: must be [grasp, seconds, success]"),
-    (b'{"v": 1, "attempts": [["Front-Wrap", -1, true]]}', "attempts[0]: seconds must be a number from 0 to 86400"),
-    (b'{"v": 1, "attempts": [["Front-Wrap", 1e999, true]]}', "seconds must be a number from 0 to 86400"),
-    (b'{"v": 1, "attempts": [["Front-Wrap", "60", true]]}', "seconds must be a number from 0 to 86400"),
-    (b'{"v": 1, "attempts": [["Front-Wrap", 60, 1]]}', "success must be true or false"),
-    (b'{"v": 1, "attempts": [["Top-Pinch", 63, true], ["Juggle", 5, true]]}',
+    (b'{"v": 1, "key": "k"}', "missing field 'attempts'"),
+    (b'{"v": 1, "attempts": [["Front-Wrap", 60, true]]}', "missing field 'key'"),  # a replay must count once
+    (b'{"v": 1, "key": "k", "attempts": {}}', "attempts: must be a list"),
+    (b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", 60]]}', "attempts[0]: must be [grasp, seconds, success]"),
+    (b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", -1, true]]}',
+     "attempts[0]: seconds must be a number from 0 to 86400"),
+    (b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", 1e999, true]]}', "seconds must be a number from 0 to 86400"),
+    (b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", "60", true]]}', "seconds must be a number from 0 to 86400"),
+    (b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", 60, 1]]}', "success must be true or false"),
+    (b'{"v": 1, "key": "k", "attempts": [["Top-Pinch", 63, true], ["Juggle", 5, true]]}',
      "grasp 'Juggle' is not in the knowledge file"),
-    (json.dumps({"v": 1, "attempts": [["Front-Wrap", 60, True]] * (MAX_GRASP_ATTEMPTS + 1)}).encode(),
+    (json.dumps({"v": 1, "key": "k", "attempts": [["Front-Wrap", 60, True]] * (MAX_GRASP_ATTEMPTS + 1)}).encode(),
      f"at most {MAX_GRASP_ATTEMPTS} in one record"),
     (b'{"v": 1, "attempts": [], "key": ""}', "key: an idempotency key is 1 to 100"),
-    (b'{"v": 1, "attempts": [], "grasp": "Front-Wrap"}', "unknown field 'grasp'"),
+    (b'{"v": 1, "key": "k", "attempts": [], "grasp": "Front-Wrap"}', "unknown field 'grasp'"),
 ]
 
 
