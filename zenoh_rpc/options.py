@@ -8,6 +8,7 @@ so the driver side stays usable on a robot's own computer.
 from __future__ import annotations
 
 import argparse
+import ipaddress
 import json
 import os
 from pathlib import Path
@@ -91,9 +92,18 @@ def open_listen_warning(listen: str, user: UserConfig | None) -> str | None:
     but nobody should open a robot to the network without being told so."""
     scheme, _, address = listen.partition("/")
     host = address.rsplit(":", 1)[0].strip("[]")
-    if host in ("localhost", "::1") or host.startswith("127."):
+    if host == "localhost" or _loopback(host):
         return None
     if scheme in SECURE_SCHEMES or (user is not None and any(user.sets(key) for key in AUTH_KEYS)):
         return None
     return (f"warning: listening on {listen} with no password and no TLS: anyone who can reach this address can "
             "use this service; see docs/security.md")
+
+
+def _loopback(host: str) -> bool:
+    """An address of this computer only (127.0.0.0/8, ::1); a name other than
+    localhost may resolve anywhere, so it is not."""
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False

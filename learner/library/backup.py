@@ -61,20 +61,18 @@ def backup(source: Path, target: Path) -> None:
     partial.unlink(missing_ok=True)
     src = sqlite3.connect(source, timeout=10.0)
     try:
-        found = problems(src)
-        if found:
-            raise ValueError(damage_line(source, found))
         dst = sqlite3.connect(partial)
         try:
             src.backup(dst)
-            copied = problems(dst, full=True)
+            copied = problems(dst, full=True)  # damage in the source is copied page for page: checked once, here
         finally:
             dst.close()
     finally:
         src.close()
     if copied:
         partial.unlink(missing_ok=True)
-        raise ValueError(f"{target}: the backup did not check out ({copied[0]}); the previous backup is kept")
+        raise ValueError(f"{target}: the copy of {source} did not check out ({copied[0]}); the previous backup "
+                         "is kept")
     os.replace(partial, target)
 
 
