@@ -31,15 +31,11 @@ from dataclasses import dataclass
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.services import EventSink, LibraryMatrix
-from learner.costs import with_learned_grasp_costs
+from learner.costs import DURATION_FACTOR, implausible_attempt, with_learned_grasp_costs
 from learner.knowledge import Knowledge
 from learner.service.interface import KeepsGraspCosts
 
 
-DURATION_FACTOR = 10.0
-"""How far an attempt's seconds may lie from its procedure's ``time_s``, either way,
-before they are implausible: milliseconds (x 1000) and minutes (/ 60) both lie beyond;
-the simulator's grasps take their ``time_s`` exactly, a real arm within a few times."""
 
 
 @dataclass(frozen=True)
@@ -145,6 +141,14 @@ class LearnedGraspCosts:
                                grasp=grasp, seconds=event.get("seconds"),
                                expected=self.knowledge.grasp(grasp).time_s, factor=DURATION_FACTOR)
         attempts = recordable_attempts((e for e in self.events if not any(e is i for i in ignored)), [record.index])
+        # what the learner would refuse (a failure with more voided sensing than any robot
+        # pays): left out here, said, so one object's record never fails the whole batch
+        for a in [a for a in attempts if implausible_attempt(self.knowledge, a.grasp, a.seconds, a.success)]:
+            attempts.remove(a)
+            if self.log is not None:
+                self.log.event(Event.GRASP_COST_IGNORED, object=record.index, behaviour="LearnedGraspCosts",
+                               grasp=a.grasp, seconds=round(a.seconds, 1), expected=self.knowledge.grasp(a.grasp).time_s,
+                               factor=DURATION_FACTOR)
         if attempts:
             self.learner.record_grasp_attempts([a.as_record() for a in attempts],
                                                key=f"{self._episode}/{record.index}")

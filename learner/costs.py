@@ -88,6 +88,33 @@ PRIOR_WEIGHT = 3.0
 the learned cost moves halfway to what attempts cost after three of them."""
 
 
+DURATION_FACTOR = 10.0
+"""How far a grasp's seconds may lie from its procedure's ``time_s``, either way, before
+they are implausible: milliseconds (x 1000) and minutes (/ 60) both lie beyond; the
+simulator's grasps take their ``time_s`` exactly, a real arm within a few times."""
+
+
+def implausible_attempt(knowledge: Knowledge, grasp: str, seconds: float, success: bool) -> str | None:
+    """Why a recorded attempt of ``grasp`` costing ``seconds`` cannot be true on this
+    robot, or None. An attempt costs its grasp's seconds (within :data:`DURATION_FACTOR`
+    of ``time_s`` either way) and, for a failure that knocked the object over, the
+    sensing that must be paid again: at most every sensing procedure the robot has,
+    :data:`DURATION_FACTOR` times over. So one client cannot price a grasp for every
+    robot with a day per attempt (issue 33: 1,000 x 86,400 s were accepted). A grasp the
+    profile prices at 0 s, or does not know, takes no judging."""
+    if not knowledge.has_grasp(grasp):
+        return None
+    expected = knowledge.grasp(grasp).time_s
+    if expected <= 0:
+        return None
+    voided = 0.0 if success else DURATION_FACTOR * sum(p.time_s for p in knowledge.sensing)
+    low, high = expected / DURATION_FACTOR, expected * DURATION_FACTOR + voided
+    if low <= seconds <= high:
+        return None
+    return (f"{seconds:g} s for a {'successful' if success else 'failed'} {grasp} is implausible: "
+            f"its time_s is {expected:g} s, so {low:g} to {high:g} s")
+
+
 @dataclass(frozen=True)
 class GraspCostRecord:
     """What one grasping procedure has cost on this robot so far: robot seconds spent on

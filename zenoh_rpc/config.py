@@ -37,7 +37,7 @@ OPEN_TIMEOUT_MS = 1000  # a handshake with a peer that accepts but never answers
 
 OUR_SETTINGS = ("mode", "scouting/multicast/enabled", "scouting/delay", LISTEN_KEY, CONNECT_KEY,
                 "connect/retry", "connect/timeout_ms", "connect/exit_on_failure",
-                "transport/link/tx/lease", "transport/unicast/open_timeout")
+                "transport/link/tx/lease", "transport/unicast/open_timeout", "transport/link/rx/max_message_size")
 """Every key :func:`make_config` sets; a user's file that sets one keeps its own value."""
 
 _ZENOH_DEFAULTS = zenoh.Config()
@@ -80,7 +80,8 @@ class UserConfig:
 
 
 def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
-                connect_timeout_s: float | None = None, user: UserConfig | None = None) -> zenoh.Config:
+                connect_timeout_s: float | None = None, user: UserConfig | None = None,
+                max_message_bytes: int | None = None) -> zenoh.Config:
     """A peer-mode config listening on ``listen`` and connecting to ``connect``.
 
     An empty ``listen`` really listens nowhere (zenoh's peer default would open a
@@ -89,6 +90,11 @@ def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
     seconds: a client that must not wait forever for a server that is not there.
     With ``user``, the config starts from the user's file and each of our settings
     is applied only where the file does not set that key (:meth:`UserConfig.sets`).
+    With ``max_message_bytes`` (a server's: its largest request and room for zenoh's
+    own headers), zenoh drops any larger message it receives as it reassembles it,
+    before the whole is held: a service that refused an oversized request only after
+    zenoh had built it grew by the request's size for each one at once (issue 33: 4 x
+    100 MB took the learner from 53 to 265 MB, and it kept 219 MB).
     """
     ours = {
         "mode": '"peer"',
@@ -101,6 +107,8 @@ def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
         "transport/link/tx/lease": str(LEASE_MS),
         "transport/unicast/open_timeout": str(OPEN_TIMEOUT_MS),
     }
+    if max_message_bytes is not None:
+        ours["transport/link/rx/max_message_size"] = str(max_message_bytes)
     if connect_timeout_s is not None:
         ours["connect/timeout_ms"] = str(max(1, round(connect_timeout_s * 1000)))
         ours["connect/exit_on_failure"] = "true"
@@ -116,7 +124,8 @@ def _sets(config: zenoh.Config, key: str) -> bool:
 
 
 def open_session(listen: Sequence[str] = (), connect: Sequence[str] = (),
-                 connect_timeout_s: float | None = None, user: UserConfig | None = None) -> zenoh.Session:
+                 connect_timeout_s: float | None = None, user: UserConfig | None = None,
+                 max_message_bytes: int | None = None) -> zenoh.Session:
     """Open a session with :func:`make_config`.
 
     Raises ConnectionError (an OSError) with a one-line reason when an endpoint
@@ -125,7 +134,7 @@ def open_session(listen: Sequence[str] = (), connect: Sequence[str] = (),
     with ``connect_timeout_s``, no endpoint can be reached in time: command lines
     report it as one line, and zenoh's source locations would only bury the reason.
     """
-    config = make_config(listen, connect, connect_timeout_s, user)
+    config = make_config(listen, connect, connect_timeout_s, user, max_message_bytes)
     try:
         return zenoh.open(config)
     except zenoh.ZError as exc:

@@ -38,18 +38,28 @@ def stop_on_signals(signals: Sequence[signal.Signals] = STOP_SIGNALS) -> Iterato
             signal.signal(sig, handler)
 
 
+HEADER_ROOM = 64 * 1024
+"""Bytes a server accepts beyond its request cap: zenoh's own headers and the key; a
+request within the cap is always received whole, and refused by the server in one line."""
+
+
 def serve_until(stop: threading.Event, listen: Sequence[str],
                 declare: Callable[[Session], AbstractContextManager[object]],
-                on_ready: Callable[[], None] | None = None, user: UserConfig | None = None) -> None:
+                on_ready: Callable[[], None] | None = None, user: UserConfig | None = None,
+                max_request_bytes: int | None = None) -> None:
     """Open a session listening on ``listen`` (with the user's zenoh config file
     ``user`` under it, if any), declare a server on it with ``declare(session)`` and
     keep it until ``stop`` is set; then close both.
 
     ``on_ready`` runs once every key is declared (a CLI prints its line there, so a
     script waiting for that line can connect at once). Raises ConnectionError when
-    an endpoint cannot be listened on.
+    an endpoint cannot be listened on. With ``max_request_bytes`` (the server's request
+    cap), zenoh itself drops a message larger than it plus :data:`HEADER_ROOM`, so no
+    request can grow the server by more than that however large it is
+    (:func:`~zenoh_rpc.config.make_config`).
     """
-    session = open_session(listen=listen, user=user)
+    room = None if max_request_bytes is None else max_request_bytes + HEADER_ROOM
+    session = open_session(listen=listen, user=user, max_message_bytes=room)
     try:
         with declare(session):
             if on_ready is not None:

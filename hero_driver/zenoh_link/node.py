@@ -46,7 +46,7 @@ from hero_driver.interface import (
     DriverError,
 )
 from hero_driver.zenoh_link import codec
-from hero_driver.zenoh_link.codec import CodecError, Request
+from hero_driver.zenoh_link.codec import MAX_REQUEST_BYTES, CodecError, Request
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, VERBS, Verb, offers
 from hero_driver.zenoh_link.versions import VERB_FEATURES, Greeting, greeting
@@ -283,4 +283,4 @@ def serve(driver: Driver, *, listen: Sequence[str], stop: threading.Event,
     """
     checked = verb_bounds(bounds)  # refused before a session opens
     serve_until(stop, listen, lambda session: DriverNode(driver, session, profile=profile, bounds=checked),
-                on_ready, zenoh_config)
+                on_ready, zenoh_config, max_request_bytes=MAX_REQUEST_BYTES)

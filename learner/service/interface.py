@@ -43,6 +43,17 @@ class LibrarySnapshot:
 
 
 @dataclass(frozen=True)
+class LibraryPage:
+    """Descriptions ``start`` onwards of the library at ``version``, which held
+    ``total`` then: one page of a library fetched in pieces."""
+
+    version: int
+    start: int
+    total: int
+    descriptions: Sequence[ObjectDescription]
+
+
+@dataclass(frozen=True)
 class LibraryChanges:
     """What changed since a version a client holds: the library at ``version`` is the
     client's first ``start`` descriptions followed by ``added``.

@@ -30,7 +30,7 @@ from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
-from learner.costs import GraspCostRecord
+from learner.costs import GraspCostRecord, implausible_attempt
 from learner.description import Descriptions, ObjectDescription
 from learner.knowledge import Knowledge
 from learner.library.checks import check_library
@@ -128,15 +128,19 @@ class LocalLearner:
         totals (docs/library-format.md, "Grasp costs"); the library's version is not
         bumped: descriptions did not change. Checked whole before anything is written
         (:func:`~learner.service.interface.check_grasp_attempts`, and with ``knowledge``
-        every grasp must be the robot's). A ``key`` already recorded adds nothing; the
+        every grasp must be the robot's and every duration plausible for it,
+        :func:`~learner.costs.implausible_attempt`). A ``key`` already recorded adds nothing; the
         key and the attempts are written in one transaction, so a crash neither loses
         the batch nor lets its retry count it twice."""
         checked = check_grasp_attempts(list(attempts))
         if self.knowledge is not None:
-            for grasp, _seconds, _success in checked:
+            for i, (grasp, seconds, success) in enumerate(checked):
                 if not self.knowledge.has_grasp(grasp):
                     raise ValueError(f"grasp costs not recorded: grasp {grasp!r} is not in the knowledge file "
                                      f"{self.knowledge.source}")
+                why = implausible_attempt(self.knowledge, grasp, seconds, success)
+                if why is not None:
+                    raise ValueError(f"grasp costs not recorded: attempts[{i}]: {why}")
         if key is not None:
             check_learn_key(key)
         with self._lock:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
 from collections.abc import Mapping, Sequence
 from typing import cast
 
@@ -19,7 +20,7 @@ from learner.costs import GraspCostRecord
 from learner.description import ObjectDescription
 from learner.library.format import FORMAT, VERSION, descriptions_from_json, descriptions_to_json
 from learner.library.json_text import NotJson, parse_json
-from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
+from learner.service.interface import LibraryChanges, LibraryPage, LibrarySnapshot, check_grasp_attempts, check_learn_key
 from zenoh_rpc.keys import KeySpace
 from zenoh_rpc.numbers import whole_number
 
@@ -61,8 +62,42 @@ def encode_empty_request() -> bytes:
 
 
 def decode_empty_request(data: bytes) -> None:
-    """Check a ``library`` or ``version`` request."""
+    """Check a ``version`` (or other empty) request."""
     _fields(data, ())
+
+
+MAX_PAGE = 5_000
+"""The most descriptions one ``library`` page may ask for: a page of the largest is a
+few MB of JSON, so a service answers many robots starting together page by page, each
+reply well inside a client's timeout, instead of one whole library each at once."""
+
+
+@dataclass(frozen=True)
+class Page:
+    """Descriptions ``start`` to ``start + limit`` (fewer at the end) of the library."""
+
+    start: int
+    limit: int
+
+
+def encode_library_request(page: Page | None = None) -> bytes:
+    """``{"v": 1}`` for the whole library, or ``{"v": 1, "start": S, "limit": L}`` for
+    one page of it."""
+    return _dumps({} if page is None else {"start": page.start, "limit": page.limit})
+
+
+def decode_library_request(data: bytes) -> Page | None:
+    """The page a ``library`` request asks for (None: the whole library). ``start`` and
+    ``limit`` come together; ``limit`` is 1 to :data:`MAX_PAGE`."""
+    fields = _fields(data, (), optional=("start", "limit"))
+    if ("start" in fields) != ("limit" in fields):
+        raise ProtocolError("start and limit: give both for a page, or neither for the whole library")
+    if "start" not in fields:
+        return None
+    limit = _version(fields["limit"], "limit")
+    if not 1 <= limit <= MAX_PAGE:
+        raise ProtocolError(f"limit: must be 1 to {MAX_PAGE}, got {limit}")
+    return Page(_version(fields["start"], "start"), limit)
 
 
 def encode_learn_request(description: ObjectDescription, key: str | None = None) -> bytes:
@@ -115,6 +150,24 @@ def decode_record_grasps_request(data: bytes) -> tuple[list[tuple[str, float, bo
 def encode_library_reply(snapshot: LibrarySnapshot) -> bytes:
     """``{"v": 1, "version": N, "library": <library JSON document>}``."""
     return _dumps({"version": snapshot.version, "library": descriptions_to_json(snapshot.descriptions)})
+
+
+def encode_library_page_reply(page: LibraryPage) -> bytes:
+    """``{"v": 1, "version": N, "start": S, "total": T, "library": <library JSON
+    document of descriptions S to S + L>}``: ``version`` and ``total`` are the library's
+    when the page was cut (it only grows, so the first ``total`` never change)."""
+    return _dumps({"version": page.version, "start": page.start, "total": page.total,
+                   "library": descriptions_to_json(page.descriptions)})
+
+
+def decode_library_page_reply(data: bytes) -> LibraryPage:
+    fields = _fields(data, ("version", "start", "total", "library"))
+    try:
+        descriptions = descriptions_from_json(fields["library"], "library")
+    except ValueError as exc:
+        raise ProtocolError(str(exc)) from None
+    return LibraryPage(_version(fields["version"]), _version(fields["start"], "start"),
+                       _version(fields["total"], "total"), tuple(descriptions))
 
 
 def decode_library_reply(data: bytes) -> LibrarySnapshot:

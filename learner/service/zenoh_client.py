@@ -3,7 +3,9 @@
 
 Calls are synchronous: ``library()`` is asked before a decision and ``learn()`` after
 a grasp, both between ticks, and each is one round trip of a few milliseconds on a
-LAN. The whole library is fetched once; after that ``library()`` asks only for the
+LAN. The whole library is fetched once, page by page (``PAGE_SIZE`` descriptions a
+request, so each reply comes well inside the timeout however large the library and
+however many robots start together); after that ``library()`` asks only for the
 changes since the version the robot holds (the ``changes`` verb), so what moves is
 what other robots learned since, whatever the library's size.
 A service that is not there is reported at construction (its liveliness token is
@@ -23,7 +25,8 @@ import zenoh
 from learner.costs import GraspCostRecord
 from learner.description import Descriptions, ObjectDescription
 from learner.service import protocol
-from learner.service.interface import LearnerTimedOut, LearnerUnavailable, LibraryChanges, LibrarySnapshot
+from learner.service.interface import (LearnerTimedOut, LearnerUnavailable, LibraryChanges, LibraryPage,
+                                        LibrarySnapshot)
 from learner.service.protocol import (CHANGES, GRASP_COSTS, LEARN, LIBRARY, RECORD_GRASPS, VERSION_VERB,
                                       ProtocolError)
 from zenoh_rpc.client import RpcClient
@@ -31,6 +34,13 @@ from zenoh_rpc.config import UserConfig, open_session
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT
 
 T = TypeVar("T")
+
+PAGE_SIZE = 2_000
+"""Descriptions per ``library`` page at start-up: a few MB of JSON, well under a
+second to cut and send even from a busy service (bench/bench_fleet_start.py)."""
+FETCH_ATTEMPTS = 3
+"""Whole fetches begun again when the library shrank between pages (a store restored
+under a running service) before giving up with one line."""
 
 
 class ZenohLearner:
@@ -45,12 +55,17 @@ class ZenohLearner:
     """
 
     def __init__(self, name: str = "default", connect: Sequence[str] = (LEARNER_ENDPOINT,),
-                 timeout_s: float = 5.0, zenoh_config: UserConfig | None = None) -> None:
+                 timeout_s: float = 5.0, zenoh_config: UserConfig | None = None,
+                 page_size: int = PAGE_SIZE) -> None:
         keys = protocol.learner_keys(name)
         self.name = keys.name
         if not timeout_s > 0:
             raise ValueError(f"timeout_s must be a positive number of seconds, got {timeout_s}")
         self.timeout_s = timeout_s
+        if not 1 <= page_size <= protocol.MAX_PAGE:
+            raise ValueError(f"page_size must be 1 to {protocol.MAX_PAGE}, got {page_size}")
+        self.page_size = page_size
+        self._paged = True  # False once a service from before pages refused one
         self._where = ", ".join(connect)
         self._lock = threading.Lock()
         self._cached: LibrarySnapshot | None = None
@@ -87,7 +102,38 @@ class ZenohLearner:
                             self._call(CHANGES, protocol.encode_changes_request(since)))
 
     def _fetch_all(self) -> LibrarySnapshot:
-        whole = self._decode(protocol.decode_library_reply, self._call(LIBRARY, protocol.encode_empty_request()))
+        """The whole library, page by page: the first page says how many descriptions the
+        library held and at which version; the library only grows, so the next pages
+        complete exactly that snapshot, and the next ``changes`` round trip brings what
+        was learned meanwhile. A library that shrank between pages (a store restored
+        under the service) is fetched again from the start."""
+        if not self._paged:
+            return self._fetch_whole()
+        for _ in range(FETCH_ATTEMPTS):
+            try:
+                first = self._page(0)
+            except ValueError as exc:  # a service from before pages: it refuses the fields
+                if "unknown field" not in str(exc):
+                    raise
+                self._paged = False
+                return self._fetch_whole()
+            held = list(first.descriptions)
+            while len(held) < first.total:
+                page = self._page(len(held))
+                if page.total < first.total or not page.descriptions:
+                    break  # the library shrank under us: begin again
+                held += page.descriptions[:first.total - len(held)]
+            else:
+                return LibrarySnapshot(first.version, Descriptions(held[:first.total]))
+        raise LearnerUnavailable(f"learner {self.name!r}: library: it shrank while being fetched, "
+                                 f"{FETCH_ATTEMPTS} times (a store being restored?)")
+
+    def _page(self, start: int) -> LibraryPage:
+        return self._decode(protocol.decode_library_page_reply,
+                            self._call(LIBRARY, protocol.encode_library_request(protocol.Page(start, self.page_size))))
+
+    def _fetch_whole(self) -> LibrarySnapshot:
+        whole = self._decode(protocol.decode_library_reply, self._call(LIBRARY, protocol.encode_library_request()))
         return LibrarySnapshot(whole.version, Descriptions(whole.descriptions))
 
     def _updated(self, held: LibrarySnapshot) -> LibrarySnapshot:

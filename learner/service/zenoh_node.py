@@ -20,7 +20,7 @@ from collections.abc import Callable, Sequence
 import zenoh
 
 from learner.service import protocol
-from learner.service.interface import KeepsChanges, KeepsGraspCosts, LearnerService, LibraryChanges
+from learner.service.interface import KeepsChanges, KeepsGraspCosts, LearnerService, LibraryChanges, LibraryPage
 from learner.service.protocol import (BAD_REQUEST, CHANGES, GRASP_COSTS, INTERNAL, LEARN, LIBRARY, RECORD_GRASPS,
                                       VERBS)
 from zenoh_rpc.server import RpcServer, payload_of, reply
@@ -79,9 +79,15 @@ class LearnerNode:
         if verb == GRASP_COSTS:
             protocol.decode_empty_request(payload)
             return protocol.encode_grasp_costs_reply(self._grasp_costs().grasp_costs())
-        protocol.decode_empty_request(payload)
         if verb == LIBRARY:
-            return protocol.encode_library_reply(self.service.library())
+            page = protocol.decode_library_request(payload)
+            snapshot = self.service.library()
+            if page is None:
+                return protocol.encode_library_reply(snapshot)
+            cut = snapshot.descriptions[page.start:page.start + page.limit]
+            return protocol.encode_library_page_reply(
+                LibraryPage(snapshot.version, page.start, len(snapshot.descriptions), cut))
+        protocol.decode_empty_request(payload)
         return protocol.encode_version_reply(self.service.version())
 
 
@@ -114,4 +120,4 @@ def serve_learner(service: LearnerService, name: str, listen_endpoints: Sequence
     library (docs/security.md).
     """
     serve_until(stop_event, listen_endpoints, lambda session: LearnerNode(service, session, name), on_ready,
-                zenoh_config)
+                zenoh_config, max_request_bytes=protocol.MAX_REQUEST_BYTES)

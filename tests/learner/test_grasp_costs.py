@@ -138,3 +138,27 @@ def test_a_bad_attempt_writes_nothing_of_its_batch(tmp_path) -> None:  # noqa: A
         with pytest.raises(ValueError, match="Front-Wrap"):
             store.record_grasp_attempts([("Top-Pinch", 63.0, True), ("Front-Wrap", math.nan, False)])
         assert store.grasp_cost_records() == [GraspCostRecord("Front-Wrap", 1, 60.0)]
+
+
+@pytest.mark.parametrize(("attempt", "why"), [
+    (("Top-Pinch", 6.3, True), None),  # 63 s / 10: the fastest believable
+    (("Top-Pinch", 630.0, True), None),  # 63 s x 10
+    (("Top-Pinch", 630.1, True), "630.1 s for a successful Top-Pinch is implausible: its time_s is 63 s, so 6.3 to 630 s"),
+    (("Top-Pinch", 6.2, False), "6.2 s for a failed Top-Pinch is implausible"),
+    # a failure may also cost the sensing a knock-over voided: at most the seven procedures
+    # (100+45+76+42+70+105+84 = 522 s) ten times over: 630 + 5,220 = 5,850 s
+    (("Top-Pinch", 5850.0, False), None),
+    (("Top-Pinch", 86400.0, False), "86400 s for a failed Top-Pinch is implausible: its time_s is 63 s, so 6.3 to 5850 s"),
+    (("Top-Pinch", 0.063, True), "0.063 s for a successful Top-Pinch is implausible"),  # milliseconds taken for seconds
+])
+def test_the_service_refuses_a_duration_no_grasp_of_this_robot_takes(
+        tmp_path, attempt: tuple[str, float, bool], why: str | None) -> None:  # noqa: ANN001
+    with LocalLearner(tmp_path / "l.sqlite", [desc("cup", "Front-Wrap", ("Width", P(6, 0), 3))],
+                      knowledge=hero()) as learner:
+        if why is None:
+            learner.record_grasp_attempts([attempt])
+            assert learner.grasp_costs()[0].attempts == 1
+        else:
+            with pytest.raises(ValueError, match=f"grasp costs not recorded: attempts\\[1\\]: {why}"):
+                learner.record_grasp_attempts([("Front-Wrap", 60.0, True), attempt])
+            assert learner.grasp_costs() == []  # the batch is refused whole

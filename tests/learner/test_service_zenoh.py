@@ -31,6 +31,7 @@ from learner.service.protocol import (MAX_REQUEST_BYTES, encode_learn_request, e
 from learner.service.zenoh_client import ZenohLearner
 from tests.learner.fixtures import P, desc, four_objects, hero
 from tests.zenoh_rpc.support import free_endpoint
+from zenoh_rpc.serving import HEADER_ROOM
 from zenoh_rpc.config import open_session
 
 pytestmark = pytest.mark.zenoh
@@ -167,6 +168,21 @@ def test_malformed_requests_get_error_replies_and_the_node_keeps_serving(service
     with robot(service) as r1:
         assert r1.version() == 1  # nothing was learned from the bad requests
         assert r1.learn(MUG) == "mug"
+
+
+def test_a_request_beyond_the_cap_and_its_headers_room_is_dropped_unread(service: ServiceProcess) -> None:
+    """zenoh drops it while reassembling (the service's session receives at most the cap
+    plus HEADER_ROOM), so it is never held whole: the query only times out, and the
+    same session, and everyone else, is served on (BENCHMARKS.md, "Oversized requests")."""
+    session = open_session(connect=[service.endpoint], connect_timeout_s=3.0)
+    try:
+        body = b'{"v": 1, "description": "' + b"x" * (MAX_REQUEST_BYTES + HEADER_ROOM) + b'"}'
+        replies = list(session.get(learner_keys(service.name).rpc("learn"), payload=body, timeout=1.0))
+        assert [r.ok for r in replies] == [None] and replies[0].err.payload.to_bytes() == b"Timeout"
+        [after] = list(session.get(learner_keys(service.name).rpc("version"), payload=b'{"v": 1}', timeout=3.0))
+        assert json.loads(after.ok.payload.to_bytes()) == {"v": 1, "version": 1}
+    finally:
+        session.close()
 
 
 def test_a_description_the_service_refuses_is_a_one_line_value_error(service: ServiceProcess) -> None:

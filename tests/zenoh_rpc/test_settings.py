@@ -90,3 +90,12 @@ def test_a_taken_port_is_a_one_line_connection_error() -> None:
 def test_nothing_to_connect_to_fails_within_the_connect_timeout() -> None:
     with pytest.raises(ConnectionError, match="zenoh session on tcp/127.0.0.1:"):
         open_session(connect=[free_endpoint()], connect_timeout_s=0.3)
+
+
+def test_a_server_receives_no_message_beyond_its_cap_and_a_client_keeps_zenohs_gigabyte() -> None:
+    """A server's sessions drop anything larger than its request cap plus the headers'
+    room as zenoh reassembles it; a client, which receives whole libraries and images,
+    keeps zenoh's default."""
+    assert json.loads(make_config(max_message_bytes=320 * 1024).get_json("transport/link/rx/max_message_size")) \
+        == 320 * 1024
+    assert json.loads(make_config().get_json("transport/link/rx/max_message_size")) == 1 << 30

@@ -44,6 +44,7 @@ THEIRS = {
     "connect/exit_on_failure": False,
     "transport/link/tx/lease": 3000,
     "transport/unicast/open_timeout": 5000,
+    "transport/link/rx/max_message_size": 4194304,
 }
 
 
