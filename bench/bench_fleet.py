@@ -1,6 +1,7 @@
 """A fleet through one zenoh router: K simulated robots learning into one library.
 
     python bench/bench_fleet.py [--robots 3] [--minutes 2] [--episodes N] [--out DIR]
+                                [--kill-every S [--chaos-seed N]]
 
 Starts, as real processes on 127.0.0.1 only, one zenoh router (``zenoh_rpc.router`` in router
 mode), one learner service (``csl learner serve``), K simulated drivers (``csl driver
@@ -25,6 +26,13 @@ It measures and prints:
   as the service handled it (its ``-v`` log, SQLite commit included);
 - the learner service's resident memory, sampled from ``/proc``.
 
+With ``--kill-every S`` it is a soak: at random moments (S seconds apart on average,
+repeatable from ``--chaos-seed``) the learner or one of the drivers is killed
+(SIGKILL) and started again, while the episodes go on. Every description must still be
+in the library exactly once, and every run's exit status honest: 0 only when every
+object on its floor was handled, anything else with its reason on standard error
+(a run killed by the bench for hanging is never honest).
+
 Everything goes under ``--out`` (default: a new temporary folder): the episodes'
 reports and logs, every node's output, the library, and ``fleet.json`` with every
 figure. Exit status 0 when every object and every description is accounted for, 1
@@ -39,6 +47,7 @@ import json
 import math
 import os
 import platform
+import random
 import re
 import socket
 import subprocess
@@ -116,17 +125,35 @@ class Node:
     """A long-running process of the fleet, its output in files under ``folder``."""
 
     def __init__(self, name: str, argv: Sequence[str], folder: Path, env: dict[str, str]) -> None:
-        self.name = name
+        self.name, self.argv, self.folder, self.env = name, tuple(argv), folder, env
         self.stdout = folder / f"{name}.out"
         self.stderr = folder / f"{name}.err"
-        with self.stdout.open("wb") as out, self.stderr.open("wb") as err:
-            self.process = subprocess.Popen(argv, stdout=out, stderr=err, env=env, cwd=folder)
+        self.starts = 0
+        self._start()
 
-    def wait_ready(self, says: str, timeout_s: float = START_S) -> None:
-        """Wait for ``says`` on the node's standard output (its serving line)."""
+    def _start(self) -> None:
+        """Start the process; a restart appends to the same output files (a new start
+        line marks it), so the logs read after the run hold every life of the node."""
+        mode = "wb" if self.starts == 0 else "ab"
+        with self.stdout.open(mode) as out, self.stderr.open(mode) as err:
+            self.process = subprocess.Popen(self.argv, stdout=out, stderr=err, env=self.env, cwd=self.folder)
+        self.starts += 1
+
+    def kill_and_restart(self, says: str) -> None:
+        """SIGKILL the node (no clean stop: the token vanishes with the lease), start it
+        again and wait for its serving line, counted from the new start."""
+        self.process.kill()
+        self.process.wait()
+        said_before = len(self.stdout.read_text(encoding="utf-8", errors="replace"))
+        self._start()
+        self.wait_ready(says, after=said_before)
+
+    def wait_ready(self, says: str, timeout_s: float = START_S, after: int = 0) -> None:
+        """Wait for ``says`` on the node's standard output (its serving line), written
+        after its first ``after`` characters."""
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:
-            if says in self.stdout.read_text(encoding="utf-8", errors="replace"):
+            if says in self.stdout.read_text(encoding="utf-8", errors="replace")[after:]:
                 return
             if self.process.poll() is not None:
                 break
@@ -176,6 +203,19 @@ class Episode:
     grasped_unlearned: int  # objects grasped with no learn event at all
     decision_ms: tuple[float, ...]  # per object: computing ms per choice
     error: str = ""
+    said: str = ""  # the last line the run wrote on standard error
+
+    @property
+    def honest(self) -> bool:
+        """The exit status tells the truth: 0 only when every object on the floor was
+        handled, anything else with a reason said (or an object not handled); a run
+        the bench had to kill for hanging never is."""
+        if self.exit_status is None:
+            return False
+        all_handled = bool(self.outcomes) and self.unaccounted == 0 and all(o in HANDLED for o in self.outcomes)
+        if self.exit_status == 0:
+            return all_handled
+        return not all_handled or self.said not in ("", "(nothing said)")
 
     @property
     def unaccounted(self) -> int:
@@ -233,7 +273,7 @@ def _read_episode(robot: str, index: int, seed: int, folder: Path, status: int |
     taught = {e["object"] for e in learns}
     unlearned = sum(1 for o in objects if o["outcome"] == "grasped" and o["index"] not in taught)
     return Episode(robot, index, seed, status, wall_s, PLACED, located, tuple(str(o["outcome"]) for o in objects),
-                   learned, len(learns) - len(learned), unlearned, decision, error)
+                   learned, len(learns) - len(learned), unlearned, decision, error, said)
 
 
 def read_events(path: Path) -> list[dict]:
@@ -263,9 +303,11 @@ class Samples:
     probe_failures: int = 0
 
 
-def sample_memory(pid: int, samples: Samples, stop: threading.Event, period_s: float = 0.5) -> None:
+def sample_memory(pid: Callable[[], int], samples: Samples, stop: threading.Event, period_s: float = 0.5) -> None:
+    """Sample the resident memory of the process ``pid()`` names now (a restarted
+    learner is a new process)."""
     while not stop.is_set():
-        kib = rss_kib(pid)
+        kib = rss_kib(pid())
         if kib is not None:
             samples.rss_kib.append(kib)
         samples.load_1min.append(os.getloadavg()[0])
@@ -367,9 +409,32 @@ def spread(values: Sequence[float]) -> dict[str, float | int | None]:
 
 # --- the fleet --------------------------------------------------------------------
 
-def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path) -> dict:
+def chaos(victims: Sequence[Node], kill_every: float, seed: int, until: float, stop: threading.Event,
+          kills: list[dict]) -> None:
+    """Kill one of ``victims`` at random moments (``kill_every`` s apart on average) and
+    start it again, until ``until`` (monotonic) or ``stop``; each kill is one entry of
+    ``kills`` (a restart that failed ends the chaos, said in its entry)."""
+    rng = random.Random(seed)
+    began = time.monotonic()
+    while True:
+        wait = rng.expovariate(1.0 / kill_every)
+        if stop.wait(wait) or time.monotonic() >= until:
+            return
+        node = rng.choice(list(victims))
+        entry = {"t_s": round(time.monotonic() - began, 1), "node": node.name}
+        kills.append(entry)
+        try:
+            node.kill_and_restart("serving")
+        except RuntimeError as exc:
+            entry["restart_failed"] = str(exc)[:300]
+            return
+
+
+def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path,
+              kill_every: float | None = None, chaos_seed: int = 0) -> dict:
     """Start the fleet, run episodes until ``minutes`` pass (or each robot has run
-    ``episodes``), stop it, and return every figure."""
+    ``episodes``), killing and restarting the learner or a driver now and then with
+    ``kill_every``, stop it, and return every figure."""
     out.mkdir(parents=True, exist_ok=True)
     env = {**os.environ, "CSL_HOME": str(out / "home"), "CSL_ZENOH_CONFIG": "", "PYTHONUNBUFFERED": "1"}
     router = f"tcp/127.0.0.1:{free_port()}"
@@ -391,14 +456,19 @@ def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path) -> d
         for node in (learner, *drivers):
             node.wait_ready("serving")
         seed_rows = export_library(db, out / "seed-library.json", env)
-        threads = [threading.Thread(target=sample_memory, args=(learner.process.pid, samples, stop), daemon=True),
+        threads = [threading.Thread(target=sample_memory, args=(lambda: learner.process.pid, samples, stop),
+                                    daemon=True),
                    threading.Thread(target=probe_learner, args=(router, samples, stop), daemon=True)]
-        for t in threads:
-            t.start()
         done: list[Episode] = []
         lock = threading.Lock()
         started = time.monotonic()
         deadline = started + minutes * 60
+        kills: list[dict] = []
+        if kill_every is not None:
+            threads.append(threading.Thread(target=chaos, args=((learner, *drivers), kill_every, chaos_seed,
+                                                                deadline, stop, kills), daemon=True))
+        for t in threads:
+            t.start()
 
         def drive(k: int) -> None:
             n = 0
@@ -421,8 +491,9 @@ def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path) -> d
         stop.set()
         statuses = {node.name: node.stop() for node in reversed(nodes)}
     final_rows = export_library(db, out / "final-library.json", env)
-    return report(robots, minutes, elapsed, sorted(done, key=lambda e: (e.robot, e.index)), seed_rows,
-                  final_rows, samples, served_ms(learner.stderr), statuses)
+    figures = report(robots, minutes, elapsed, sorted(done, key=lambda e: (e.robot, e.index)), seed_rows,
+                     final_rows, samples, served_ms(learner.stderr), statuses)
+    return {**figures, "kills": kills}
 
 
 def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episode], seed_rows: Sequence[dict],
@@ -444,6 +515,7 @@ def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episo
             "nothing_measured": sum(e.nothing_measured for e in mine),
             "grasped_unlearned": sum(e.grasped_unlearned for e in mine),
             "exit_statuses": dict(Counter(str(e.exit_status) for e in mine)),
+            "dishonest": sum(not e.honest for e in mine),
             "errors": [f"ep{e.index}: {e.error}" for e in mine if e.error],
         }
     books = account(episodes, seed_rows, final_rows)
@@ -480,8 +552,10 @@ def accounted(figures: dict) -> bool:
     """Every object located came out handled or failed, every episode ended on its own,
     and every description is in the library exactly once."""
     robots = figures["per_robot"].values()
+    if figures.get("kills"):  # a soak: runs may end lost while a node is down, but never dishonestly
+        return figures["accounting"]["holds"] and all(r["dishonest"] == 0 for r in robots)
     return (figures["accounting"]["holds"]
-            and all(r["unaccounted"] == 0 and r["grasped_unlearned"] == 0 for r in robots)
+            and all(r["unaccounted"] == 0 and r["grasped_unlearned"] == 0 and r["dishonest"] == 0 for r in robots)
             and all(s in ("0", "1") for r in robots for s in r["exit_statuses"]))
 
 
@@ -518,6 +592,11 @@ def print_figures(figures: dict, out: Path) -> None:
     for name, r in figures["per_robot"].items():
         for error in r["errors"][:5]:
             print(f"{name} {error}")
+    kills = figures.get("kills") or []
+    if kills:
+        print(f"kills: {len(kills)} ({dict(Counter(k['node'].split('-')[0] for k in kills))}); "
+              f"restarts failed: {sum('restart_failed' in k for k in kills)}; dishonest exit statuses: "
+              f"{sum(r['dishonest'] for r in figures['per_robot'].values())}")
     print("every object and description accounted for" if accounted(figures) else "ACCOUNTING FAILED")
 
 
@@ -541,12 +620,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--minutes", type=positive(float), default=2.0, help="start no episode after this")
     parser.add_argument("--episodes", type=positive(int), default=None, help="at most this many episodes per robot")
     parser.add_argument("--out", type=Path, default=None, help="output folder (default: a new temporary folder)")
+    parser.add_argument("--kill-every", type=positive(float), default=None, metavar="S",
+                        help="a soak: kill (SIGKILL) and restart the learner or a driver S seconds apart on average")
+    parser.add_argument("--chaos-seed", type=int, default=0, help="seed of the kills' moments and victims (default 0)")
     args = parser.parse_args(argv)
     out = args.out or Path(tempfile.mkdtemp(prefix="csl-fleet-"))
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         parser.error(f"--out {out}: not an empty folder; give a new one")
     try:
-        figures = run_fleet(args.robots, args.minutes, args.episodes, out)
+        figures = run_fleet(args.robots, args.minutes, args.episodes, out, args.kill_every, args.chaos_seed)
     except (RuntimeError, OSError, subprocess.SubprocessError) as exc:
         print(f"bench_fleet: {exc}", file=sys.stderr)
         return 1

@@ -65,25 +65,43 @@ def rss_mb(pid: int) -> float:
     return 0.0
 
 
+class PeakRss:
+    """The peak VmRSS of process ``pid`` while the ``with`` block runs, sampled every
+    ``period_s`` from a thread (``first``: before the block)."""
+
+    def __init__(self, pid: int, period_s: float = 0.2) -> None:
+        self.pid, self.period_s = pid, period_s
+        self.first = rss_mb(pid)
+        self.samples = [self.first]
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._sample, daemon=True)
+
+    def _sample(self) -> None:
+        while not self._done.wait(self.period_s):
+            self.samples.append(rss_mb(self.pid))
+
+    @property
+    def peak(self) -> float:
+        return max(self.samples)
+
+    def __enter__(self) -> PeakRss:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self._done.set()
+        self._thread.join()
+
+
 def run(db: Path, n: int, robots: int, mode: str) -> str:
     process = serve(db, endpoint := free_endpoint())
-    peak = [rss_mb(process.pid)]
-    done = threading.Event()
-
-    def sample() -> None:
-        while not done.wait(0.2):
-            peak.append(rss_mb(process.pid))
-
-    sampler = threading.Thread(target=sample, daemon=True)
-    sampler.start()
     try:
-        at = time.time() + 3.0 + 0.3 * robots  # every robot connected before the common instant
-        children = [subprocess.Popen([sys.executable, __file__, "--robot", endpoint, mode, str(at)],
-                                     cwd=ROOT, stdout=subprocess.PIPE, text=True) for _ in range(robots)]
-        lines = [c.communicate(timeout=1800)[0].strip().splitlines() for c in children]
+        with PeakRss(process.pid) as sampler:
+            at = time.time() + 3.0 + 0.3 * robots  # every robot connected before the common instant
+            children = [subprocess.Popen([sys.executable, __file__, "--robot", endpoint, mode, str(at)],
+                                         cwd=ROOT, stdout=subprocess.PIPE, text=True) for _ in range(robots)]
+            lines = [c.communicate(timeout=1800)[0].strip().splitlines() for c in children]
     finally:
-        done.set()
-        sampler.join()
         process.kill()
         process.wait(10)
         for stream in (process.stdout, process.stderr):
@@ -95,7 +113,7 @@ def run(db: Path, n: int, robots: int, mode: str) -> str:
     errors = sorted({r["error"] for r in results if not r["ok"]})
     return (f"| {mode} | {len(started)} of {robots} | "
             f"{statistics.median(times):.1f} s | {max(times):.1f} s | " if times else f"| {mode} | 0 of {robots} | - | - | "
-            ) + f"{max(peak):.0f} MB | {errors[0][:90] if errors else '-'} |"
+            ) + f"{sampler.peak:.0f} MB | {errors[0][:90] if errors else '-'} |"
 
 
 def main() -> None:

@@ -23,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bench.bench_fleet_start import rss_mb  # noqa: E402
+from bench.bench_fleet_start import PeakRss, rss_mb  # noqa: E402
 from bench.bench_library_fetch import free_endpoint, serve  # noqa: E402
 from learner.service.protocol import LEARN, learner_keys  # noqa: E402
 from learner.service.zenoh_client import ZenohLearner  # noqa: E402
@@ -40,7 +40,7 @@ def oversized(endpoint: str, mb: int, at: float, outcomes: Counter[str]) -> None
             answer = rpc.ask(LEARN, body, 60.0)
             reply = answer.first
             outcomes["ok (accepted!)" if reply is not None and reply.ok is not None else
-                     "refused" if reply is not None else "no reply (dropped)"] += 1
+                     "no reply" if reply is None or reply.err == b"Timeout" else "refused"] += 1
     except Exception as exc:  # noqa: BLE001 - every outcome is counted
         outcomes[f"error: {str(exc).splitlines()[0][:60]}"] += 1
 
@@ -54,40 +54,29 @@ def main() -> None:
           f"--clients {args.clients} --mb {args.mb}")
     with tempfile.TemporaryDirectory() as folder:
         process = serve(Path(folder) / "library.sqlite", endpoint := free_endpoint())
-        before = rss_mb(process.pid)
-        peak = [before]
-        done = threading.Event()
-
-        def sample() -> None:
-            while not done.wait(0.1):
-                peak.append(rss_mb(process.pid))
-
-        sampler = threading.Thread(target=sample, daemon=True)
-        sampler.start()
         outcomes: Counter[str] = Counter()
         try:
-            at = time.time() + 2.0 + 0.5 * args.clients
-            senders = [threading.Thread(target=oversized, args=(endpoint, args.mb, at, outcomes))
-                       for _ in range(args.clients)]
-            for s in senders:
-                s.start()
-            for s in senders:
-                s.join()
-            with ZenohLearner("bench", [endpoint], 10.0) as robot:
-                answered = f"yes (version {robot.version()})"
-            time.sleep(1.0)
+            with PeakRss(process.pid, 0.1) as sampler:
+                at = time.time() + 2.0 + 0.5 * args.clients
+                senders = [threading.Thread(target=oversized, args=(endpoint, args.mb, at, outcomes))
+                           for _ in range(args.clients)]
+                for s in senders:
+                    s.start()
+                for s in senders:
+                    s.join()
+                with ZenohLearner("bench", [endpoint], 10.0) as robot:
+                    answered = f"yes (version {robot.version()})"
+                time.sleep(1.0)
         except Exception as exc:  # noqa: BLE001
             answered = f"no: {str(exc).splitlines()[0]}"
         finally:
-            done.set()
-            sampler.join()
             after = rss_mb(process.pid)
             process.kill()
             process.wait(10)
     print("| clients x MB | outcomes | service answered after | RSS before | peak | after |")
     print("|---|---|---|---:|---:|---:|")
     print(f"| {args.clients} x {args.mb} | {', '.join(f'{k}: {v}' for k, v in sorted(outcomes.items()))} | "
-          f"{answered} | {before:.0f} MB | {max(peak):.0f} MB | {after:.0f} MB |")
+          f"{answered} | {sampler.first:.0f} MB | {sampler.peak:.0f} MB | {after:.0f} MB |")
 
 
 if __name__ == "__main__":
