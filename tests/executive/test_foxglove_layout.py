@@ -133,3 +133,13 @@ def test_the_statuses_panel_names_the_nodes_it_shows(layout) -> None:  # noqa: A
             f"{LAYOUT.name}: {path['value']} is {nodes[index]['name']!r}, labelled {path['label']!r}: the tree "
             "changed shape; give the layout the node's new id")
     assert paths[0]["value"].endswith("nodes[0].status")  # the root
+
+
+def test_the_floor_is_seen_from_above_centred_on_the_lab(layout) -> None:  # noqa: ANN001
+    """Foxglove's camera: phi 0 looks straight down, theta 0 puts world +x right and +y up
+    (docs/conventions.md), ``targetOffset`` is the point looked at, in metres."""
+    room = json.loads((LAYOUT.parents[1] / "hero_driver" / "worlds" / "lab.json").read_text(encoding="utf-8"))["room"]
+    camera = layout["configById"]["3D!floor"]["cameraState"]
+    assert (camera["perspective"], camera["phi"], camera["thetaOffset"]) == (False, 0, 0)
+    centre = [room["width_in"] / 2 * topics.METRES_PER_INCH, room["depth_in"] / 2 * topics.METRES_PER_INCH, 0.0]
+    assert camera["targetOffset"] == pytest.approx(centre, abs=0.005)
