@@ -1,5 +1,6 @@
 """The recorder: one Foxglove channel per topic of :mod:`recording.topics`,
-fed from the driver's verbs, the episode log and the tree's ticks, stamped in robot time.
+fed from the driver's verbs, the episode log and the tree's ticks (as text and as data,
+:mod:`recording.tree_nodes`), stamped in robot time.
 
 Every message is stamped with the robot's clock (nanoseconds of robot time since the
 driver's reset), never the wall clock, so two runs of one seed give the same file.
@@ -22,8 +23,9 @@ from foxglove.channels import (FrameTransformChannel, GridChannel, LaserScanChan
 from camera_model.image import CameraImage
 from recording import scene
 from recording.status import status_tree
-from recording.topics import (BODY, CAMERA, EVENTS, MAP, OBJECTS, PATHS, POSE, SONAR, STATUS, TF,
-                                        Topic)
+from recording.topics import BODY, CAMERA, EVENTS, MAP, NODES, OBJECTS, PATHS, POSE, SONAR, STATUS, TF, Topic
+from recording.tree_nodes import SCHEMA as NODES_SCHEMA
+from recording.tree_nodes import BlackboardChanges, tree_message
 from hero_driver.interface import MoveResult, RobotState, SenseResult
 from hero_driver.interface import Pose as RobotPose
 from robot_profile.model import RobotGeometry
@@ -47,6 +49,7 @@ def _channels(context: foxglove.Context) -> dict[Topic, object]:
              SONAR: LaserScanChannel, CAMERA: RawImageChannel, MAP: GridChannel, OBJECTS: SceneUpdateChannel}
     out: dict[Topic, object] = {topic: cls(topic.name, context=context) for topic, cls in typed.items()}
     out[STATUS] = foxglove.Channel(STATUS.name, schema=STATUS_SCHEMA, context=context)
+    out[NODES] = foxglove.Channel(NODES.name, schema=NODES_SCHEMA, context=context)
     out[EVENTS] = foxglove.Channel(EVENTS.name, schema=EVENT_SCHEMA, context=context)
     return out
 
@@ -63,6 +66,12 @@ class Recorder:
         self._last_ns = -_TIE_NS
         self._pose: RobotPose | None = None
         self._moves = 0
+        self._blackboard = BlackboardChanges()
+
+    def watch_blackboard(self, prefix: str) -> None:
+        """Send the changes of the blackboard keys under ``prefix`` only (one robot's
+        namespace; every key until told)."""
+        self._blackboard = BlackboardChanges(prefix)
 
     def _at(self, clock_s: float) -> int:
         """The stamp for robot time ``clock_s``: never before the last one."""
@@ -141,3 +150,5 @@ class Recorder:
             message = {"tick": tick, "status": root.status.value, "tip": tip.name if tip is not None else "",
                        "tree": status_tree(root)}
             self._log(STATUS, json.dumps(message, ensure_ascii=False), ns)
+            self._log(NODES, json.dumps(tree_message(tick, root, self._blackboard), ensure_ascii=False,
+                                        allow_nan=False), ns)

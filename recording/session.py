@@ -12,9 +12,11 @@ import foxglove
 import py_trees
 
 from behaviours.records import ObjectRecord
+from behaviours.services import namespace
 from executive.episode_log import EpisodeLog
 from recording.driver import RecordingDriver
 from recording.recorder import Recorder
+from recording.run_metadata import RUN_METADATA, RunDescription
 from hero_driver.interface import Driver
 from robot_profile.model import RobotGeometry
 
@@ -75,10 +77,16 @@ class Recording:
         passes (False): messages sent before anyone listens are lost."""
         return self._viewers.subscribed.wait(timeout_s)
 
+    def describe_run(self, run: RunDescription) -> None:
+        """The MCAP file's ``csl-run`` metadata record (a live view has no such record)."""
+        if self._writer is not None:
+            self._writer.write_metadata(RUN_METADATA, run.record())
+
     def attach(self, driver: Driver, log: EpisodeLog) -> RecordingDriver:
         """Record ``driver``'s verbs and ``log``'s events; the executive is to drive the
         returned driver."""
         self._driver = RecordingDriver(driver, self.recorder)
+        self.recorder.watch_blackboard(f"{namespace(driver.robot)}/")
         log.listeners.append(lambda record: self.recorder.event(record, self._clock()))
         state = self._driver.known_state()
         if state is not None:

@@ -32,6 +32,9 @@ OBJECTS = Topic("/objects", "foxglove.SceneUpdate",
                 "objects as located (a marker at each centroid), then each outline with its grasp and outcome")
 STATUS = Topic("/behaviour_tree/status", "csl.BehaviourTreeStatus",
                "per tick: py_trees' unicode tree with every behaviour's status, the tip and the root's status")
+NODES = Topic("/behaviour_tree/nodes", "csl.BehaviourTreeNodes",
+              "per tick: every behaviour's id, parent, name, kind, status and feedback, and the blackboard keys "
+              "that changed")
 EVENTS = Topic("/csl/events", "csl.EpisodeEvent", "the episode log's events, one JSON message each (as episode.jsonl)")
 
-ALL = (TF, POSE, BODY, PATHS, SONAR, CAMERA, MAP, OBJECTS, STATUS, EVENTS)
+ALL = (TF, POSE, BODY, PATHS, SONAR, CAMERA, MAP, OBJECTS, STATUS, NODES, EVENTS)

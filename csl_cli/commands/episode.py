@@ -31,6 +31,7 @@ from executive.exit_status import run_status
 from reporting.history import append_run, default_history, episode_run
 from reporting.plots import plot_behaviour_tree, plot_map, plot_object_tree
 from csl_cli.recording_options import check_recording_options, open_recording
+from recording.run_metadata import describe_run
 from recording.status import status_tree
 from reporting.report import Row, Truth, episode_json, match_truth, print_report, rows
 from reporting.tables import print_json
@@ -358,6 +359,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     log = EpisodeLog(args.out / "episode.jsonl")
     recording = open_recording(args, setup.profile)  # --record/--live (docs/recording.md)
     if recording is not None:
+        recording.describe_run(describe_run(driver.robot, setup.profile, setup.criterion.name, setup.params.seed))
         driver = recording.attach(driver, log)
     executive = Executive(driver, learner, profile=setup.profile, params=setup.params, criterion=setup.criterion,
                           log=log, on_tick=None if recording is None else recording.tick,

@@ -176,4 +176,4 @@ def test_a_driver_without_a_state_does_not_stop_the_recording(tmp_path: Path) ->
     recording.close()
     with (tmp_path / "gone.mcap").open("rb") as f:
         topics_seen = [channel.topic for _, channel, _ in make_reader(f).iter_messages()]
-    assert topics_seen == [topics.STATUS.name, topics.EVENTS.name]
+    assert topics_seen == [topics.STATUS.name, topics.NODES.name, topics.EVENTS.name]
