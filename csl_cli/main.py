@@ -11,8 +11,10 @@ vanishes mid-run stops it with ``csl: robot error: ...`` or ``csl: learner error
 exit 3.
 
 ``-v``/``--log-level`` is accepted by ``csl`` and by every command (before or after its
-name) and sets the level of Python's ``logging`` for the whole process; the default,
-warnings only, keeps a run quiet.
+name) and sets the level of Python's ``logging``; the default, warnings only, keeps a
+run quiet. ``-v`` and ``-vv`` show our packages' lines (the executive's story is told by
+``executive/narration.py`` and ``executive/verb_log.py``), other libraries' only from
+``-vvv``; ``--log-level`` applies to all alike.
 
 Shell completion is argcomplete's (README): commands and options, and, on every
 ``--world``, the shipped worlds (an unknown name is refused listing them), on every
@@ -78,10 +80,13 @@ def _add_log_options(parser: argparse.ArgumentParser, default: object) -> None:
     """``-v`` (repeatable) and ``--log-level``; a command's copy defaults to SUPPRESS so
     that ``csl -v demo`` is not undone by the command's own default."""
     parser.add_argument("-v", "--verbose", action="count", default=0 if default is None else default,
-                        help="log more on standard error: -v for info (each request served), -vv for debug")
+                        help="log more on standard error: -v tells the run (each test chosen with its cost, each "
+                             "robot verb and its reply time, each recovery, each object's outcome, each request "
+                             "a service serves), -vv adds detail (tests ranked, paths planned, every event field), "
+                             "-vvv adds other libraries' debug output")
     parser.add_argument("--log-level", choices=LOG_LEVELS, type=str.lower, default=default, metavar="LEVEL",
-                        help=f"logging level, one of {', '.join(LOG_LEVELS)} (default: warning; "
-                             "overrides -v)")
+                        help=f"logging level, one of {', '.join(LOG_LEVELS)}, for csl and the libraries it uses "
+                             "alike (default: warning; overrides -v)")
 
 
 def _commands(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
@@ -134,6 +139,34 @@ def log_level(args: argparse.Namespace) -> int:
     return max(logging.WARNING - 10 * args.verbose, logging.DEBUG)
 
 
+OUR_PACKAGES = frozenset({"executive", "behaviours", "learner", "planner", "hero_driver", "robot_profile",
+                          "zenoh_rpc", "camera_model", "reporting", "recording", "experiments", "csl_cli",
+                          "csl_testing"})
+"""The top-level packages whose log lines ``-v`` and ``-vv`` show (pyproject.toml's)."""
+OTHERS_AT = 3
+"""The count of ``-v`` from which other libraries' records below warning are shown too:
+their debug output (pydot, matplotlib, PIL, asyncio...) would drown the run's story."""
+
+
+def others_level(args: argparse.Namespace) -> int:
+    """The level other libraries' records must reach to be shown: --log-level's, else
+    warning until ``-vvv``."""
+    if args.log_level is not None or args.verbose >= OTHERS_AT:
+        return log_level(args)
+    return logging.WARNING
+
+
+class _OthersFilter(logging.Filter):
+    """Passes our packages' records, and other libraries' from ``level`` up."""
+
+    def __init__(self, level: int) -> None:
+        super().__init__()
+        self.level = level
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return record.levelno >= self.level or record.name.partition(".")[0] in OUR_PACKAGES
+
+
 class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
     """Writes to whatever ``sys.stderr`` is when a record comes (a redirected or captured
     stream), not to the one there was when ``csl`` started."""
@@ -147,15 +180,19 @@ class _StderrHandler(logging.StreamHandler):  # type: ignore[type-arg]
         pass
 
 
-def configure_logging(level: int) -> None:
+def configure_logging(level: int, others: int = logging.WARNING) -> None:
     """Set the process's logging level, with one handler writing to standard error
-    (added once: ``main`` may run many times in one process, as in the tests)."""
+    (added once: ``main`` may run many times in one process, as in the tests) that shows
+    other libraries' records only from ``others`` up. The filter sits on the handler, so
+    no library's own logger level is changed behind its back."""
     root = logging.getLogger()
     root.setLevel(level)
-    if not any(isinstance(h, _StderrHandler) for h in root.handlers):
+    handler = next((h for h in root.handlers if isinstance(h, _StderrHandler)), None)
+    if handler is None:
         handler = _StderrHandler()
         handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
         root.addHandler(handler)
+    handler.filters = [_OthersFilter(others)]
 
 
 def _version() -> str:
@@ -176,7 +213,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a bad argument (already reported)
         return int(exc.code or 0)
-    configure_logging(log_level(args))
+    configure_logging(log_level(args), others_level(args))
     try:
         return int(args.handler(args) or 0)
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do

@@ -15,13 +15,15 @@ from pathlib import Path
 from typing import IO
 
 from behaviours.events import Event
+from executive.narration import tell
 from learner.library.input_file import open_input, read_input
 from learner.library.json_text import NotJson, parse_json
 
 
 class EpisodeLog:
     """Collects events in memory and, given a path, appends them to a JSON-lines file;
-    listeners (a recording) get each event as it is logged."""
+    listeners (a recording) get each event as it is logged, and Python's ``logging``
+    tells it (``csl -v``, :mod:`executive.narration`)."""
 
     def __init__(self, path: str | Path | None = None) -> None:
         self.events: list[dict[str, object]] = []
@@ -45,6 +47,7 @@ class EpisodeLog:
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False, default=str, allow_nan=False) + "\n")
             self._file.flush()  # followable while the episode runs (tail -f), complete if it dies
+        tell(record)
         for listener in self.listeners:
             listener(record)
 

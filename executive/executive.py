@@ -23,6 +23,8 @@ from behaviours.services import LibraryMatrix, Params, Services, namespace
 from executive.battery_cost import navigator_for
 from executive.episode_log import EpisodeLog
 from executive.grasp_attempts import LearnedGraspCosts
+from executive.narration import tell_outcome
+from executive.verb_log import VerbLog
 from executive.behaviour_tree import build_tree
 from hero_driver.interface import Driver
 from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
@@ -66,6 +68,7 @@ class Executive:
         self.on_tick = on_tick
         profile = profile or load_profile()
         knowledge = profile.knowledge()
+        driver = VerbLog(driver)  # each verb sent and its reply time, on the log (csl -v)
         # a verb refused busy after a timeout is sent again (behaviours.overdue); poses are
         # the overhead camera's, the driver's dead reckoning corrected (behaviours.localisation)
         localised = CameraLocalised(driver) if params.localise else driver
@@ -107,6 +110,7 @@ class Executive:
             while reported < len(results) and (results[reported].settled or last and results[reported].done):
                 if self.grasp_costs is not None:
                     self.grasp_costs.finished(results[reported])
+                tell_outcome(results[reported])
                 if on_object is not None:
                     on_object(results[reported])
                 reported += 1

@@ -21,6 +21,7 @@ appearance is ignored, ``appearance_ignored``).
 
 from __future__ import annotations
 
+import logging
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -38,6 +39,10 @@ from learner.costs import MoveCostEstimator, sensing_cost
 from learner.description import ObjectDescription, Observation
 from learner.knowledge import Knowledge
 from learner.position import Position
+
+log = logging.getLogger(__name__)
+RANKED_TOLD = 5
+"""The best tests told on the log (DEBUG) each time a test is chosen."""
 
 
 @dataclass(frozen=True)
@@ -188,6 +193,9 @@ class RecognitionSession:
         if len(frame.tried) >= self.max_alternatives:
             return Exhausted(len(frame.tried))
         ranked = rank(frame.node, self.position, self.ctx, self.measurements, on_path | frame.tried)
+        if ranked and log.isEnabledFor(logging.DEBUG):
+            log.debug("%d tests ranked at %s among %d descriptions (%s): %s", len(ranked), self.position,
+                      len(frame.node.rows), self.ctx.criterion.name, "; ".join(_told(t) for t in ranked[:RANKED_TOLD]))
         if ranked:
             frame.test = ranked[0]
             return ranked[0]
@@ -444,3 +452,8 @@ class RecognitionSession:
         observations = tuple(sorted(Observation(f, p, v) for (f, p), v in self.measurements.items()))
         return ObjectDescription(object_id, grasp, grasp_position, observations, self.appearance)
 
+
+def _told(test: ScoredTest) -> str:
+    """A ranked test as the log tells it: score, gain and cost (move + sense)."""
+    return (f"{test.test} score {test.score:.4g}, gain {test.gain:.4g}, cost {test.cost:.1f} s "
+            f"(move {test.move_cost:.1f} + sense {test.sense_cost:.1f})")

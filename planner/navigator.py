@@ -18,6 +18,7 @@ is known (the in-process realistic simulator: no calibration step before the run
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 from camera_model.image import CameraImage
@@ -34,6 +35,7 @@ from planner.segmentation import Camera, calibrated_camera
 from planner.vision_map import Disc, VisionMap, build_vision_map, map_key
 from robot_profile import Robot
 
+log = logging.getLogger(__name__)
 NOTHING_OBSERVED = "no overhead image observed yet: call observe(image) first"
 # A roadmap carried to a new map is re-checked every half cell along each edge, as the
 # planner checks motions (the strict free space keeps a cell of margin, so no obstacle
@@ -79,6 +81,7 @@ class Navigator:
             self.camera = calibrated_camera(image.pixels, self._board)
         seen = self._scenes.get_or_make(image.content_key(), lambda: look(image, self.camera))
         scene = flag_merged(self._scene, seen, self.robot.geometry.base_radius_in)
+        log.debug("overhead image observed: %d object regions", len(scene.regions))
         self._scene, self._avoided = scene, ()
         self._rebuild()
         return scene
@@ -128,7 +131,7 @@ class Navigator:
     def plan(self, start: Pose, goal: Pose, *, optimise: bool = False,
              spacing_in: float | None = None) -> PlanResult:
         """A path for the driver from ``start`` to ``goal`` (see PathPlanner.plan)."""
-        return self._world().paths.plan(start, goal, optimise=optimise, spacing_in=spacing_in)
+        return _told(start, goal, self._world().paths.plan(start, goal, optimise=optimise, spacing_in=spacing_in))
 
     def plan_to(self, start: Pose, region: Region, distance_in: float, orientation_deg: float,
                 *, optimise: bool = False) -> PlanResult:
@@ -144,7 +147,7 @@ class Navigator:
         goal.require_finite("goal")
         if arrived(start, goal):
             return MoveCost(0.0, 0.0, 0.0, True, OK)
-        return price_plan(self.robot.motion, world.paths.plan(start, goal))
+        return price_plan(self.robot.motion, _told(start, goal, world.paths.plan(start, goal)))
 
     def position_cost(self, start: Pose, region: Region, distance_in: float, orientation_deg: float,
                       *, exact: bool = False) -> MoveCost:
@@ -184,3 +187,13 @@ class Navigator:
     def _require_on_map(self, region: Region) -> None:
         if not self._world().map.contains(*region.centroid):
             raise ValueError(f"target region at {region.centroid} lies outside the map")
+
+
+def _told(start: Pose, goal: Pose, plan: PlanResult) -> PlanResult:
+    """``plan``, told on the log (DEBUG, ``csl -vv``): each path planned for the driver."""
+    if log.isEnabledFor(logging.DEBUG):
+        found = (f"{len(plan.path or ())} waypoints, {plan.length_in:.1f} in, turning {plan.turning_deg:.1f}°"
+                 if plan.found else f"no path: {plan.reason}")
+        log.debug("path (%.1f, %.1f, %.1f°) to (%.1f, %.1f, %.1f°) by %s: %s", start.x_in, start.y_in,
+                  start.heading_deg, goal.x_in, goal.y_in, goal.heading_deg, plan.planner, found)
+    return plan

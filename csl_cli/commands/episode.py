@@ -25,6 +25,7 @@ from camera_model.image import CameraImage
 from executive import defaults
 from csl_cli.args import criterion_from_args, library_path, output_folder
 from csl_cli.commands.learner_cmd import report_quarantined
+from csl_cli.library_choice import demo_library_line
 from executive.episode_log import EpisodeLog
 from executive.executive import EpisodeResult, Executive
 from executive.exit_status import run_status
@@ -185,6 +186,9 @@ def run_demo(args: argparse.Namespace) -> int:
     setup = _setup(args)
     knowledge = setup.knowledge
     output_folder(args.out, "--out")
+    if (args.out / "library.sqlite").resolve() == defaults.library_db().resolve():
+        raise ValueError(f"--out: {args.out} is where your robot's library is kept ($CSL_HOME), and a demo makes "
+                         "its own library anew in --out: choose another folder")
     driver = _simulator(args, "r1", setup.profile)  # a bad world fails first
     if setup.camera is not None:  # a calibration of another camera or room: said before training
         try:
@@ -425,7 +429,9 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         print_json(episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out, plots=not args.no_plots,
                                 library=library, library_created=created, status=status, why=why))
         return status
-    if library is not None:
+    if library is not None and args.command == "demo":
+        print(demo_library_line(library))
+    elif library is not None:
         print(f"library: {library}{f' (new, seeded with {args.library_seed})' if created else ''}")
     print(f"history: {history} (csl library history)")
     print(f"exit status {status}: {why}")

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from executive import defaults
 from csl_cli.args import library_path, writable_file
+from csl_cli.library_choice import library_to_read, no_library
 from reporting.history import Run, default_history, learning_curve, read_history
 from robot_profile import load_knowledge
 from reporting.tables import Column, print_json, print_table
@@ -24,12 +25,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "library",
         help="show, import, export or summarise the persistent library; the learning history",
         description=(
-            "The library of learned object descriptions, kept in a SQLite file (default "
-            "$CSL_HOME/library.sqlite, CSL_HOME defaulting to ~/.local/share/csl). Every "
+            "The library of learned object descriptions, kept in a SQLite file: the robot's, "
+            "$CSL_HOME/library.sqlite (CSL_HOME defaulting to ~/.local/share/csl), which csl run "
+            "learns into. csl demo keeps its own in its --out folder, made anew each time; while "
+            "the robot's does not exist, show, export, stats, check and backup read the last "
+            "demo's and say so. import and restore always write the robot's (or --db). Every "
             "write is one transaction: a crash loses nothing committed."
         ),
     )
-    db_help = "the library database (default: $CSL_HOME/library.sqlite)"
+    db_help = ("the library database (default: $CSL_HOME/library.sqlite; to read, while it does not exist, the "
+               "last csl demo's)")
     p.add_argument("--db", type=Path, default=None, help=db_help)
     actions = p.add_subparsers(dest="action", metavar="ACTION", required=True)
 
@@ -95,8 +100,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _existing(args: argparse.Namespace) -> Path:
-    """The library database's path; one that does not exist is an error, not a new file."""
-    path = library_path(args.db, "--db")
+    """The library database to read (csl_cli/library_choice.py: --db, else the robot's,
+    else the last demo's); one that does not exist is an error, not a new file."""
+    path = library_to_read(args.db, "--db", f"csl library {args.action}")
+    if path is None:
+        raise no_library("--db")
     if not path.exists():
         raise ValueError(f"{path}: no library database there (import into it first, or pass --db)")
     return path

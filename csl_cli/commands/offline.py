@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from executive import defaults
 from csl_cli.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
+from csl_cli.library_choice import library_to_read
 from reporting.tables import Column, print_paragraph, print_table
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, Node
@@ -43,8 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--knowledge", type=Path, default=defaults.KNOWLEDGE,
                    help="robot knowledge TOML (default: the shipped HERO 2000 profile)")
-    p.add_argument("--library", type=Path, default=defaults.EXAMPLE_LIBRARY,
-                   help="object descriptions, .json or a .sqlite store (default: the shipped example library)")
+    p.add_argument("--library", type=Path, default=None,
+                   help="object descriptions, .json or a .sqlite store (default: the robot's, "
+                        "$CSL_HOME/library.sqlite; while it does not exist, the last csl demo's; with neither, the "
+                        "shipped example library)")
     p.add_argument("--pose", default="60,0", metavar="D,THETA",
                    help="the robot's position relative to the object, inches and degrees (default: 60,0)")
     add_criterion_options(p)
@@ -93,10 +96,11 @@ cost overflows to inf."""
 
 def run_tree(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(args.knowledge)
-    library = load_library(args.library)
+    path = args.library or library_to_read(None, "--library", "csl tree") or defaults.EXAMPLE_LIBRARY
+    library = load_library(path)
     if not library:
-        raise ValueError(f"{args.library}: the library is empty")
-    check_library(library, knowledge, str(args.library))
+        raise ValueError(f"{path}: the library is empty")
+    check_library(library, knowledge, str(path))
     start = parse_position(args.pose, "--pose")
     if start.distance_in is None or start.orientation_deg is None:
         raise ValueError("--pose: the robot's pose must be concrete (no '*')")

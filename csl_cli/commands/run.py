@@ -45,7 +45,7 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
                             "band images)")
     output = p.add_argument_group("output and watching")
     output.add_argument("--out", type=Path, default=Path("csl-out"),
-                        help="folder for the episode log, the plots and (demo) the library (default ./csl-out)")
+                        help="folder for the episode log, the plots and (demo) the demo's own library (default ./csl-out)")
     output.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     output.add_argument("--json", action="store_true",
                         help="print one JSON document on standard output instead of the tables (for scripts)")
@@ -58,7 +58,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         description=("Train on the paper's Table 3 objects in the simulator, then let the executive locate, "
                      "recognize and grasp the unseen test objects in the built-in lab. Prints a table per "
                      "object and writes the episode log and plots (map, each object's run-time tree, the "
-                     "behaviour tree) to --out."))
+                     "behaviour tree) to --out, with the demo's own library (library.sqlite, made anew each "
+                     "time): csl library and csl tree read the last demo's library while the robot's, "
+                     "$CSL_HOME/library.sqlite (csl run's), does not exist."))
     demo.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (default 0)")
     demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
     _noise_option(demo)
