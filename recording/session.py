@@ -14,6 +14,7 @@ import py_trees
 from behaviours.records import ObjectRecord
 from executive.episode_log import EpisodeLog
 from recording.driver import RecordingDriver
+from recording.live_server import LiveServer
 from recording.recorder import Recorder
 from hero_driver.interface import Driver
 from robot_profile.model import RobotGeometry
@@ -55,9 +56,8 @@ class Recording:
         self._viewers = _Viewers()
         self._writer = None if mcap is None else foxglove.open_mcap(mcap, allow_overwrite=True, context=self.context)
         try:
-            self.server = None if live_port is None else foxglove.start_server(
-                name="csl-executive", host=live_host, port=live_port, context=self.context,
-                server_listener=self._viewers)
+            self.server = None if live_port is None else LiveServer(
+                self.context, host=live_host, port=live_port, name="csl-executive", server_listener=self._viewers)
         except BaseException:
             if self._writer is not None:
                 self._writer.close()
