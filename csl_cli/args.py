@@ -206,8 +206,8 @@ def add_recording_options(p: argparse.ArgumentParser) -> None:
                    help="record the episode as MCAP with Foxglove's schemas: robot pose, planned paths, sonar rays, "
                         "camera, map, objects, the tree's status per tick (docs/recording.md)")
     p.add_argument("--live", action="store_true",
-                   help="serve the same channels live through the Foxglove WebSocket server on 127.0.0.1; the "
-                        "episode starts when a client subscribes")
+                   help="serve the same channels live to Foxglove or Lichtblick on 127.0.0.1 (subprotocol "
+                        "foxglove.sdk.v1 or foxglove.websocket.v1); the episode starts when a client subscribes")
     p.add_argument("--live-port", type=port, default=None, metavar="N",
                    help="with --live: the port (default 8765, Foxglove's; 0 for any free one)")
     p.add_argument("--live-pace", type=non_negative_seconds, default=None, metavar="SECONDS",

@@ -39,7 +39,7 @@ def open_recording(args: argparse.Namespace, profile: RobotProfile) -> Recording
     pace = 0.0 if not live else DEFAULT_LIVE_PACE_S if args.live_pace is None else args.live_pace  # a file: flat out
     try:
         recording = Recording(profile.robot.geometry, mcap=record, live_port=port if live else None, live_pace_s=pace)
-    except RuntimeError as exc:  # the SDK's error for a port in use
+    except RuntimeError as exc:  # the live server's error for a port in use (recording.live_server)
         raise ValueError(f"--live-port {port}: cannot serve the live view: {exc}") from None
     if live:
         print(f"csl: live view at ws://127.0.0.1:{recording.live_port} (Foxglove: Open connection, Foxglove "

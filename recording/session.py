@@ -15,6 +15,7 @@ from behaviours.records import ObjectRecord
 from behaviours.services import namespace
 from executive.episode_log import EpisodeLog
 from recording.driver import RecordingDriver
+from recording.live_server import LiveServer
 from recording.recorder import Recorder
 from recording.run_metadata import RUN_METADATA, RunDescription
 from hero_driver.interface import Driver
@@ -57,9 +58,8 @@ class Recording:
         self._viewers = _Viewers()
         self._writer = None if mcap is None else foxglove.open_mcap(mcap, allow_overwrite=True, context=self.context)
         try:
-            self.server = None if live_port is None else foxglove.start_server(
-                name="csl-executive", host=live_host, port=live_port, context=self.context,
-                server_listener=self._viewers)
+            self.server = None if live_port is None else LiveServer(
+                self.context, host=live_host, port=live_port, name="csl-executive", server_listener=self._viewers)
         except BaseException:
             if self._writer is not None:
                 self._writer.close()
