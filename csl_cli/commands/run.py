@@ -143,11 +143,18 @@ def _camera_option(p: argparse.ArgumentParser) -> None:
 
 
 def _handler(name: str):  # noqa: ANN202
-    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called."""
+    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called; for a
+    command with ``--out``, what it makes is taken back if it fails before its episode
+    starts (csl_cli/run_output.py)."""
 
     def handle(args: argparse.Namespace) -> int:
         from csl_cli.commands import episode
+        from csl_cli.run_output import taken_back_unless_started
 
-        return getattr(episode, name)(args)
+        out: Path | None = getattr(args, "out", None)
+        if out is None:  # csl bt
+            return getattr(episode, name)(args)
+        with taken_back_unless_started(out, out / "episode.jsonl", [args.record] if args.record else []):
+            return getattr(episode, name)(args)
 
     return handle
