@@ -65,12 +65,12 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
             "Send one request on hero/ROBOT/rpc/VERB and print the reply body as JSON. "
             "REQUEST is the request's fields as a JSON object (docs/driver-protocol.md; the "
             "'v' field is added when left out), e.g. csl driver call r1 sense "
-            "'{\"procedure\": \"H-Scan-0.3\"}'. Verbs: move, sense, grasp, release, camera, "
-            "reset, noop, hello. An error reply is printed as sent and exits 1."
+            "'{\"procedure\": \"H-Scan-0.3\"}'. An error reply is printed as sent and exits 1."
         ),
     )
     call.add_argument("robot", metavar="ROBOT", help="robot name (zenoh keys hero/ROBOT/...)")
-    verb = call.add_argument("verb", metavar="VERB", help="the verb, e.g. noop, hello, sense, move, reset")
+    verb = call.add_argument("verb", metavar="VERB", help="the verb: %(verbs)s (docs/driver-protocol.md, Verbs)")
+    verb.verbs = VerbNames()  # type: ignore[attr-defined]  # argparse fills %(verbs)s from the action's attributes
     verb.completer = complete_verb  # type: ignore[attr-defined]  # argcomplete's hook
     call.add_argument("request", metavar="REQUEST", nargs="?", default="{}",
                       help="the request as a JSON object (default {}, for verbs without arguments)")
@@ -79,6 +79,17 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
                            "timeout, e.g. 5 for noop, 900 for move)")
     connect_options(call)
     call.set_defaults(handler=run_call)
+
+
+class VerbNames:
+    """The protocol's verbs, from the verb table, as text when a help is printed: the
+    table brings the codec and OpenCV, which building the parser (``csl --help``)
+    need not wait for."""
+
+    def __str__(self) -> str:
+        from hero_driver.zenoh_link.verbs import NAMES
+
+        return ", ".join(NAMES)
 
 
 def complete_verb(prefix: str, **_kwargs: object) -> list[str]:

@@ -134,7 +134,7 @@ def _noise_option(p: argparse.ArgumentParser) -> None:
 
 
 def _camera_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--camera", choices=CAMERA_PRESETS, default=None,
+    p.add_argument("--camera", choices=CAMERA_PRESETS, default=None, metavar="PRESET",
                    help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
                         "camera's image; calibrated from the world's marker board on the first image unless "
                         "--camera-calibration is given; docs/camera.md) (default simple); realistic-lamp, "
