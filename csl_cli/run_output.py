@@ -12,6 +12,7 @@ was not there before is removed again, and what was there is left as it was.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -38,14 +39,18 @@ def taken_back_unless_started(folder: Path, log: Path, files: Iterable[Path] = (
 
 
 def _take_back(folder: Path, before: dict[str, _Stamp], made_from: Path | None, files: list[Path]) -> None:
+    """Remove what is new, as far as it can be: the error being raised is the one to
+    report, not a file that could not be removed."""
     for path in files:
-        path.unlink(missing_ok=True)
+        with contextlib.suppress(OSError):  # never made (a name too long...)
+            path.unlink(missing_ok=True)
     for name in _entries(folder).keys() - before.keys():
         entry = folder / name
         if entry.is_dir() and not entry.is_symlink():
             shutil.rmtree(entry, ignore_errors=True)
         else:
-            entry.unlink(missing_ok=True)
+            with contextlib.suppress(OSError):
+                entry.unlink(missing_ok=True)
     if made_from is None:
         return
     for made in (folder, *folder.parents):  # the folder, then each parent made for it, while empty
