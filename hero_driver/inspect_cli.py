@@ -21,13 +21,13 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from hero_driver.interface import PROTOCOL_VERSION, TIMEOUT, UNAVAILABLE, DriverError
 from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.argtypes import positive_int, positive_seconds
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
-if TYPE_CHECKING:  # zenoh is imported only when a command runs
+if TYPE_CHECKING:  # zenoh, and the interface (numpy), are imported only when a command runs
+    from hero_driver.interface import DriverError
     from zenoh_rpc.config import UserConfig
 
 DEFAULT_STATE_TIMEOUT_S = 5.0
@@ -117,6 +117,8 @@ def connect_endpoint(args: argparse.Namespace) -> tuple[str, str, UserConfig | N
 
 
 def _not_served(robot: str, at: str, why: str) -> DriverError:
+    from hero_driver.interface import UNAVAILABLE, DriverError
+
     return DriverError(UNAVAILABLE, f"{why} robot {robot!r} at {at}; start one with 'csl driver sim --robot {robot}'")
 
 
@@ -155,6 +157,7 @@ def run_state(args: argparse.Namespace) -> int:
 def run_call(args: argparse.Namespace) -> int:
     """Send one request, print the reply; an error reply exits 1."""
     robot_keys(args.robot)
+    from hero_driver.interface import PROTOCOL_VERSION, TIMEOUT, UNAVAILABLE, DriverError
     from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
     from hero_driver.zenoh_link.codec import CodecError, encode_error
     from hero_driver.zenoh_link.verbs import BY_NAME

@@ -11,8 +11,6 @@ from dataclasses import dataclass
 from importlib import import_module
 from pathlib import Path
 
-from rich.console import Console
-
 from csl_cli.args import output_folder
 from experiments.config import FULL_SEEDS, QUICK_SEEDS, ExperimentConfig, parse_seeds
 from zenoh_rpc.argtypes import positive_int
@@ -126,6 +124,8 @@ def run_experiment_paper(args: argparse.Namespace) -> int:
         [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
          f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
     config = ExperimentConfig(args.quick, seeds, args.jobs, args.out, command)
+    from rich.console import Console
+
     from experiments.paper import run_paper  # the simulator and plots: only when the run starts
 
     console = Console(stderr=True, soft_wrap=True)
