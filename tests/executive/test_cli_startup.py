@@ -41,7 +41,8 @@ def test_csl_help_imports_no_command_and_no_numpy() -> None:
     assert _imported_by(["--help"], ("numpy", "csl_cli", "rich")) == ["csl_cli", "csl_cli.commands", "csl_cli.main"]
 
 
-@pytest.mark.parametrize("argv", [["run", "--help"], ["demo", "--help"], ["bt", "--help"],
+@pytest.mark.parametrize("argv", [["run", "--help"], ["demo", "--help"], ["bt", "--help"], ["tree", "--help"],
+                                  ["train", "--help"], ["learner", "serve", "--help"],
                                   ["experiment", "paper", "--help"], ["log", "--help"], ["driver", "--help"],
                                   ["driver", "sim", "--help"], ["camera", "--help"]])
 def test_a_commands_help_imports_no_numpy(argv: list[str]) -> None:
