@@ -36,6 +36,7 @@ from typing import NoReturn, TextIO
 
 from csl_cli.commands import COMMANDS, NAMES
 
+
 class _Parser(argparse.ArgumentParser):
     """argparse, but a bad argument is one line (and where to read more), exit 2."""
 
@@ -107,9 +108,9 @@ def named_command(argv: Sequence[str]) -> str | None:
 def _completed_command() -> str | None:
     """The command on the line the shell is completing, as :func:`named_command` finds
     it (all of them when the line cannot be split, half-typed quotes and all)."""
-    line = os.environ.get("COMP_LINE", "")[:int(os.environ.get("COMP_POINT") or 10**6)]
+    line = os.environ.get("COMP_LINE", "")
     try:
-        return named_command(shlex.split(line)[1:])
+        return named_command(shlex.split(line[:int(os.environ.get("COMP_POINT", len(line)))])[1:])
     except ValueError:
         return ALL
 
@@ -229,23 +230,29 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version, or a bad argument (already reported)
         return int(exc.code or 0)
     configure_logging(log_level(args))
-    from hero_driver.interface import DriverError  # the errors a command may end with, once one runs
-    from learner.service.interface import LearnerUnavailable
-
     try:
         return int(args.handler(args) or 0)
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except (LearnerUnavailable, DriverError, ValueError, OSError, KeyError) as exc:
+    except KeyboardInterrupt:  # before the next clause, which imports what it names
+        print("csl: interrupted", file=sys.stderr)
+        return 130
+    except _expected() as exc:
         if os.environ.get("CSL_DEBUG"):
             raise
         line, status = _error(exc)
         print(line, file=sys.stderr)
         return status
-    except KeyboardInterrupt:
-        print("csl: interrupted", file=sys.stderr)
-        return 130
+
+
+def _expected() -> tuple[type[Exception], ...]:
+    """The errors ``csl`` reports in one line (imported once a command has failed:
+    the driver interface brings numpy)."""
+    from hero_driver.interface import DriverError
+    from learner.service.interface import LearnerUnavailable
+
+    return LearnerUnavailable, DriverError, ValueError, OSError, KeyError
 
 
 def _error(exc: Exception) -> tuple[str, int]:
