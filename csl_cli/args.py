@@ -65,14 +65,28 @@ def world_argument(text: str) -> str:
 
 def writable_file(path: Path, option: str) -> Path:
     """Check that ``path`` can be written (its folder exists and is writable, it is not
-    a folder) before the work that produces it starts."""
-    if path.is_dir():
-        raise ValueError(f"{option}: {path} is a folder, not a file")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise ValueError(f"{option}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise ValueError(f"{option}: cannot write into {folder}")
+    a folder, the file itself can be made) before the work that produces it starts.
+
+    A new file is made and removed again: permissions alone do not tell (root passes
+    every ``os.access`` check, yet cannot create a file under ``/proc`` or one whose
+    name is too long), and the writer that fails later says only "No such file or
+    directory", naming neither the option nor the file."""
+    try:
+        if path.is_dir():
+            raise ValueError(f"{option}: {path} is a folder, not a file")
+        folder = path.parent if str(path.parent) else Path(".")
+        if not folder.is_dir():
+            raise ValueError(f"{option}: folder {folder} does not exist")
+        if not os.access(folder, os.W_OK):
+            raise ValueError(f"{option}: cannot write into {folder}")
+        if path.exists():  # a file (or a device such as /dev/stdout): opening it could block or truncate
+            if not os.access(path, os.W_OK):
+                raise ValueError(f"{option}: cannot write {path}: permission denied")
+            return path
+        path.open("xb").close()
+    except OSError as exc:  # a name too long, a folder such as /proc that takes no new files...
+        raise ValueError(f"{option}: cannot create {path}: {(exc.strerror or str(exc)).lower()}") from None
+    path.unlink()
     return path
 
 

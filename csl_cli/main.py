@@ -20,25 +20,23 @@ Shell completion is argcomplete's (README): commands and options, and, on every
 ``--world``, the shipped worlds (an unknown name is refused listing them), on every
 ``--knowledge`` and ``--profile`` the shipped robot profiles. Completion runs only when
 the shell's hook sets ``_ARGCOMPLETE``; otherwise argcomplete is not even imported.
+
+Only the module of the command named is imported (``csl_cli/commands/__init__.py``):
+``csl --help`` imports argparse and that table, and a command's stack (numpy, the
+learner, the transport) waits for the command that uses it.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib.metadata
 import logging
 import os
+import shlex
 import sys
 from collections.abc import Sequence
 from typing import NoReturn, TextIO
 
-from csl_cli import commands
-from executive import defaults
-from csl_cli.args import world_argument
-from hero_driver.shipped import shipped_worlds
-from executive.exit_status import BAD_INPUT, LOST
-from hero_driver.interface import DriverError
-from learner.service.interface import LearnerTimedOut, LearnerUnavailable
+from csl_cli.commands import COMMANDS, NAMES
 
 
 class _Parser(argparse.ArgumentParser):
@@ -47,12 +45,35 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         """One line even when the message quotes an argument holding a newline (argparse
         names unrecognised arguments as they are): control characters are escaped."""
+        from executive.exit_status import BAD_INPUT
+
         line = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
         self.exit(BAD_INPUT, f"{self.prog}: error: {line} (see '{self.prog} --help')\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full ``csl`` parser with every subcommand registered."""
+class _Version(argparse.Action):
+    """``--version``: the installed distribution's version, read only when asked
+    (importlib.metadata is a noticeable share of a bare start)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS,
+                 default: str = argparse.SUPPRESS, help: str = "show the version and exit") -> None:  # noqa: A002
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> NoReturn:
+        sys.stdout.write(f"csl-executive {_version()}\n")
+        parser.exit()
+
+
+ALL = "*"
+"""``build_parser``'s default: every command's own parser (tests, documentation)."""
+
+
+def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
+    """The ``csl`` parser. Every command is listed; the parsers of ``command``'s module
+    are built in full (of every module with :data:`ALL`; of none with None, enough for
+    ``csl --help``, ``--version`` and an unknown command), the others are a name and
+    a help line."""
     parser = _Parser(
         prog="csl",
         description=(
@@ -62,15 +83,38 @@ def build_parser() -> argparse.ArgumentParser:
         ),
         epilog="Run 'csl COMMAND --help' for a command's options.",
     )
-    parser.add_argument("--version", action="version", version=f"csl-executive {_version()}")
+    parser.add_argument("--version", action=_Version)
     _add_log_options(parser, default=None)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for module in commands.MODULES:
-        module.register(sub)
-    for command in _commands(parser):
-        _add_log_options(command, default=argparse.SUPPRESS)
-        _add_completers(command)
+    wanted = {c.module for c in COMMANDS if command in (ALL, c.name)}
+    registered: set[str] = set()
+    for entry in COMMANDS:
+        if entry.module not in wanted:
+            sub.add_parser(entry.name, help=entry.help)
+        elif entry.module not in registered:  # its commands, in its order (the table's)
+            registered.add(entry.module)
+            entry.load().register(sub)
+    for each in _commands(parser):
+        _add_log_options(each, default=argparse.SUPPRESS)
+        _add_completers(each)
     return parser
+
+
+def named_command(argv: Sequence[str]) -> str | None:
+    """The command ``argv`` names: its first word that is one (what precedes it are
+    ``csl``'s own options, whose values are never command names); None when there is
+    none (``csl --help``, ``csl --version``, a mistyped command)."""
+    return next((word for word in argv if word in NAMES), None)
+
+
+def _completed_command() -> str | None:
+    """The command on the line the shell is completing, as :func:`named_command` finds
+    it (all of them when the line cannot be split, half-typed quotes and all)."""
+    line = os.environ.get("COMP_LINE", "")
+    try:
+        return named_command(shlex.split(line[:int(os.environ.get("COMP_POINT", len(line)))])[1:])
+    except ValueError:
+        return ALL
 
 
 LOG_LEVELS = ("debug", "info", "warning", "error", "critical")
@@ -105,6 +149,8 @@ def _add_completers(command: argparse.ArgumentParser) -> None:
     for action in command._actions:  # noqa: SLF001
         options = set(action.option_strings)
         if "--world" in options:
+            from csl_cli.args import world_argument
+
             action.type = world_argument
             action.completer = complete_world  # type: ignore[attr-defined]
         elif options & {"--knowledge", "--profile"}:
@@ -113,12 +159,16 @@ def _add_completers(command: argparse.ArgumentParser) -> None:
 
 def complete_world(prefix: str, **_kwargs: object) -> list[str]:
     """The shipped worlds' names, then world files, that start with ``prefix``."""
+    from hero_driver.shipped import shipped_worlds
+
     return [w for w in shipped_worlds() if w.startswith(prefix)] + _files(prefix, ".json")
 
 
 def complete_profile(prefix: str, **_kwargs: object) -> list[str]:
     """The shipped robot profiles (``hero_driver/profiles/*.toml``), then TOML files,
     that start with ``prefix``."""
+    from executive import defaults
+
     shipped = [str(p) for p in sorted(defaults.PROFILES.glob("*.toml"))]
     return [p for p in shipped if p.startswith(prefix)] + [f for f in _files(prefix, ".toml") if f not in shipped]
 
@@ -196,6 +246,8 @@ def configure_logging(level: int, others: int = logging.WARNING) -> None:
 
 
 def _version() -> str:
+    import importlib.metadata
+
     try:
         return importlib.metadata.version("csl-executive")
     except importlib.metadata.PackageNotFoundError:
@@ -204,11 +256,12 @@ def _version() -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``csl``; returns the process exit status."""
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: print them and exit
         import argcomplete
 
-        argcomplete.autocomplete(parser)
+        argcomplete.autocomplete(build_parser(_completed_command()))
+    parser = build_parser(named_command(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a bad argument (already reported)
@@ -219,20 +272,33 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (csl ... | head): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
-    except (LearnerUnavailable, DriverError, ValueError, OSError, KeyError) as exc:
+    except KeyboardInterrupt:  # before the next clause, which imports what it names
+        print("csl: interrupted", file=sys.stderr)
+        return 130
+    except _expected() as exc:
         if os.environ.get("CSL_DEBUG"):
             raise
         line, status = _error(exc)
         print(line, file=sys.stderr)
         return status
-    except KeyboardInterrupt:
-        print("csl: interrupted", file=sys.stderr)
-        return 130
+
+
+def _expected() -> tuple[type[Exception], ...]:
+    """The errors ``csl`` reports in one line (imported once a command has failed:
+    the driver interface brings numpy)."""
+    from hero_driver.interface import DriverError
+    from learner.service.interface import LearnerUnavailable
+
+    return LearnerUnavailable, DriverError, ValueError, OSError, KeyError
 
 
 def _error(exc: Exception) -> tuple[str, int]:
     """The one line for an error ``csl`` expects, and its exit status: a learner service
     or robot lost is exit 3, anything else a bad input (exit 2)."""
+    from executive.exit_status import BAD_INPUT, LOST
+    from hero_driver.interface import DriverError
+    from learner.service.interface import LearnerTimedOut, LearnerUnavailable
+
     if isinstance(exc, LearnerTimedOut):  # there, but slower than it was given: the line says how to give more
         return f"csl: learner error: {_one_line(exc)}", LOST
     if isinstance(exc, LearnerUnavailable):  # the learner service could not be reached or vanished

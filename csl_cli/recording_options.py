@@ -41,6 +41,10 @@ def open_recording(args: argparse.Namespace, profile: RobotProfile) -> Recording
         recording = Recording(profile.robot.geometry, mcap=record, live_port=port if live else None, live_pace_s=pace)
     except RuntimeError as exc:  # the live server's error for a port in use (recording.live_server)
         raise ValueError(f"--live-port {port}: cannot serve the live view: {exc}") from None
+    except OSError as exc:  # the file could not be made after all; the SDK's own line names neither flag nor file
+        if record is None:
+            raise
+        raise ValueError(f"--record: cannot create {record}: {str(exc).lower()}") from None
     if live:
         print(f"csl: live view at ws://127.0.0.1:{recording.live_port} (Foxglove: Open connection, Foxglove "
               "WebSocket); waiting for a client to subscribe...", file=sys.stderr)

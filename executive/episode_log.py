@@ -21,19 +21,19 @@ from learner.library.json_text import NotJson, parse_json
 
 
 class EpisodeLog:
-    """Collects events in memory and, given a path, appends them to a JSON-lines file;
+    """Collects events in memory and, given a path, writes them to a JSON-lines file;
     listeners (a recording) get each event as it is logged, and Python's ``logging``
-    tells it (``csl -v``, :mod:`executive.narration`)."""
+    tells it (``csl -v``, :mod:`executive.narration`).
+
+    The file is made at the first event, not before: a run that fails while it sets up
+    leaves no empty log, and the log of the run before it as it was."""
 
     def __init__(self, path: str | Path | None = None) -> None:
         self.events: list[dict[str, object]] = []
         self.tick = 0
         self.listeners: list[Callable[[dict[str, object]], None]] = []
+        self._path = None if path is None else Path(path)
         self._file: IO[str] | None = None
-        if path is not None:
-            path = Path(path)
-            path.parent.mkdir(parents=True, exist_ok=True)
-            self._file = path.open("w", encoding="utf-8")
 
     def event(self, kind: Event | str, **data: object) -> None:
         """Log one event; a kind outside :class:`~behaviours.events.Event` is a bug in
@@ -44,6 +44,9 @@ class EpisodeLog:
             raise ValueError(f"unknown episode event kind {kind!r}") from None
         record = _json_safe({"tick": self.tick, "event": kind.value, **data})
         self.events.append(record)
+        if self._file is None and self._path is not None:
+            self._path.parent.mkdir(parents=True, exist_ok=True)
+            self._file = self._path.open("w", encoding="utf-8")
         if self._file is not None:
             self._file.write(json.dumps(record, ensure_ascii=False, default=str, allow_nan=False) + "\n")
             self._file.flush()  # followable while the episode runs (tail -f), complete if it dies
@@ -52,6 +55,7 @@ class EpisodeLog:
             listener(record)
 
     def close(self) -> None:
+        self._path = None  # an event after the close is kept in memory only, as before
         if self._file is not None:
             self._file.close()
             self._file = None

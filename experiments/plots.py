@@ -14,6 +14,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -57,16 +59,24 @@ def curves(path: Path, panels: Sequence[Panel]) -> None:
     """Panels side by side, one line with markers per series."""
     fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.0), squeeze=False)
     for ax, panel in zip(axes[0], panels):
-        for label, (xs, ys) in panel.series.items():
-            ax.plot(list(xs), list(ys), marker="o", label=label)
-        if panel.logx:
-            ax.set_xscale("log", base=2)
-        ax.set_title(panel.title, fontsize=10)
-        ax.set_xlabel(panel.xlabel)
-        ax.set_ylabel(panel.ylabel)
-        ax.grid(alpha=0.3)
-        if len(panel.series) > 1:
-            ax.legend(fontsize=7)
+        draw_panel(ax, panel)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def draw_panel(ax: Axes, panel: Panel) -> None:
+    """One panel on ``ax``. An x axis of whole numbers only (episodes, runs) is ticked
+    at whole numbers: matplotlib would put a tick at episode 1.5, which does not exist."""
+    for label, (xs, ys) in panel.series.items():
+        ax.plot(list(xs), list(ys), marker="o", label=label)
+    if panel.logx:
+        ax.set_xscale("log", base=2)
+    elif all(float(x).is_integer() for xs, _ in panel.series.values() for x in xs):
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_title(panel.title, fontsize=10)
+    ax.set_xlabel(panel.xlabel)
+    ax.set_ylabel(panel.ylabel)
+    ax.grid(alpha=0.3)
+    if len(panel.series) > 1:
+        ax.legend(fontsize=7)

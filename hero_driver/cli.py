@@ -107,7 +107,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--noise", default=None, choices=tuple(NOISE_PRESETS), metavar="PRESET",
                      help=f"sensor and odometry noise preset: {', '.join(NOISE_PRESETS)} "
                           "(docs/simulator.md, Noise; default: the world file's noise table, else mild)")
-    sim.add_argument("--camera", default="simple", choices=CAMERA_PRESETS,
+    sim.add_argument("--camera", default="simple", choices=CAMERA_PRESETS, metavar="PRESET",
                      help="how the overhead camera draws: simple (the grey bands) or realistic (what a real "
                           "ceiling camera shows: calibrate with 'csl camera calibrate'; docs/camera.md; "
                           "default simple); realistic-lamp, -shadow, -floor, -exposure: that room after a change "

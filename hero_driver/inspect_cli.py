@@ -21,13 +21,13 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from hero_driver.interface import PROTOCOL_VERSION, TIMEOUT, UNAVAILABLE, DriverError
 from hero_driver.zenoh_link.keys import robot_keys
 from zenoh_rpc.argtypes import positive_int, positive_seconds
 from zenoh_rpc.endpoints import CONNECT_KEY, DRIVER_ENDPOINT, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, user_config, where
 
-if TYPE_CHECKING:  # zenoh is imported only when a command runs
+if TYPE_CHECKING:  # zenoh, and the interface (numpy), are imported only when a command runs
+    from hero_driver.interface import DriverError
     from zenoh_rpc.config import UserConfig
 
 DEFAULT_STATE_TIMEOUT_S = 5.0
@@ -65,12 +65,12 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
             "Send one request on hero/ROBOT/rpc/VERB and print the reply body as JSON. "
             "REQUEST is the request's fields as a JSON object (docs/driver-protocol.md; the "
             "'v' field is added when left out), e.g. csl driver call r1 sense "
-            "'{\"procedure\": \"H-Scan-0.3\"}'. Verbs: move, sense, grasp, release, camera, "
-            "reset, noop, hello. An error reply is printed as sent and exits 1."
+            "'{\"procedure\": \"H-Scan-0.3\"}'. An error reply is printed as sent and exits 1."
         ),
     )
     call.add_argument("robot", metavar="ROBOT", help="robot name (zenoh keys hero/ROBOT/...)")
-    verb = call.add_argument("verb", metavar="VERB", help="the verb, e.g. noop, hello, sense, move, reset")
+    verb = call.add_argument("verb", metavar="VERB", help="the verb: %(verbs)s (docs/driver-protocol.md, Verbs)")
+    verb.verbs = VerbNames()  # type: ignore[attr-defined]  # argparse fills %(verbs)s from the action's attributes
     verb.completer = complete_verb  # type: ignore[attr-defined]  # argcomplete's hook
     call.add_argument("request", metavar="REQUEST", nargs="?", default="{}",
                       help="the request as a JSON object (default {}, for verbs without arguments)")
@@ -79,6 +79,17 @@ def register_inspect(actions: argparse._SubParsersAction) -> None:
                            "timeout, e.g. 5 for noop, 900 for move)")
     connect_options(call)
     call.set_defaults(handler=run_call)
+
+
+class VerbNames:
+    """The protocol's verbs, from the verb table, as text when a help is printed: the
+    table brings the codec and OpenCV, which building the parser (``csl --help``)
+    need not wait for."""
+
+    def __str__(self) -> str:
+        from hero_driver.zenoh_link.verbs import NAMES
+
+        return ", ".join(NAMES)
 
 
 def complete_verb(prefix: str, **_kwargs: object) -> list[str]:
@@ -106,6 +117,8 @@ def connect_endpoint(args: argparse.Namespace) -> tuple[str, str, UserConfig | N
 
 
 def _not_served(robot: str, at: str, why: str) -> DriverError:
+    from hero_driver.interface import UNAVAILABLE, DriverError
+
     return DriverError(UNAVAILABLE, f"{why} robot {robot!r} at {at}; start one with 'csl driver sim --robot {robot}'")
 
 
@@ -144,6 +157,7 @@ def run_state(args: argparse.Namespace) -> int:
 def run_call(args: argparse.Namespace) -> int:
     """Send one request, print the reply; an error reply exits 1."""
     robot_keys(args.robot)
+    from hero_driver.interface import PROTOCOL_VERSION, TIMEOUT, UNAVAILABLE, DriverError
     from hero_driver.zenoh_link.client import VerbTimeouts, ZenohDriver
     from hero_driver.zenoh_link.codec import CodecError, encode_error
     from hero_driver.zenoh_link.verbs import BY_NAME

@@ -71,7 +71,11 @@ class Position:
         return [_slot_json(self.distance_in), _slot_json(self.orientation_deg)]
 
     def __str__(self) -> str:
-        return f"({_slot_text(self.distance_in)},{_slot_text(self.orientation_deg)})"
+        """The position as people read it, ``(6,90)`` as the paper writes it: each slot
+        to a tenth of an inch or of a degree (a bearing the robot reached is
+        ``339.2``, not ``339.16071978233924``), ``*`` for a don't-care slot. Only
+        text: the exact values are :meth:`to_json`'s, which logs and files keep."""
+        return f"({_slot_text(self.distance_in)},{_slot_text(self.orientation_deg, turn=360.0)})"
 
 
 def position_from_json(value: object, where: str) -> Position:
@@ -161,5 +165,12 @@ def _slot_json(value: float | None) -> float | str:
     return int(value) if float(value).is_integer() else value
 
 
-def _slot_text(value: float | None) -> str:
-    return str(_slot_json(value))
+def _slot_text(value: float | None, turn: float | None = None) -> str:
+    """A slot to one decimal, whole numbers without it; an orientation that rounds up
+    to a full ``turn`` reads as 0, the bearing it is."""
+    if value is None:
+        return ANY
+    tenths = round(float(value), 1)
+    if turn is not None and tenths >= turn:
+        tenths -= turn
+    return str(int(tenths)) if tenths.is_integer() else f"{tenths:.1f}"

@@ -11,10 +11,14 @@ from dataclasses import dataclass
 from importlib import import_module
 from pathlib import Path
 
-from rich.console import Console
-
 from csl_cli.args import output_folder
 from experiments.config import FULL_SEEDS, QUICK_SEEDS, ExperimentConfig, parse_seeds
+from zenoh_rpc.argtypes import positive_int
+
+DEFAULT_OUT = Path("csl-experiment")
+"""Where ``csl experiment paper`` writes unless told: a folder of its own (in
+``.gitignore``), never ``docs/``, so a run from a checkout cannot overwrite the
+committed page; ``--out docs`` regenerates that page on purpose."""
 
 SEEDS_FORMS = ": a count N (seeds 0 to N-1), a range A-B or a list A,B,C (other seeds lay other floors)"
 
@@ -27,7 +31,6 @@ def seeds_argument(text: str) -> str:
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
     return text.strip()
-from zenoh_rpc.argtypes import positive_int
 
 
 @dataclass(frozen=True)
@@ -106,8 +109,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                             f"with --quick){SEEDS_FORMS}")
     paper.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
                        help="parallel worker processes (default: the CPU count)")
-    paper.add_argument("--out", type=Path, default=Path("docs"),
-                       help="folder for results.md (plots and CSV go to its results/ folder; default docs/)")
+    paper.add_argument("--out", type=Path, default=DEFAULT_OUT, metavar="DIR",
+                       help=f"folder for results.md (plots and CSV go to its results/ folder; default ./{DEFAULT_OUT}; "
+                            "--out docs regenerates a checkout's docs/results.md)")
     paper.set_defaults(handler=run_experiment_paper)
     for study in SITUATIONS:
         _add_situation(studies, study)
@@ -120,6 +124,8 @@ def run_experiment_paper(args: argparse.Namespace) -> int:
         [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
          f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
     config = ExperimentConfig(args.quick, seeds, args.jobs, args.out, command)
+    from rich.console import Console
+
     from experiments.paper import run_paper  # the simulator and plots: only when the run starts
 
     console = Console(stderr=True, soft_wrap=True)

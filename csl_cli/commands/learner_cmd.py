@@ -7,16 +7,16 @@ import argparse
 import sys
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 from executive import defaults
 from csl_cli.args import library_path, writable_file
-from robot_profile import load_knowledge
-from learner.library.backup import keep_backed_up
-from learner.library.format import read_library_json
-from learner.service.local import LocalLearner
-from learner.service.protocol import learner_keys
 from zenoh_rpc.argtypes import positive_seconds
 from zenoh_rpc.endpoints import LEARNER_ENDPOINT, LISTEN_KEY, check_endpoint
 from zenoh_rpc.options import add_zenoh_config_option, endpoint_of, open_listen_warning, reached_at, user_config
+
+if TYPE_CHECKING:  # the learner's store and formats (numpy) are imported when the service starts, not for --help
+    from learner.service.local import LocalLearner
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,6 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_serve(args: argparse.Namespace) -> int:
     """Serve until SIGINT or SIGTERM; exit status 0 after a clean shutdown."""
+    from learner.library.backup import keep_backed_up
+    from learner.library.format import read_library_json
+    from learner.service.local import LocalLearner
+    from learner.service.protocol import learner_keys
+    from robot_profile import load_knowledge
+
     learner_keys(args.name)
     if args.listen is not None:
         check_endpoint(args.listen)

@@ -12,23 +12,13 @@ from executive import defaults
 from csl_cli.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
 from csl_cli.library_choice import library_to_read
 from reporting.tables import Column, print_paragraph, print_table
-from learner.choosing.matrix import DescriptionMatrix
-from learner.choosing.node import Context, Node
-from learner.costs import ModelMoveCost
-from learner.library.checks import check_library
-from learner.library.format import write_json_atomically, write_library_json
-from learner.library.store import LibraryStore, load_library
-from learner.position import parse_position
-from learner.render import tree_json, tree_text
-from learner.training.inputs import TrainingObject, objects_document, read_objects, read_replay, replay_document
-from learner.training.stage import TrainingResult, train
-from learner.training.summary import TrainingSummary, summarise
-from robot_profile import load_knowledge, load_profile
-from learner.decision_tree import grow
 
-if TYPE_CHECKING:  # the simulator stack is imported only when --sim is used
+if TYPE_CHECKING:  # the learner (numpy) when a command runs, not for --help; the simulator stack only for --sim
     from executive.sim_training import SimTraining
     from learner.training.grasps import GraspSearch
+    from learner.training.inputs import TrainingObject
+    from learner.training.stage import TrainingResult
+    from learner.training.summary import TrainingSummary
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -95,6 +85,16 @@ cost overflows to inf."""
 
 
 def run_tree(args: argparse.Namespace) -> int:
+    from learner.choosing.matrix import DescriptionMatrix
+    from learner.choosing.node import Context, Node
+    from learner.costs import ModelMoveCost
+    from learner.decision_tree import grow
+    from learner.library.checks import check_library
+    from learner.library.store import load_library
+    from learner.position import parse_position
+    from learner.render import tree_json, tree_text
+    from robot_profile import load_knowledge
+
     knowledge = load_knowledge(args.knowledge)
     path = args.library or library_to_read(None, "--library", "csl tree") or defaults.EXAMPLE_LIBRARY
     library = load_library(path)
@@ -119,6 +119,14 @@ def run_tree(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
+    from learner.costs import ModelMoveCost
+    from learner.library.format import write_json_atomically, write_library_json
+    from learner.library.store import LibraryStore
+    from learner.training.inputs import objects_document, read_objects, read_replay, replay_document
+    from learner.training.stage import train
+    from learner.training.summary import summarise
+    from robot_profile import load_knowledge, load_profile
+
     # The simulator drives a robot body, so --sim needs the whole profile; replayed
     # measurements need only the learner's part ([robot] may be absent).
     profile = load_profile(args.knowledge) if args.sim else None

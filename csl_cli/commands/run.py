@@ -136,7 +136,7 @@ def _noise_option(p: argparse.ArgumentParser) -> None:
 
 
 def _camera_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--camera", choices=CAMERA_PRESETS, default=None,
+    p.add_argument("--camera", choices=CAMERA_PRESETS, default=None, metavar="PRESET",
                    help="the simulator's overhead camera: simple (grey bands) or realistic (a real ceiling "
                         "camera's image; calibrated from the world's marker board on the first image unless "
                         "--camera-calibration is given; docs/camera.md) (default simple); realistic-lamp, "
@@ -145,11 +145,18 @@ def _camera_option(p: argparse.ArgumentParser) -> None:
 
 
 def _handler(name: str):  # noqa: ANN202
-    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called."""
+    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called; for a
+    command with ``--out``, what it makes is taken back if it fails before its episode
+    starts (csl_cli/run_output.py)."""
 
     def handle(args: argparse.Namespace) -> int:
         from csl_cli.commands import episode
+        from csl_cli.run_output import taken_back_unless_started
 
-        return getattr(episode, name)(args)
+        out: Path | None = getattr(args, "out", None)
+        if out is None:  # csl bt
+            return getattr(episode, name)(args)
+        with taken_back_unless_started(out, out / "episode.jsonl", [args.record] if args.record else []):
+            return getattr(episode, name)(args)
 
     return handle

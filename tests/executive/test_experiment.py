@@ -207,6 +207,28 @@ def test_an_out_that_is_a_file_is_refused(tmp_path: Path, capsys: pytest.Capture
     assert "--out" in capsys.readouterr().err
 
 
+def test_by_default_the_page_goes_to_an_ignored_folder_never_docs() -> None:
+    """Run from a checkout, ``csl experiment paper`` must not overwrite the committed
+    docs/results.md unless told ``--out docs``; its default folder, like ``csl demo``'s,
+    is one git ignores (docs/ is not)."""
+    import shutil
+    import subprocess
+
+    from csl_cli.main import build_parser
+
+    parser = build_parser()
+    assert parser.parse_args(["experiment", "paper"]).out == Path("csl-experiment")
+    assert parser.parse_args(["experiment", "paper", "--out", "docs"]).out == Path("docs")
+    demo_out = parser.parse_args(["demo"]).out
+    root = Path(__file__).resolve().parents[2]
+    if shutil.which("git") is None or not (root / ".git").exists():
+        pytest.skip("not a git checkout: nothing here for git to ignore")
+    paths = [f"{demo_out}/episode.jsonl", "csl-experiment/results.md", "csl-experiment/results/episodes.csv",
+             "docs/results.md"]
+    ignored = subprocess.run(["git", "check-ignore", *paths], cwd=root, capture_output=True, text=True).stdout
+    assert ignored.split() == paths[:3]
+
+
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("experiment")

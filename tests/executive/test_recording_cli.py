@@ -64,6 +64,28 @@ def test_recording_options_are_checked_before_anything_runs(tmp_path: Path, give
         check_recording_options(_run_args(tmp_path, **given))
 
 
+def test_a_record_file_that_cannot_be_made_is_one_line_naming_flag_and_file(tmp_path: Path, capsys) -> None:  # noqa: ANN001
+    """The folder is there and writable, the file cannot be made (a name over the
+    system's 255 bytes; as root, every ``os.access`` check passes): one line naming
+    ``--record``, the file and why, exit 2, before anything is created."""
+    record = tmp_path / ("x" * 300 + ".mcap")
+    out = tmp_path / "out"
+    assert main(["run", "--record", str(record), "--out", str(out), "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"csl: error: --record: cannot create {record}: file name too long"]
+    assert list(tmp_path.iterdir()) == []  # neither the out folder nor anything else
+
+
+def test_a_record_file_that_is_there_is_left_as_it_was(tmp_path: Path) -> None:
+    """Checking an existing ``--record`` file neither truncates nor removes it; a new
+    one is made to be sure it can be, then removed (the run makes it again)."""
+    there = tmp_path / "old.mcap"
+    there.write_bytes(b"old")
+    check_recording_options(_run_args(tmp_path, record=there))
+    check_recording_options(_run_args(tmp_path, record=tmp_path / "new.mcap"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.mcap"] and there.read_bytes() == b"old"
+
+
 @pytest.mark.parametrize(("argv", "message"), [
     (["--live-port", "70000"], "a port is at most 65535"),
     (["--live-pace", "-1"], "must be a finite number of seconds >= 0"),

@@ -26,6 +26,17 @@ def test_tree_prints_the_papers_style(lib, capsys) -> None:  # noqa: ANN001
     assert out[:2] == ["move-to-(24,0) (72s)", "Width-Degree-1°(24,0) (100s)"]
 
 
+def test_tree_text_rounds_a_bearing_the_json_keeps_it(capsys) -> None:  # noqa: ANN001
+    """Standing at a bearing no grid holds, id3 (whose * slots need not be where the
+    robot is) sends the robot to it: the text says 339.2, the JSON the exact bearing."""
+    bearing = "339.16071978233924"
+    assert main(["tree", "--criterion", "id3", "--pose", f"60,{bearing}"]) == 0
+    text = capsys.readouterr().out
+    assert "    move-to-(6,339.2) (5s)\n" in text and bearing not in text
+    assert main(["tree", "--criterion", "id3", "--pose", f"60,{bearing}", "--json"]) == 0
+    assert f"[6, {bearing}]" in json.dumps(json.loads(capsys.readouterr().out))
+
+
 def test_tree_json_and_criterion(lib, capsys) -> None:  # noqa: ANN001
     assert main(["tree", "--library", str(lib), "--pose", "60,0", "--json", "--criterion", "id3"]) == 0
     tree = json.loads(capsys.readouterr().out)
