@@ -42,12 +42,14 @@ otherwise. BENCHMARKS.md ("Fleet load") keeps the figures of record.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
 import json
 import math
 import os
 import platform
 import random
+import sqlite3
 import re
 import socket
 import subprocess
@@ -365,7 +367,7 @@ class Accounting:
     """Descriptions the episodes learned against the rows the library gained."""
 
     learned: int  # learn events naming a stored id
-    queued: int  # learn events answered 'queued:' (undelivered when the episode ended)
+    queued: int  # learn events answered 'queued:' (undelivered when the episode ended), their key never stored
     stored: int  # new rows in the library
     lost: tuple[str, ...]  # learned ids not in the library
     unclaimed: tuple[str, ...]  # new rows no learn event names
@@ -380,12 +382,25 @@ class Accounting:
         return not (self.lost or self.unclaimed or self.claimed_twice or self.queued)
 
 
-def account(episodes: Sequence[Episode], seed_rows: Sequence[dict], final_rows: Sequence[dict]) -> Accounting:
+def learn_keys(db: Path) -> dict[str, str]:
+    """Each stored row's idempotency key, by its id (rows learned without one left out)."""
+    with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True)) as store:
+        return dict(store.execute("SELECT learn_key, id FROM descriptions WHERE learn_key IS NOT NULL").fetchall())
+
+
+def account(episodes: Sequence[Episode], seed_rows: Sequence[dict], final_rows: Sequence[dict],
+            keys: dict[str, str] | None = None) -> Accounting:
+    """``keys``: each stored row's id by its learn key, so a learn the episode queued
+    (``queued:<key>``: the service was down) and a later run's outbox delivered claims
+    the row stored under that key."""
+    keys = keys or {}
     before = {row["id"] for row in seed_rows}
     new = [row for row in final_rows if row["id"] not in before]
     new_ids = {row["id"] for row in new}
-    claims = Counter(i for e in episodes for i in e.learned_ids if not i.startswith("queued:"))
-    queued = sum(1 for e in episodes for i in e.learned_ids if i.startswith("queued:"))
+    ids = [keys.get(i.removeprefix("queued:"), i) if i.startswith("queued:") else i
+           for e in episodes for i in e.learned_ids]
+    claims = Counter(i for i in ids if not i.startswith("queued:"))
+    queued = sum(1 for i in ids if i.startswith("queued:"))
     contents = Counter(json.dumps({k: v for k, v in row.items() if k != "id"}, sort_keys=True) for row in new)
     return Accounting(learned=sum(claims.values()), queued=queued, stored=len(new),
                       lost=tuple(sorted(set(claims) - new_ids)),
@@ -492,13 +507,13 @@ def run_fleet(robots: int, minutes: float, episodes: int | None, out: Path,
         statuses = {node.name: node.stop() for node in reversed(nodes)}
     final_rows = export_library(db, out / "final-library.json", env)
     figures = report(robots, minutes, elapsed, sorted(done, key=lambda e: (e.robot, e.index)), seed_rows,
-                     final_rows, samples, served_ms(learner.stderr), statuses)
+                     final_rows, samples, served_ms(learner.stderr), statuses, learn_keys(db))
     return {**figures, "kills": kills}
 
 
 def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episode], seed_rows: Sequence[dict],
            final_rows: Sequence[dict], samples: Samples, served: dict[str, list[float]],
-           statuses: dict[str, int | None]) -> dict:
+           statuses: dict[str, int | None], keys: dict[str, str] | None = None) -> dict:
     per_robot = {}
     for k in range(1, robots + 1):
         mine = [e for e in episodes if e.robot == f"r{k}"]
@@ -518,7 +533,7 @@ def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episo
             "dishonest": sum(not e.honest for e in mine),
             "errors": [f"ep{e.index}: {e.error}" for e in mine if e.error],
         }
-    books = account(episodes, seed_rows, final_rows)
+    books = account(episodes, seed_rows, final_rows, keys)
     rss = samples.rss_kib
     return {
         "robots": robots, "minutes": minutes, "elapsed_s": round(elapsed, 1),

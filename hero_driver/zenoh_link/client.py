@@ -395,11 +395,12 @@ class ZenohDriver:
             call.fail(DriverError(UNAVAILABLE, f"{verb}: {exc}"))
         return future
 
-    def _forget(self, call: _Call) -> None:
+    def _forget(self, call: _Call, pose: Pose | None = None) -> None:
+        """``call`` is over; ``pose``: where its reply says the robot ended, if it says."""
         with self._lock:
             if call in self._pending:
                 self._pending.discard(call)
-                self._check.finished(call.verb)
+                self._check.finished(call.verb, pose)
 
     def close(self) -> None:
         """Stop following the driver; pending and later verbs fail with ``unavailable``."""
@@ -441,7 +442,7 @@ class _Call:
                 return
             if isinstance(result, RobotState):
                 self.client._set_state(result)
-            self._complete(lambda: self.future.set_result(result))
+            self._complete(lambda: self.future.set_result(result), getattr(result, "pose", None))
             return
         try:
             error = codec.decode_error(reply.err or b"")
@@ -465,8 +466,8 @@ class _Call:
     def fail(self, error: DriverError) -> None:
         self._complete(lambda: self.future.set_exception(error))
 
-    def _complete(self, settle: Callable[[], None]) -> None:
-        self.client._forget(self)
+    def _complete(self, settle: Callable[[], None], pose: Pose | None = None) -> None:
+        self.client._forget(self, pose)
         try:
             settle()
         except InvalidStateError:
