@@ -553,6 +553,7 @@ def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episo
             "version_served": spread(served.get("version", [])),
             "library_served": spread(served.get("library", [])),
         },
+        "learner_busy": busy(served, elapsed, robots),
         "probe_failures": samples.probe_failures,
         "load_1min": {"mean": round(sum(samples.load_1min) / len(samples.load_1min), 1) if samples.load_1min else None,
                       "max": max(samples.load_1min, default=None)},
@@ -561,6 +562,17 @@ def report(robots: int, minutes: float, elapsed: float, episodes: Sequence[Episo
                             "last": round(rss[-1] / 1024, 1) if rss else None, "samples": len(rss)},
         "node_exit_statuses": statuses,
     }
+
+
+def busy(served: dict[str, list[float]], elapsed: float, robots: int) -> dict[str, object]:
+    """How long the learner service spent answering, in all and per verb, and what share
+    of the run's wall time that is: the load one robot puts on it is that share over the
+    robots, so about ``1 / (share / robots)`` robots would keep it always busy."""
+    total_s = sum(sum(ms) for ms in served.values()) / 1000
+    share = total_s / elapsed if elapsed else None
+    return {"total_s": round(total_s, 1), "share": None if share is None else round(share, 4),
+            "robots_to_saturate": round(robots / share) if share else None,
+            "by_verb": {verb: {"n": len(ms), "total_s": round(sum(ms) / 1000, 1)} for verb, ms in sorted(served.items())}}
 
 
 def accounted(figures: dict) -> bool:
@@ -600,6 +612,10 @@ def print_figures(figures: dict, out: Path) -> None:
               f"p99 {wall['p99']:.1f} s (n={wall['n']})")
     for name, s in figures["latency_ms"].items():
         print(f"p50 / p99 {LATENCY_LABELS[name]}: {ms(s)}")
+    b = figures["learner_busy"]
+    print(f"learner busy answering: {b['total_s']} s of {figures['elapsed_s']} s ({b['share']}); "
+          f"at this load per robot, about {b['robots_to_saturate']} robots would keep it always busy; "
+          + ", ".join(f"{verb} {v['n']} x, {v['total_s']} s" for verb, v in b["by_verb"].items()))
     m = figures["learner_rss_mib"]
     print(f"learner RSS: {m['first']} MiB at start, {m['max']} MiB max, {m['last']} MiB at end "
           f"({m['samples']} samples); probe failures {figures['probe_failures']}; machine load (1 min) "
