@@ -20,7 +20,6 @@ from pathlib import Path
 
 from csl_cli.args import library_path
 from executive import defaults
-from reporting.history import default_history, read_history
 
 
 @dataclass(frozen=True)
@@ -35,6 +34,8 @@ class LastDemo:
 def last_demo() -> LastDemo:
     """The last demo's library as the history file records it (a path made absolute
     when it ran, so it is found from any folder)."""
+    from reporting.history import default_history, read_history  # the history reader pulls numpy: not for --help
+
     history = default_history()
     if not history.exists():
         return LastDemo(None)
