@@ -24,7 +24,7 @@ TEMPLATE = r"""<!DOCTYPE html>
                   min-height: 0; }
   section.panel h2 { font-size: 14px; margin: 0; padding: 5px 8px; border-bottom: 1px solid #ddd; background: #fafafa; }
   .note { font-size: 12px; color: #555; padding: 3px 8px; }
-  #tree { overflow: auto; flex: 1; padding: 4px 6px; font-size: 13px; }
+  #tree { position: relative; overflow: auto; flex: 1; padding: 4px 6px; font-size: 13px; }
   .node { white-space: nowrap; padding: 1px 4px; border-left: 4px solid transparent; border-radius: 2px; }
   .node .badge { display: inline-block; width: 76px; font-size: 12px; font-weight: 600; }
   .node .kind { color: #777; font-size: 12px; }
@@ -252,6 +252,11 @@ function drawTree(t) {
     row.dataset.status = st[i];
     row.children[0].textContent = st[i];
     row.children[3].textContent = fb[i] ? "— " + fb[i] : "";
+  }
+  // keep the deepest node that changed (where the tree is working) in view
+  const tree = $("tree"), tip = rows.filter(r => r.classList.contains("changed")).pop();
+  if (tip && (tip.offsetTop < tree.scrollTop || tip.offsetTop + tip.offsetHeight > tree.scrollTop + tree.clientHeight)) {
+    tree.scrollTop = tip.offsetTop - tree.clientHeight / 2;
   }
 }
 
