@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from recording.topics import MAP, METRES_PER_INCH, NODES
+from recording.topics import MAP, METRES_PER_INCH, NODES, POSE
 
 UNKNOWN = "UNKNOWN"
 """A node's status where the source does not say it (an out folder without a recording)."""
@@ -95,15 +95,18 @@ def load_replay(run: Path) -> Replay:
     from recording.reader import read_recorded_events
 
     events = read_recorded_events(run)
-    ticks, floor, profile = _read_recording(run)
-    return replay(events, ticks, str(run), floor=floor, images=images, base_radius_in=_base_radius(profile))
+    ticks, floor, start, profile = _read_recording(run)
+    return replay(events, ticks, str(run), floor=floor, start=start, images=images,
+                  base_radius_in=_base_radius(profile))
 
 
 def replay(events: Sequence[dict[str, Any]], tree_ticks: Sequence[dict[str, Any]] | None, source: str, *,
-           floor: Floor | None = None, images: dict[int, str] | None = None,
-           base_radius_in: float | None = None) -> Replay:
+           floor: Floor | None = None, start: tuple[float, float, float] | None = None,
+           images: dict[int, str] | None = None, base_radius_in: float | None = None) -> Replay:
     """The replay of an episode's events and, when recorded, its ``/behaviour_tree/nodes``
-    messages (else the tree is rebuilt and its statuses are unknown)."""
+    messages (else the tree is rebuilt and its statuses are unknown). ``start``: the
+    base's pose before the first tick, which a recording has (its first ``/robot/pose``)
+    and the episode log does not."""
     if not events:
         raise ValueError(f"{source}: no episode in it (no events)")
     _check_tree(tree_ticks or (), source)
@@ -116,7 +119,7 @@ def replay(events: Sequence[dict[str, Any]], tree_ticks: Sequence[dict[str, Any]
         tree_source = "rebuilt"
     moves = tuple(_move(e, source) for e in events if e.get("event") == "move")
     return Replay(source=source, ticks=last, tree_source=tree_source, nodes=nodes, statuses=statuses,
-                  feedback=feedback, poses=_poses(moves, last), moves=moves, objects=objects(events, last),
+                  feedback=feedback, poses=_poses(moves, last, start), moves=moves, objects=objects(events, last),
                   events=tuple(events), floor=floor,
                   base_radius_in=_base_radius(None) if base_radius_in is None else base_radius_in,
                   images=images or {})
@@ -200,14 +203,12 @@ def _rebuilt_tree(events: Sequence[dict[str, Any]], last: int
     return nodes, tuple(statuses), tuple(tuple("" for _ in nodes) for _ in statuses)
 
 
-def _poses(moves: Sequence[dict[str, Any]], last: int) -> tuple[tuple[float, float, float] | None, ...]:
+def _poses(moves: Sequence[dict[str, Any]], last: int, start: tuple[float, float, float] | None
+           ) -> tuple[tuple[float, float, float] | None, ...]:
     """Where the base is at the end of each tick: where the tick's last move stopped, else
-    where it was. Before the first move it stands where the first planned path begins
-    (the planner starts a path at the base's pose); unknown when it never moved."""
-    pose: tuple[float, float, float] | None = None
-    if moves and moves[0]["path"]:
-        x, y = moves[0]["path"][0]
-        pose = (float(x), float(y), float(moves[0]["pose"][2]))
+    where it was; before the first move, at ``start`` (None when unknown: a move's
+    ``path`` leaves out the pose it began at)."""
+    pose = start
     out = [pose]
     stops = {m["tick"]: m["pose"] for m in moves}  # the last move of each tick wins
     for tick in range(1, last + 1):
@@ -223,19 +224,20 @@ def objects(events: Sequence[dict[str, Any]], last: int) -> tuple[dict[str, Any]
     or tried as a test; left when the tree chose not to grasp; failed when its turn ended
     without either), and its steps (the tests chosen, measured values, grasps)."""
     out: dict[int, dict[str, Any]] = {}
-    regions = next((e.get("regions") or [] for e in events if e.get("event") == "located"), [])
+    regions = next((e.get("regions") for e in events if e.get("event") == "located"), None)
+    regions = [r if isinstance(r, dict) else {} for r in regions] if isinstance(regions, list) else []
     for e in events:
         index = e.get("object")
         if not isinstance(index, int) or isinstance(index, bool):
             continue
         if index not in out:
             region = regions[index] if index < len(regions) else {}
-            out[index] = {"index": index, "centroid": e.get("centroid") or region.get("centroid"),
-                          "pixels": e.get("pixels") or region.get("pixels"), "start_tick": _tick(e),
+            out[index] = {"index": index, "centroid": _xy(e.get("centroid")) or _xy(region.get("centroid")),
+                          "pixels": _number(e.get("pixels")) or _number(region.get("pixels")), "start_tick": _tick(e),
                           "end_tick": None, "outcome": None, "grasp": None, "steps": []}
         record = out[index]
-        if record["centroid"] is None and e.get("centroid"):
-            record["centroid"] = e["centroid"]
+        if record["centroid"] is None:
+            record["centroid"] = _xy(e.get("centroid"))
         if e.get("event") in _STEPS:
             record["steps"].append({"tick": _tick(e), "text": _step(e)})
         if record["outcome"] is None:
@@ -253,6 +255,17 @@ def objects(events: Sequence[dict[str, Any]], last: int) -> tuple[dict[str, Any]
     return tuple(sorted(out.values(), key=lambda r: r["index"]))
 
 
+def _number(value: object) -> float | None:
+    return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def _xy(value: object) -> list[float] | None:
+    """A point on the floor as the log writes it, ``[x_in, y_in]``; None for anything else."""
+    if isinstance(value, list) and len(value) == 2 and all(_number(v) is not None for v in value):
+        return value
+    return None
+
+
 _STEPS = ("choose", "choose_grasp", "sense", "branch", "unreliable", "grasp", "discriminate", "start_over",
           "side_effect", "leave", "learn")
 
@@ -265,7 +278,8 @@ def _step(e: dict[str, Any]) -> str:
     if kind == "choose_grasp":
         return f"grasp chosen: {e.get('grasp')} ({e.get('how')})"
     if kind in ("sense", "discriminate"):
-        values = ", ".join(f"{k} = {v}" for k, v in (e.get("values") or {}).items())
+        measured = e.get("values")
+        values = ", ".join(f"{k} = {v}" for k, v in measured.items()) if isinstance(measured, dict) else ""
         return f"{'sensed' if kind == 'sense' else 'discriminate'}: {values}"
     if kind == "branch":
         return f"branch {e.get('test')} = {e.get('value')} in {e.get('range')}"
@@ -311,28 +325,51 @@ def _default_radius() -> float:
     return load_profile().robot.geometry.base_radius_in
 
 
-def _read_recording(path: Path) -> tuple[list[dict[str, Any]], Floor | None, str | None]:
-    """The recording's tree messages, its first floor map and its robot profile's path."""
+def _read_recording(path: Path
+                    ) -> tuple[list[dict[str, Any]], Floor | None, tuple[float, float, float] | None, str | None]:
+    """The recording's tree messages, its first floor map, the base's first pose and its
+    robot profile's path."""
     from mcap.reader import make_reader
 
     ticks: list[dict[str, Any]] = []
-    floor = None
+    floor = start = None
     profile = None
     with path.open("rb") as f:
         reader = make_reader(f)
-        for _, channel, message in reader.iter_messages(topics=[NODES.name, MAP.name], log_time_order=True):
+        for _, channel, message in reader.iter_messages(topics=[NODES.name, MAP.name, POSE.name],
+                                                        log_time_order=True):
             if channel.topic == NODES.name:
                 try:
                     ticks.append(json.loads(message.data))
                 except ValueError:
                     raise ValueError(f"{path}: message {message.sequence} on {NODES.name} is not JSON") from None
-            elif floor is None:
+            elif channel.topic == MAP.name and floor is None:
                 floor = _floor(message.data)
+            elif channel.topic == POSE.name and start is None:
+                start = _pose(message.data)
         f.seek(0)
         for record in make_reader(f).iter_metadata():
             if record.name == "csl-run":
                 profile = record.metadata.get("profile")
-    return ticks, floor, profile
+    return ticks, floor, start, profile
+
+
+def _pose(data: bytes) -> tuple[float, float, float] | None:
+    """A ``foxglove.PoseInFrame`` on the floor (pose 3: position 1, orientation 2) as
+    x_in, y_in, heading_deg, read from its protobuf bytes by hand."""
+    try:
+        pose = _protobuf(_protobuf(data)[3][0])
+        position, orientation = (_protobuf(pose.get(k, [b""])[0]) for k in (1, 2))
+        x, y = (_double(position, k) for k in (1, 2))
+        z, w = (_double(orientation, k) for k in (3, 4))
+    except (KeyError, IndexError, struct.error, TypeError):
+        return None
+    return x / METRES_PER_INCH, y / METRES_PER_INCH, math.degrees(2 * math.atan2(z, w)) % 360
+
+
+def _double(fields: dict[int, list[Any]], number: int) -> float:
+    """A double field, 0 when absent (protobuf leaves zeros out)."""
+    return struct.unpack("<d", fields.get(number, [b"\0" * 8])[0])[0]
 
 
 def _floor(data: bytes) -> Floor | None:
@@ -343,8 +380,8 @@ def _floor(data: bytes) -> Floor | None:
         grid = _protobuf(data)
         position = _protobuf(_protobuf(grid[3][0])[1][0])
         cell = _protobuf(grid[5][0])
-        x, y = (struct.unpack("<d", position.get(k, [b"\0" * 8])[0])[0] for k in (1, 2))
-        cell_x = struct.unpack("<d", cell[1][0])[0]
+        x, y = (_double(position, k) for k in (1, 2))
+        cell_x = _double(cell, 1)
         columns = grid[4][0]
         stride = grid.get(6, [columns])[0]
         pixels = grid[9][0]

@@ -123,7 +123,8 @@ for (const n of D.nodes) {
 }
 $("treenote").textContent = D.tree_source === "recording"
   ? "Statuses as recorded (/behaviour_tree/nodes), at the end of the tick; outlined: changed since the tick before."
-  : "No recording: the executive's tree, statuses unknown; ACTIVE marks a node an episode event names at this tick.";
+  : "No recorded statuses (an episode log): the executive's tree, statuses UNKNOWN; ACTIVE marks a node an episode "
+    + "event names at this tick.";
 
 // ---- the map: SVG in inches, y up (drawn as -y)
 const svg = $("map");
@@ -197,11 +198,12 @@ function drawMap(t) {
     from = m.pose;
   }
   const located = D.events.find(e => e.event === "located");
-  if (located && located.tick <= t && t > 0) for (const r of located.regions || []) {
+  if (located && located.tick <= t && t > 0) for (const r of Array.isArray(located.regions) ? located.regions : []) {
+    if (!r || !Array.isArray(r.centroid)) continue;
     objectLayer.append(el("svg:circle", {"cx": r.centroid[0], "cy": -r.centroid[1], "r": 1.2, "fill": "#666"}));
   }
   for (const o of D.objects) {
-    if (!o.centroid || t === 0 && !located) continue;
+    if (!o.centroid || t < (located ? Math.max(1, located.tick) : o.start_tick)) continue;  // not seen yet
     const state = objectState(o, t), [cx, cy] = o.centroid;
     // a disc of the region's area where the floor's scale is known (pixels are cells of the map), else a dot
     const size = D.floor ? Math.max(1.5, Math.sqrt((o.pixels || 4) / Math.PI) * D.floor.cell) : 3;

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+import hero_driver.worlds
 from csl_cli.main import main
 from reporting.replay_page import ACTIVE, UNKNOWN, load_replay, page, page_data, replay
 from tests.executive.test_recording import record_episode
@@ -54,7 +55,9 @@ def test_the_robot_stands_where_each_ticks_last_move_stopped(recorded) -> None: 
     seen = load_replay(recorded["folder"] / "run" / "e.mcap")
     moves = [e for e in recorded["log"] if e["event"] == "move"]
     assert len(seen.moves) == len(moves) > 1
-    assert seen.poses[0] == pytest.approx((*moves[0]["path"][0][:2], moves[0]["pose"][2]))
+    lab = json.loads((Path(hero_driver.worlds.__file__).parent / "lab.json").read_text(encoding="utf-8"))
+    start = lab["robot"]  # before the first tick: where the lab puts the robot (the first /robot/pose)
+    assert seen.poses[0] == pytest.approx((start["x_in"], start["y_in"], start["heading_deg"]))
     last_of_tick = {e["tick"]: e["pose"] for e in moves}
     for tick in range(1, seen.ticks + 1):
         expected = last_of_tick.get(tick, seen.poses[tick - 1])
@@ -78,8 +81,8 @@ def test_an_out_folder_rebuilds_the_tree_with_statuses_unknown(recorded) -> None
     from_recording = load_replay(recorded["folder"] / "run" / "e.mcap")
     assert from_log.tree_source == "rebuilt"
     assert [n["name"] for n in from_log.nodes] == [n["name"] for n in from_recording.nodes]  # the same tree
-    assert (from_log.poses, from_log.objects) == (from_recording.poses, from_recording.objects)
-    assert from_log.floor is None
+    assert (from_log.poses[1:], from_log.objects) == (from_recording.poses[1:], from_recording.objects)
+    assert (from_log.floor, from_log.poses[0]) == (None, None)  # the log has neither the image nor the start
     located = next(e for e in recorded["log"] if e["event"] == "located")
     assert from_log.status(located["tick"], "LocateObjects") == ACTIVE  # an event names it at that tick
     assert from_log.status(0, "LocateObjects") == "INVALID"
@@ -118,8 +121,11 @@ def _made_up_log() -> list[dict[str, object]]:
 def test_a_short_log_worked_by_hand() -> None:
     seen = replay(_made_up_log(), None, "made-up")
     assert seen.ticks == 4
-    # before the first move it stands where the first path begins, heading as it stopped
-    assert seen.poses == ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (5.0, 20.0, 0.0), (5.0, 20.0, 0.0), (44.0, 60.0, 180.0))
+    # where the base started is not in the log (a move's path leaves it out); each tick ends
+    # where its last move stopped, or where the tick before ended
+    assert seen.poses == (None, None, (5.0, 20.0, 0.0), (5.0, 20.0, 0.0), (44.0, 60.0, 180.0))
+    assert replay(_made_up_log(), None, "made-up", start=(1.0, 2.0, 90.0)).poses[:3] == (
+        (1.0, 2.0, 90.0), (1.0, 2.0, 90.0), (5.0, 20.0, 0.0))
     assert [(o["index"], o["start_tick"], o["end_tick"], o["outcome"], o["grasp"]) for o in seen.objects] == [
         (0, 1, 2, "grasped", "Front-Wrap"), (1, 3, 3, "left", "No-Grab"), (2, 4, 4, "failed", None)]
     assert [o["centroid"] for o in seen.objects] == [[10.0, 20.0], [30.0, 40.0], [50.0, 60.0]]
