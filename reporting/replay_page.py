@@ -23,13 +23,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from mcap.reader import make_reader
+
+from executive.behaviour_tree import build_tree
+from executive.episode_log import IsRecording, read_log
+from recording.reader import read_recorded_events
 from recording.topics import MAP, METRES_PER_INCH, NODES, POSE
+from recording.tree_nodes import tree_nodes
+from reporting.replay_template import TEMPLATE
+from robot_profile import load_profile
 
 UNKNOWN = "UNKNOWN"
 """A node's status where the source does not say it (an out folder without a recording)."""
 ACTIVE = "ACTIVE"
 """A node an episode event names at that tick, in an out folder without a recording."""
-OUTCOMES = ("grasped", "left", "failed")
 
 
 @dataclass(frozen=True)
@@ -85,15 +92,11 @@ def load_replay(run: Path) -> Replay:
         else:
             raise ValueError(f"{run}: not an out folder of csl run/demo (no episode.jsonl, no .mcap recording)")
     images = _tree_images(folder) if (folder / "episode.jsonl").is_file() else {}
-    from executive.episode_log import IsRecording, read_log
-
     try:
         events = read_log(run)
         return replay(events, None, str(run), images=images)
     except IsRecording:
         pass
-    from recording.reader import read_recorded_events
-
     events = read_recorded_events(run)
     ticks, floor, start, profile = _read_recording(run)
     return replay(events, ticks, str(run), floor=floor, start=start, images=images,
@@ -109,6 +112,9 @@ def replay(events: Sequence[dict[str, Any]], tree_ticks: Sequence[dict[str, Any]
     and the episode log does not."""
     if not events:
         raise ValueError(f"{source}: no episode in it (no events)")
+    for n, e in enumerate(events, 1):
+        if not isinstance(e, dict) or not isinstance(e.get("event"), str):
+            raise ValueError(f"{source}: event {n} is not an episode event (an object with an 'event' name)")
     _check_tree(tree_ticks or (), source)
     last = max([_tick(e) for e in events] + [t["tick"] for t in tree_ticks or ()])
     if tree_ticks:
@@ -182,9 +188,8 @@ def _check_tree(tree_ticks: Sequence[object], source: str) -> None:
 
 def _rebuilt_tree(events: Sequence[dict[str, Any]], last: int
                   ) -> tuple[tuple[dict[str, Any], ...], tuple[tuple[str, ...], ...], tuple[tuple[str, ...], ...]]:
-    from executive.behaviour_tree import build_tree
-    from recording.tree_nodes import tree_nodes
-
+    """The executive's tree as ``build_tree`` makes it (the same ids as a recording's) with
+    what the log says of it: ACTIVE where an event names a node, the root's end status."""
     nodes = tuple({k: n[k] for k in ("id", "parent", "name", "kind", "family")} for n in tree_nodes(build_tree("r1")))
     named: dict[int, set[str]] = {}
     end = None
@@ -311,17 +316,13 @@ def _tree_images(folder: Path) -> dict[int, str]:
 
 
 def _base_radius(profile: str | None) -> float:
-    from robot_profile import load_profile
-
-    try:
-        return load_profile(profile).robot.geometry.base_radius_in if profile else _default_radius()
-    except (OSError, ValueError):
-        return _default_radius()
-
-
-def _default_radius() -> float:
-    from robot_profile import load_profile
-
+    """The footprint drawn: the recording's robot profile when it can be read here (the
+    path it was recorded with), else the default profile's."""
+    if profile:
+        try:
+            return load_profile(profile).robot.geometry.base_radius_in
+        except (OSError, ValueError):
+            pass
     return load_profile().robot.geometry.base_radius_in
 
 
@@ -329,8 +330,6 @@ def _read_recording(path: Path
                     ) -> tuple[list[dict[str, Any]], Floor | None, tuple[float, float, float] | None, str | None]:
     """The recording's tree messages, its first floor map, the base's first pose and its
     robot profile's path."""
-    from mcap.reader import make_reader
-
     ticks: list[dict[str, Any]] = []
     floor = start = None
     profile = None
@@ -444,8 +443,6 @@ def page_data(replay: Replay) -> dict[str, Any]:
 def page(replay: Replay) -> str:
     """The HTML page: the template with the data inside a ``<script type=application/json>``
     (``<`` escaped so no text in the data can end the element)."""
-    from reporting.replay_template import TEMPLATE
-
     data = json.dumps(page_data(replay), ensure_ascii=False, separators=(",", ":")).replace("<", "\\u003c")
     return TEMPLATE.replace("/*DATA*/", data).replace("<!--TITLE-->", _html(Path(replay.source).name))
 

@@ -183,6 +183,8 @@ def test_a_malformed_move_or_tree_message_is_named() -> None:
     log[3] = {**log[3], "pose": "here"}
     with pytest.raises(ValueError, match="made-up: the move at tick 2 has no 'pose'"):
         replay(log, None, "made-up")
+    with pytest.raises(ValueError, match=r"made-up: event 2 is not an episode event"):
+        replay([_made_up_log()[0], [1, 2]], None, "made-up")
     with pytest.raises(ValueError, match=r"made-up: message 1 on /behaviour_tree/nodes is not a tick of nodes"):
         replay(_made_up_log(), [{"tick": 1, "nodes": [{"id": 0}]}], "made-up")
 
