@@ -255,8 +255,9 @@ function drawTree(t) {
     row.children[0].textContent = st[i];
     row.children[3].textContent = fb[i] ? "— " + fb[i] : "";
   }
-  // keep the deepest node that changed (where the tree is working) in view
-  const tree = $("tree"), tip = rows.filter(r => r.classList.contains("changed")).pop();
+  // keep the deepest node that changed (where the tree is working: running or active first) in view
+  const tree = $("tree"), changed = rows.filter(r => r.classList.contains("changed"));
+  const tip = changed.filter(r => /st-(RUNNING|ACTIVE)/.test(r.className)).pop() || changed.pop();
   if (tip && (tip.offsetTop < tree.scrollTop || tip.offsetTop + tip.offsetHeight > tree.scrollTop + tree.clientHeight)) {
     tree.scrollTop = tip.offsetTop - tree.clientHeight / 2;
   }
