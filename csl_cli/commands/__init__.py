@@ -39,6 +39,7 @@ COMMANDS: tuple[Command, ...] = (
             "measure the method against the paper's figures, baselines and the optimum"),
     Command("log", "csl_cli.commands.log",
             "replay an episode log: what was decided, measured and paid, object by object"),
+    Command("view", "csl_cli.commands.view", "replay an episode in a browser, from one HTML page"),
     Command("tree", "csl_cli.commands.offline", "print the decision tree the learner grows from a pose"),
     Command("train", "csl_cli.commands.offline",
             "run the training stage, in the simulator (--sim) or on recorded measurements"),
