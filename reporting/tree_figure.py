@@ -341,7 +341,8 @@ class _Replay:
 
     def _on_learn(self, e: Mapping[str, object]) -> None:
         if e.get("id"):
-            self._visit().lines.append(Line(f"learned {e['id']} ({e.get('features')} features)", "note"))
+            what = "by its appearance, nothing sensed" if e.get("by") == "appearance" else f"{e.get('features')} features"
+            self._visit().lines.append(Line(f"learned {e['id']} ({what})", "note"))
 
     def _on_gave_up(self, e: Mapping[str, object]) -> None:
         self._visit().lines.append(Line(f"✗ gave up: {e.get('reason')}", "failed"))
