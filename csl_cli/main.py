@@ -18,7 +18,9 @@ run quiet. ``-v`` and ``-vv`` show our packages' lines (the executive's story is
 
 Shell completion is argcomplete's (README): commands and options, and, on every
 ``--world``, the shipped worlds (an unknown name is refused listing them), on every
-``--knowledge`` and ``--profile`` the shipped robot profiles. Completion runs only when
+``--knowledge`` and ``--profile`` the shipped robot profiles, on every ``--robot`` (and
+``ROBOT``) the robots alive on the driver endpoint, and on ``csl library show`` the
+library's description ids (``csl_cli/completion.py``). Completion runs only when
 the shell's hook sets ``_ARGCOMPLETE``; otherwise argcomplete is not even imported.
 
 Only the module of the command named is imported (``csl_cli/commands/__init__.py``):
@@ -144,8 +146,8 @@ def _commands(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
 
 
 def _add_completers(command: argparse.ArgumentParser) -> None:
-    """World and robot-profile options, wherever a command declares them, check and
-    complete the same way (``action.completer`` is argcomplete's hook)."""
+    """World, robot-profile and robot-name arguments, wherever a command declares them,
+    check and complete the same way (``action.completer`` is argcomplete's hook)."""
     for action in command._actions:  # noqa: SLF001
         options = set(action.option_strings)
         if "--world" in options:
@@ -155,6 +157,10 @@ def _add_completers(command: argparse.ArgumentParser) -> None:
             action.completer = complete_world  # type: ignore[attr-defined]
         elif options & {"--knowledge", "--profile"}:
             action.completer = complete_profile  # type: ignore[attr-defined]
+        elif "--robot" in options or (not options and action.dest == "robot"):
+            from csl_cli.completion import complete_robot  # the robots alive, else r1
+
+            action.completer = complete_robot  # type: ignore[attr-defined]
 
 
 def complete_world(prefix: str, **_kwargs: object) -> list[str]:

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from executive import defaults
 from csl_cli.args import library_path, writable_file
+from csl_cli.completion import complete_library_id
 from reporting.tables import Column, print_json, print_table
 
 if TYPE_CHECKING:
@@ -48,7 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     show = action("show", help="list every description with its features",
                   description="List every description: id, grasp(position) and features.")
-    show.add_argument("id", nargs="?", help="show only this description")
+    show.add_argument("id", nargs="?", help="show only this description"
+                      ).completer = complete_library_id  # type: ignore[attr-defined]  # argcomplete's hook
     show.add_argument("--json", action="store_true",
                       help="print the descriptions as one library JSON document (docs/library-format.md)")
     show.set_defaults(handler=run_show)
