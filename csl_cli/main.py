@@ -34,11 +34,13 @@ import argparse
 import logging
 import os
 import shlex
+import signal
 import sys
 from collections.abc import Sequence
 from typing import NoReturn, TextIO
 
 from csl_cli.commands import COMMANDS, NAMES
+from csl_cli.interrupt import INTERRUPTED, LINE, exit_quietly, leave
 
 
 class _Parser(argparse.ArgumentParser):
@@ -261,8 +263,25 @@ def _version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``csl``; returns the process exit status."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """Run ``csl``; returns the process exit status. A Ctrl-C at any moment is status 130
+    and one line (csl_cli/interrupt.py): inside the command a ``KeyboardInterrupt``, so
+    that its clean-ups run; while it starts or after it returned, a quiet exit."""
+    quiet = signal.getsignal(signal.SIGINT) is exit_quietly  # started as the csl command
+    try:
+        if quiet:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+        return _main(sys.argv[1:] if argv is None else list(argv))
+    except KeyboardInterrupt:
+        print(LINE, file=sys.stderr)
+        if quiet:
+            leave(INTERRUPTED)
+        return INTERRUPTED
+    finally:
+        if quiet:
+            signal.signal(signal.SIGINT, exit_quietly)  # the interpreter's shutdown: threads, atexit
+
+
+def _main(argv: list[str]) -> int:
     if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: print them and exit
         import argcomplete
 
@@ -279,8 +298,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     except KeyboardInterrupt:  # before the next clause, which imports what it names
-        print("csl: interrupted", file=sys.stderr)
-        return 130
+        raise
     except _expected() as exc:
         if os.environ.get("CSL_DEBUG"):
             raise

@@ -38,7 +38,8 @@ def _imported_by(argv: list[str], prefixes: tuple[str, ...]) -> list[str]:
 
 
 def test_csl_help_imports_no_command_and_no_numpy() -> None:
-    assert _imported_by(["--help"], ("numpy", "csl_cli", "rich")) == ["csl_cli", "csl_cli.commands", "csl_cli.main"]
+    assert _imported_by(["--help"], ("numpy", "csl_cli", "rich")) == ["csl_cli", "csl_cli.commands", "csl_cli.interrupt",
+                                                                      "csl_cli.main"]
 
 
 @pytest.mark.parametrize("argv", [["run", "--help"], ["demo", "--help"], ["bt", "--help"], ["tree", "--help"],
