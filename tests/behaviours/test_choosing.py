@@ -101,7 +101,8 @@ def test_follow_branch_on_a_successful_grasp_feature_grasps_the_object(services,
 
 
 @pytest.mark.parametrize(("success", "tests"), [(False, ["Front-Wrap(6,*)=0"]), (None, [])])
-def test_follow_branch_fails_on_a_grasp_feature_that_did_not_hold(services, log, success, tests) -> None:  # noqa: ANN001
+def test_follow_branch_fails_on_a_grasp_feature_that_did_not_hold(services, log,  # noqa: ANN001
+                                                                   success, tests) -> None:  # noqa: ANN001
     # A grasp tried as a feature that did not hold is a test applied (value 0, the demo
     # table's `tests` column counts it); one never executed (success None) is not.
     record, step = start_object(services)
