@@ -290,10 +290,15 @@ class Learn(DriverAction):
 
     An object held with nothing sensed is saved by its appearance and grasp when the
     library was wrong about it (a grasp failed first): that is a lesson, and without it
-    the next object like it fails the same grasps (docs/method.md §5.8). One the camera's
+    the next object like it fails the same grasps (docs/method.md §5.3, §5.8); its event
+    says ``by="appearance"``. The grasps tried as features are not features of it (they
+    say what the object is not, which the grasp that held already says). One the camera's
     appearance alone got right first time teaches nothing new and is not saved: with no
     sensed value it would be unknown on every test, follow every branch of every later
-    tree, and leave an ambiguous leaf for every later object that looks alike."""
+    tree, and leave an ambiguous leaf for every later object that looks alike. Nor is a
+    lesson the camera gave no appearance for: a description with neither a feature nor
+    an appearance could never be told apart from anything. Each unsaved object's event
+    says why."""
 
     VERB = "release"
 
@@ -309,13 +314,20 @@ class Learn(DriverAction):
         description = obj.session.description(f"learned/{obj.grasp}", obj.grasp, obj.grasp_position)
         if obj.clustered:  # what was tried on touching objects is no one object's
             self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0, reason="a cluster of touching objects")
-        elif description.observations or (description.appearance is not None and obj.session.wrong_predictions):
+        elif description.observations:
             obj.learned_id = self.timed(lambda: self.services.learner.learn(description))
             self.note(Event.LEARN, id=obj.learned_id, grasp=obj.grasp, features=len(description.observations),
                       wrong=list(obj.session.wrong_predictions))
-        else:
+        elif not obj.session.wrong_predictions:
             self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0,
                       reason="nothing was measured and no grasp failed: nothing to learn")
+        elif description.appearance is None:
+            self.note(Event.LEARN, id=None, grasp=obj.grasp, features=0,
+                      reason="nothing was measured and the camera gave no appearance: it would match every object")
+        else:  # a lesson with nothing sensed: its appearance is what tells it apart
+            obj.learned_id = self.timed(lambda: self.services.learner.learn(description))
+            self.note(Event.LEARN, id=obj.learned_id, grasp=obj.grasp, features=0, by="appearance",
+                      wrong=list(obj.session.wrong_predictions))
         return self.services.driver.release()
 
     def finish(self, result: RobotState) -> Status:

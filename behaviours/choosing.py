@@ -98,6 +98,8 @@ class FollowBranch(CslBehaviour):
             return Status.FAILURE
         if test.test.is_grasp:
             if step.attempt is None or not step.attempt.success:
+                if step.attempt is not None and step.attempt.success is False:  # tried: a test with value 0
+                    obj.ledger.tests.append(f"{test.test}=0")
                 return Status.FAILURE
             obj.session.grasp_as_feature(test, True, test.target)
             obj.finish("grasped", test.test.feature, test.target)

@@ -35,6 +35,10 @@ class Ledger:
     grasping_s: float = 0.0
     computing_s: float = 0.0  # wall seconds in the learner and planner
     tests: list[str] = field(default_factory=list)
+    """Every test applied to recognize the object, as ``test=value``: each paid sensing
+    procedure and each grasp tried as a binary feature (=1 held, =0 did not). A value
+    re-used for free, a grasp executed at a leaf, and the measurements taken after a wrong
+    prediction to learn (Discriminate) are not tests: the report's ``tests`` column counts these."""
     recoveries: Counter[str] = field(default_factory=Counter)
 
     @property

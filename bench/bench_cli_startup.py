@@ -1,9 +1,10 @@
-"""How long ``csl --help`` (and a command's ``--help``) takes, and which imports pay for it.
+"""How long ``csl --help`` (and a command's ``--help``, and ``csl bt``) takes, and which
+imports pay for it.
 
     python bench/bench_cli_startup.py [--repeat 9] [--top 12] [-- ARGS ...]
 
 Each command line (default: ``--help``, ``run --help``, ``library --help``, ``driver
-call --help``) runs ``--repeat`` times as ``python -m csl_cli ARGS`` in a fresh
+call --help``, ``bt``: printing the behaviour tree, which builds it) runs ``--repeat`` times as ``python -m csl_cli ARGS`` in a fresh
 process; the table gives the median wall time and the median user CPU of those runs.
 Then ``python -X importtime -m csl_cli --help`` once: the modules with the largest
 cumulative import time, and whether numpy was imported at all. Run it from the
@@ -24,7 +25,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_COMMANDS = ("--help", "run --help", "library --help", "driver call --help")
+DEFAULT_COMMANDS = ("--help", "run --help", "library --help", "driver call --help", "bt")
 
 
 def timed(args: list[str]) -> tuple[float, float]:

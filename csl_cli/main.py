@@ -18,7 +18,9 @@ run quiet. ``-v`` and ``-vv`` show our packages' lines (the executive's story is
 
 Shell completion is argcomplete's (README): commands and options, and, on every
 ``--world``, the shipped worlds (an unknown name is refused listing them), on every
-``--knowledge`` and ``--profile`` the shipped robot profiles. Completion runs only when
+``--knowledge`` and ``--profile`` the shipped robot profiles, on every ``--robot`` (and
+``ROBOT``) the robots alive on the driver endpoint, and on ``csl library show`` the
+library's description ids (``csl_cli/completion.py``). Completion runs only when
 the shell's hook sets ``_ARGCOMPLETE``; otherwise argcomplete is not even imported.
 
 Only the module of the command named is imported (``csl_cli/commands/__init__.py``):
@@ -32,11 +34,13 @@ import argparse
 import logging
 import os
 import shlex
+import signal
 import sys
 from collections.abc import Sequence
 from typing import NoReturn, TextIO
 
 from csl_cli.commands import COMMANDS, NAMES
+from csl_cli.interrupt import INTERRUPTED, LINE, exit_quietly, leave
 
 
 class _Parser(argparse.ArgumentParser):
@@ -144,8 +148,8 @@ def _commands(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
 
 
 def _add_completers(command: argparse.ArgumentParser) -> None:
-    """World and robot-profile options, wherever a command declares them, check and
-    complete the same way (``action.completer`` is argcomplete's hook)."""
+    """World, robot-profile and robot-name arguments, wherever a command declares them,
+    check and complete the same way (``action.completer`` is argcomplete's hook)."""
     for action in command._actions:  # noqa: SLF001
         options = set(action.option_strings)
         if "--world" in options:
@@ -155,6 +159,10 @@ def _add_completers(command: argparse.ArgumentParser) -> None:
             action.completer = complete_world  # type: ignore[attr-defined]
         elif options & {"--knowledge", "--profile"}:
             action.completer = complete_profile  # type: ignore[attr-defined]
+        elif "--robot" in options or (not options and action.dest == "robot"):
+            from csl_cli.completion import complete_robot  # the robots alive, else r1
+
+            action.completer = complete_robot  # type: ignore[attr-defined]
 
 
 def complete_world(prefix: str, **_kwargs: object) -> list[str]:
@@ -255,8 +263,25 @@ def _version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``csl``; returns the process exit status."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """Run ``csl``; returns the process exit status. A Ctrl-C at any moment is status 130
+    and one line (csl_cli/interrupt.py): inside the command a ``KeyboardInterrupt``, so
+    that its clean-ups run; while it starts or after it returned, a quiet exit."""
+    quiet = signal.getsignal(signal.SIGINT) is exit_quietly  # started as the csl command
+    try:
+        if quiet:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+        return _main(sys.argv[1:] if argv is None else list(argv))
+    except KeyboardInterrupt:
+        print(LINE, file=sys.stderr)
+        if quiet:
+            leave(INTERRUPTED)
+        return INTERRUPTED
+    finally:
+        if quiet:
+            signal.signal(signal.SIGINT, exit_quietly)  # the interpreter's shutdown: threads, atexit
+
+
+def _main(argv: list[str]) -> int:
     if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: print them and exit
         import argcomplete
 
@@ -273,8 +298,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     except KeyboardInterrupt:  # before the next clause, which imports what it names
-        print("csl: interrupted", file=sys.stderr)
-        return 130
+        raise
     except _expected() as exc:
         if os.environ.get("CSL_DEBUG"):
             raise

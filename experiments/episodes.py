@@ -84,7 +84,7 @@ class EpisodeRow:
     moving_s: float
     grasping_s: float
     computing_ms: float
-    tests: int
+    tests: int  # applied to recognize it: paid sensing, grasps tried as features (records.Ledger.tests)
     sense_distance_in: float | None  # mean distance of the sensing tests paid for (None: none)
     grasps_as_features: int  # grasps tried as binary features
     wrong_grasps: int  # grasps executed at a leaf that failed (a misclassification)

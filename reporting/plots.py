@@ -4,6 +4,7 @@ the behaviour tree. PNG files, drawn with matplotlib (no display needed)."""
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -252,38 +253,62 @@ def _draw_box(ax: Axes, box: Box) -> None:
                 family="DejaVu Sans Mono", ha="left", va="center", color=_TONE[line.tone], zorder=5)
 
 
+BT_COLUMN_IN = 1.15
+"""Inches per level of the behaviour tree, left to right: a wrapped label fits in one."""
+BT_ROW_IN = 0.34
+"""Inches per leaf, top to bottom: two lines of a wrapped label fit in one."""
+BT_LABEL_CHARS = 15
+"""Where a label wraps (at a space; a single word longer stays whole)."""
+
+
+def bt_label(name: str) -> str:
+    """A node's name wrapped at spaces to :data:`BT_LABEL_CHARS`, so a level's column stays
+    narrow: the figure's width is bounded by the tree's depth, never by its breadth."""
+    return textwrap.fill(name, BT_LABEL_CHARS, break_long_words=False, break_on_hyphens=False)
+
+
 def plot_behaviour_tree(path: Path, root: py_trees.behaviour.Behaviour) -> None:
-    """The behaviour tree drawn top-down: composites as boxes, leaves as rounded boxes."""
+    """The behaviour tree drawn left to right, one leaf per row: composites as boxes,
+    leaves as rounded boxes. Drawn top-down the tree's fifty-odd leaves side by side made
+    a picture some 4,000 px wide whose 7-point labels were unreadable on a screen; left
+    to right, its width is its depth (a few columns) and its height grows with the leaves."""
     positions: dict[int, tuple[float, float]] = {}
     order = [0]
+    deepest = [0]
 
     def place(node: py_trees.behaviour.Behaviour, depth: int) -> float:
+        deepest[0] = max(deepest[0], depth)
         if not node.children:
-            x = float(order[0])
+            y = -float(order[0])
             order[0] += 1
         else:
-            xs = [place(c, depth + 1) for c in node.children]
-            x = sum(xs) / len(xs)
-        positions[id(node)] = (x, -depth)
-        return x
+            ys = [place(c, depth + 1) for c in node.children]
+            y = (ys[0] + ys[-1]) / 2
+        positions[id(node)] = (float(depth), y)
+        return y
 
     place(root, 0)
-    width = max(8.0, order[0] * 1.15)
-    fig, ax = plt.subplots(figsize=(width, 7))
+    columns, rows = deepest[0] + 1, max(order[0], 1)
+    fig, ax = plt.subplots(figsize=(columns * BT_COLUMN_IN, rows * BT_ROW_IN + 0.6))
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=1 - 0.6 / (rows * BT_ROW_IN + 0.6))
+    ax.set_xlim(-0.5, columns - 0.5)
+    ax.set_ylim(-rows + 0.5, 0.5)
     ax.axis("off")
     for node in root.iterate():
         x, y = positions[id(node)]
         for child in node.children:
             cx, cy = positions[id(child)]
-            ax.plot([x, cx], [y - 0.15, cy + 0.15], color="gray", linewidth=0.8)
+            ax.plot([x + 0.2, x + 0.5, x + 0.5, cx - 0.2], [y, y, cy, cy], color="gray", linewidth=0.8)
         kind = type(node).__name__
         style = {"Sequence": ("tab:orange", "→ "), "Selector": ("tab:cyan", "? ")}.get(kind, ("white", ""))
         decorator = isinstance(node, py_trees.decorators.Decorator)
         face = "khaki" if decorator else style[0]
-        ax.text(x, y, f"{style[1]}{node.name}", ha="center", va="center", fontsize=7,
-                bbox={"boxstyle": "round" if not node.children else "square", "facecolor": face, "alpha": 0.8})
-    ax.set_title("csl-executive behaviour tree (→ sequence, ? selector, khaki: loop decorators)")
-    fig.savefig(path, dpi=100, bbox_inches="tight")
+        ax.text(x, y, bt_label(f"{style[1]}{node.name}"), ha="center", va="center", fontsize=7.5, linespacing=1.0,
+                bbox={"boxstyle": "round,pad=0.25" if not node.children else "square,pad=0.25", "facecolor": face,
+                      "alpha": 0.85})
+    fig.suptitle("csl-executive behaviour tree, root at the left (→ sequence, ? selector, khaki: loop decorators)",
+                 fontsize=9, x=0.01, ha="left")
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 

@@ -78,7 +78,9 @@ COLUMNS = (Column("#", numeric=True), Column("object", fold=True), Column("grasp
            Column("tests", numeric=True))
 """Fits 80 columns with the longest catalogue name: the seconds moving, sensing and
 grasping go to the summary (per object in ``--json``), the recoveries below the table."""
-CAPTION = "min: robot minutes moving, sensing and grasping; ms: learner + planner computation"
+CAPTION = ("min: robot minutes moving, sensing, grasping; ms: learner + planner computation\n"
+           "tests: sensing procedures applied, grasps tried as features (not a leaf's grasp)")
+"""Each line within 80 columns. ``tests`` is :attr:`behaviours.records.Ledger.tests`."""
 
 
 def table_cells(row: Row) -> list[str]:

@@ -341,7 +341,9 @@ class _Replay:
 
     def _on_learn(self, e: Mapping[str, object]) -> None:
         if e.get("id"):
-            self._visit().lines.append(Line(f"learned {e['id']} ({e.get('features')} features)", "note"))
+            by_appearance = e.get("by") == "appearance"
+            what = "by its appearance, nothing sensed" if by_appearance else f"{e.get('features')} features"
+            self._visit().lines.append(Line(f"learned {e['id']} ({what})", "note"))
 
     def _on_gave_up(self, e: Mapping[str, object]) -> None:
         self._visit().lines.append(Line(f"✗ gave up: {e.get('reason')}", "failed"))

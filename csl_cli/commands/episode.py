@@ -1,4 +1,4 @@
-"""Running ``csl demo``, ``csl run`` and ``csl bt``: the handlers behind the arguments
+"""Running ``csl demo`` and ``csl run``: the handlers behind the arguments
 that ``csl_cli/commands/run.py`` declares.
 
 Kept apart so that ``csl --help`` (and every other command) does not import the planner,
@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import py_trees
 from rich.console import Console
 
 from behaviours.events import Event
@@ -533,26 +532,3 @@ def _plots(out: Path, executive: Executive, result: EpisodeResult, image: Camera
     for record, label in zip(result.objects, labels):
         plot_object_tree(out / f"tree-{record.index}.png", record, label, events)
     plot_behaviour_tree(out / "behaviour-tree.png", executive.root)
-
-
-def run_bt(args: argparse.Namespace) -> int:
-    from executive.behaviour_tree import build_tree
-
-    root = build_tree()
-    if args.dot:
-        graph = py_trees.display.dot_tree(root)
-        graph.set_name("csl_executive")
-        text = graph.to_string()
-        if str(args.dot) == "-":
-            sys.stdout.write(text)
-        else:
-            args.dot.write_text(text, encoding="utf-8")
-            print(f"wrote {args.dot}")
-        return 0
-    if args.render:
-        plot_behaviour_tree(args.render, root)
-        print(f"wrote {args.render}")
-        return 0
-    text = py_trees.display.unicode_tree(root) if args.unicode else py_trees.display.ascii_tree(root)
-    sys.stdout.write(text + ("\n" if not text.endswith("\n") else ""))
-    return 0

@@ -1,5 +1,10 @@
 """``csl library``: the persistent library of object descriptions (SQLite), and the
-history of the runs that learned into it (``reporting/history.py``)."""
+history of the runs that learned into it (``reporting/history.py``).
+
+The library's formats, its store and the history (numpy, through the descriptions and
+the exit statuses) are imported by the handlers that use them, so that ``csl library
+--help`` and the shell's completion stay light (docs/conventions.md).
+"""
 
 from __future__ import annotations
 
@@ -7,17 +12,16 @@ import argparse
 from collections import Counter
 from dataclasses import asdict
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from executive import defaults
 from csl_cli.args import library_path, writable_file
-from csl_cli.library_choice import library_to_read, no_library
-from reporting.history import Run, default_history, learning_curve, read_history
-from robot_profile import load_knowledge
+from csl_cli.completion import complete_library_id
 from reporting.tables import Column, print_json, print_table
-from learner.library.backup import RESTORE_HINT, backup, check_file, restore
-from learner.library.checks import check_library
-from learner.library.format import descriptions_to_json, read_library_json, write_library_json
-from learner.library.store import LibraryStore
+
+if TYPE_CHECKING:
+    from learner.library.store import LibraryStore
+    from reporting.history import Run
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -45,7 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     show = action("show", help="list every description with its features",
                   description="List every description: id, grasp(position) and features.")
-    show.add_argument("id", nargs="?", help="show only this description")
+    show.add_argument("id", nargs="?", help="show only this description"
+                      ).completer = complete_library_id  # type: ignore[attr-defined]  # argcomplete's hook
     show.add_argument("--json", action="store_true",
                       help="print the descriptions as one library JSON document (docs/library-format.md)")
     show.set_defaults(handler=run_show)
@@ -102,6 +107,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _existing(args: argparse.Namespace) -> Path:
     """The library database to read (csl_cli/library_choice.py: --db, else the robot's,
     else the last demo's); one that does not exist is an error, not a new file."""
+    from csl_cli.library_choice import library_to_read, no_library
+
     path = library_to_read(args.db, "--db", f"csl library {args.action}")
     if path is None:
         raise no_library("--db")
@@ -112,6 +119,8 @@ def _existing(args: argparse.Namespace) -> Path:
 
 def _store(args: argparse.Namespace) -> LibraryStore:
     """The library store to read (it must exist)."""
+    from learner.library.store import LibraryStore
+
     return LibraryStore(_existing(args))
 
 
@@ -120,6 +129,8 @@ SHOW_COLUMNS = (Column("id"), Column("grasp"), Column("features", fold=True))
 
 
 def run_show(args: argparse.Namespace) -> int:
+    from learner.library.format import descriptions_to_json
+
     with _store(args) as store:
         descriptions = store.descriptions()
     if args.id is not None:
@@ -136,6 +147,11 @@ def run_show(args: argparse.Namespace) -> int:
 
 
 def run_import(args: argparse.Namespace) -> int:
+    from learner.library.checks import check_library
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore
+    from robot_profile import load_knowledge
+
     descriptions = read_library_json(args.file)
     check_library(descriptions, load_knowledge(args.knowledge), str(args.file))
     path = library_path(args.db, "--db")
@@ -147,6 +163,8 @@ def run_import(args: argparse.Namespace) -> int:
 
 
 def run_export(args: argparse.Namespace) -> int:
+    from learner.library.format import write_library_json
+
     with _store(args) as store:
         descriptions = store.descriptions()
     write_library_json(args.file, descriptions, columnar=args.columnar)
@@ -182,6 +200,8 @@ HISTORY_CAPTION = ("obj: objects seen, done: handled (grasped or left), fail: no
 
 
 def run_history(args: argparse.Namespace) -> int:
+    from reporting.history import default_history, learning_curve, read_history
+
     if args.out is not None:
         if args.out.suffix.lower() != ".png":
             raise ValueError(f"--out: {args.out} is not a .png file")
@@ -220,6 +240,9 @@ def _count(n: int, noun: str) -> str:
 
 
 def run_check(args: argparse.Namespace) -> int:
+    from learner.library.backup import RESTORE_HINT, check_file
+    from learner.library.store import LibraryStore
+
     path = _existing(args)
     found = check_file(path)
     if found:
@@ -235,6 +258,8 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_backup(args: argparse.Namespace) -> int:
+    from learner.library.backup import backup
+
     path = _existing(args)
     target = writable_file(args.file, "backup FILE")
     backup(path, target)
@@ -243,6 +268,9 @@ def run_backup(args: argparse.Namespace) -> int:
 
 
 def run_restore(args: argparse.Namespace) -> int:
+    from learner.library.backup import restore
+    from learner.library.store import LibraryStore
+
     if not args.file.is_file():
         raise ValueError(f"restore FILE {args.file}: no such file")
     path = library_path(args.db, "--db")

@@ -10,7 +10,6 @@ from typing import TYPE_CHECKING
 
 from executive import defaults
 from csl_cli.args import add_criterion_options, criterion_from_args, non_negative_int, writable_file
-from csl_cli.library_choice import library_to_read
 from reporting.tables import Column, print_paragraph, print_table
 
 if TYPE_CHECKING:  # the learner (numpy) when a command runs, not for --help; the simulator stack only for --sim
@@ -89,6 +88,7 @@ def run_tree(args: argparse.Namespace) -> int:
     from learner.choosing.node import Context, Node
     from learner.costs import ModelMoveCost
     from learner.decision_tree import grow
+    from csl_cli.library_choice import library_to_read  # the history, and with it numpy
     from learner.library.checks import check_library
     from learner.library.store import load_library
     from learner.position import parse_position

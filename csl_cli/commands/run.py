@@ -1,5 +1,6 @@
 """``csl demo``, ``csl run`` and ``csl bt``: their arguments. The handlers live in
-``csl_cli/commands/episode.py`` and are imported only when one of these commands runs.
+``csl_cli/commands/episode.py`` (``csl bt``'s in ``csl_cli/commands/bt.py``) and are
+imported only when one of these commands runs.
 """
 
 from __future__ import annotations
@@ -124,7 +125,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                     help="write the tree as Graphviz DOT (py_trees.display.dot_tree; '-' for standard output); "
                          "render with e.g. 'dot -Tsvg FILE'")
     bt.add_argument("--unicode", action="store_true", help="draw with py_trees' unicode symbols (default: ascii)")
-    bt.set_defaults(handler=_handler("run_bt"))
+    bt.set_defaults(handler=_run_bt)
 
 
 
@@ -144,18 +145,23 @@ def _camera_option(p: argparse.ArgumentParser) -> None:
                         "(docs/camera.md, 'When the room changes')")
 
 
+def _run_bt(args: argparse.Namespace) -> int:
+    """``csl bt``'s handler (csl_cli/commands/bt.py), imported when called."""
+    from csl_cli.commands.bt import run_bt
+
+    return run_bt(args)
+
+
 def _handler(name: str):  # noqa: ANN202
-    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called; for a
-    command with ``--out``, what it makes is taken back if it fails before its episode
-    starts (csl_cli/run_output.py)."""
+    """The handler ``name`` of ``csl_cli.commands.episode``, imported when called; what
+    the command makes in ``--out`` is taken back if it fails before its episode starts
+    (csl_cli/run_output.py)."""
 
     def handle(args: argparse.Namespace) -> int:
         from csl_cli.commands import episode
         from csl_cli.run_output import taken_back_unless_started
 
-        out: Path | None = getattr(args, "out", None)
-        if out is None:  # csl bt
-            return getattr(episode, name)(args)
+        out: Path = args.out
         with taken_back_unless_started(out, out / "episode.jsonl", [args.record] if args.record else []):
             return getattr(episode, name)(args)
 

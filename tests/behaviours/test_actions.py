@@ -462,7 +462,8 @@ def test_learn_saves_a_lesson_with_nothing_sensed_by_its_appearance(services, dr
                                                           Appearance(True, 8.96, 1.239))]
     assert record.learned_id == "learned/Top-Vert-Grip#1"
     assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": "learned/Top-Vert-Grip#1",
-                           "grasp": "Top-Vert-Grip", "features": 0, "wrong": ["Front-Wrap", "Top-Pinch", "Front-Pinch"]}]
+                           "grasp": "Top-Vert-Grip", "features": 0, "by": "appearance",
+                           "wrong": ["Front-Wrap", "Top-Pinch", "Front-Pinch"]}]
 
 
 def test_learn_saves_nothing_without_an_appearance_even_after_a_wrong_grasp(services, driver, log) -> None:  # noqa: ANN001
@@ -471,7 +472,10 @@ def test_learn_saves_nothing_without_an_appearance_even_after_a_wrong_grasp(serv
     record.finish("grasped", "Front-Pinch", P(6, 0))
     driver.script("release", RobotState(DriverPose(106.0, 50.0, 180.0), 0.0, 1.0))
     assert run(Learn(ROBOT), services) == Status.SUCCESS
-    assert services.learner.learned == [] and log.events[0]["id"] is None
+    assert services.learner.learned == [] and driver.verbs() == ["release"] and record.learned_id is None
+    assert log.events == [{"event": "learn", "object": 0, "behaviour": "Learn", "id": None, "grasp": "Front-Pinch",
+                           "features": 0, "reason": "nothing was measured and the camera gave no appearance: "
+                                                    "it would match every object"}]
 
 
 def test_fake_driver_refuses_unscripted_calls() -> None:

@@ -100,14 +100,17 @@ def test_follow_branch_on_a_successful_grasp_feature_grasps_the_object(services,
     assert log.events == []
 
 
-@pytest.mark.parametrize("success", [False, None])
-def test_follow_branch_fails_on_a_grasp_feature_that_did_not_hold(services, log, success) -> None:  # noqa: ANN001
+@pytest.mark.parametrize(("success", "tests"), [(False, ["Front-Wrap(6,*)=0"]), (None, [])])
+def test_follow_branch_fails_on_a_grasp_feature_that_did_not_hold(services, log,  # noqa: ANN001
+                                                                   success, tests) -> None:  # noqa: ANN001
+    # A grasp tried as a feature that did not hold is a test applied (value 0, the demo
+    # table's `tests` column counts it); one never executed (success None) is not.
     record, step = start_object(services)
     measure(record, 8.5, 4.8)
     test = record.session.decide()
     step.test, step.attempt = test, GraspAttempt("Front-Wrap", P(6, 0), as_feature=test, success=success)
     assert run(FollowBranch(ROBOT), services) == Status.FAILURE
-    assert record.outcome is None and record.session.depth == 1 and record.ledger.tests == [] and log.events == []
+    assert record.outcome is None and record.session.depth == 1 and record.ledger.tests == tests and log.events == []
 
 
 def test_follow_branch_without_a_test_fails(services) -> None:  # noqa: ANN001

@@ -82,6 +82,25 @@ def test_robot_profiles(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None
     assert _complete("csl demo --knowledge ", monkeypatch, tmp_path)[-1] == "arm.toml"
 
 
+def test_robot_names_and_library_ids(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    import csl_cli.completion
+    from learner.library.format import read_library_json
+    from learner.library.store import LibraryStore
+
+    asked = []
+    monkeypatch.setattr(csl_cli.completion, "live_robots", lambda endpoint, timeout_s: asked.append(endpoint) or [])
+    assert _complete("csl run --driver zenoh --robot ", monkeypatch, tmp_path) == ["r1"]  # none alive: the default
+    assert [c for c in _complete("csl driver call ", monkeypatch, tmp_path) if not c.startswith("-")] == ["r1"]
+    assert asked == ["tcp/127.0.0.1:7447", "tcp/127.0.0.1:7447"]  # the default driver endpoint
+    monkeypatch.setattr(csl_cli.completion, "live_robots", lambda endpoint, timeout_s: ["r2", "r3"])
+    assert _complete("csl driver state r", monkeypatch, tmp_path) == ["r2", "r3"]
+    example = read_library_json(defaults.EXAMPLE_LIBRARY)
+    with LibraryStore(tmp_path / "lib.sqlite") as store:
+        store.add(example[:2])
+    offered = _complete("csl library show --db lib.sqlite ", monkeypatch, tmp_path)
+    assert [c for c in offered if not c.startswith("-")] == [d.object_id for d in example[:2]]
+
+
 def test_the_installed_command_completes(tmp_path: Path) -> None:
     """The real entry point: main hands the shell's request to argcomplete, which
     answers and exits before any command runs; and argcomplete's global completion

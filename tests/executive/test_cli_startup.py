@@ -38,17 +38,26 @@ def _imported_by(argv: list[str], prefixes: tuple[str, ...]) -> list[str]:
 
 
 def test_csl_help_imports_no_command_and_no_numpy() -> None:
-    assert _imported_by(["--help"], ("numpy", "csl_cli", "rich")) == ["csl_cli", "csl_cli.commands", "csl_cli.main"]
+    assert _imported_by(["--help"], ("numpy", "csl_cli", "rich")) == ["csl_cli", "csl_cli.commands", "csl_cli.interrupt",
+                                                                      "csl_cli.main"]
 
 
 @pytest.mark.parametrize("argv", [["run", "--help"], ["demo", "--help"], ["bt", "--help"], ["tree", "--help"],
                                   ["train", "--help"], ["learner", "serve", "--help"],
                                   ["experiment", "paper", "--help"], ["log", "--help"], ["driver", "--help"],
-                                  ["driver", "sim", "--help"], ["camera", "--help"]])
+                                  ["driver", "sim", "--help"], ["camera", "--help"], ["library", "--help"],
+                                  ["library", "show", "--help"], ["library", "history", "--help"]])
 def test_a_commands_help_imports_no_numpy(argv: list[str]) -> None:
     """Each of these commands keeps its stack in its handlers. ``csl driver call
     --help`` is the exception by design: it lists the verbs from the verb table."""
     assert _imported_by(argv, ("numpy",)) == []
+
+
+def test_printing_the_behaviour_tree_imports_no_drawing_no_simulator_and_no_transport() -> None:
+    """``csl bt`` builds the tree and prints it: matplotlib only for ``--render``."""
+    imported = _imported_by(["bt"], ("matplotlib", "pymunk", "zenoh", "csl_cli"))
+    assert "csl_cli.commands.bt" in imported and "csl_cli.commands.episode" not in imported
+    assert [m for m in imported if not m.startswith("csl_cli")] == []
 
 
 def test_the_table_lists_every_command_its_module_registers_with_the_same_help() -> None:

@@ -43,11 +43,11 @@ def test_executive_drives_a_driver_process_over_zenoh(tmp_path: Path) -> None:
     assert all(o.outcome in ("grasped", "left", "failed") for o in result.objects)
     assert sum(o.outcome == "grasped" for o in result.objects) >= 4
     # every grasped object is learned from, unless nothing was measured on it and no grasp
-    # failed first (the camera's appearance alone got it right): that teaches nothing new
+    # failed first (the camera's appearance alone got it right: that teaches nothing new),
+    # or nothing was measured and the camera gave no appearance (nothing to tell it apart by)
     learns = [e for e in executive.log.events if e["event"] == "learn"]
     assert len(learns) == sum(o.outcome == "grasped" for o in result.objects)
-    assert all(e["id"] is not None or e["reason"].startswith("nothing was measured and no grasp failed")
-               for e in learns)
+    assert all(e["id"] is not None or e["reason"].startswith("nothing was measured and ") for e in learns)
     stored = learner.library().descriptions
     assert sum(d.object_id.startswith("learned/") for d in stored) == sum(e["id"] is not None for e in learns)
 

@@ -123,6 +123,13 @@ def test_a_failed_grasp_rebuilds_below_it_from_the_root_without_its_descriptions
     assert texts(rebuilt.branches[0].child) == ["Top-Pinch(6,*) 63s", "tumbler", "  ✓ holds"]
 
 
+def test_a_lesson_stored_by_its_appearance_says_so_not_zero_features() -> None:
+    events = clean_path()[:-1] + [ev("learn", id="cup#2", features=0, by="appearance", wrong=["Top-Pinch"])]
+    root = object_figure(events, 0, context(four_objects()))
+    cup = root.branches[0].child.branches[0].child
+    assert texts(cup)[-1] == "learned cup#2 (by its appearance, nothing sensed)"
+
+
 def test_backtracking_goes_on_below_with_the_parent_choosing_again() -> None:
     events = start() + [
         ev("branch", test=WIDTH, value=8.5, range=[8, 9]),
