@@ -44,7 +44,9 @@ class Event(str, Enum):
     GRASP_FEATURE_FAILED = "grasp_feature_failed", "a grasp tried as a feature failed: its 'failure' branch followed"
     DISCRIMINATE = "discriminate", "after a wrong prediction, a feature measured to tell the object apart", True
     LEAVE = "leave", "a grasp the finger sensor cannot confirm (No-Grab): the object is left where it is"
-    LEARN = "learn", "the new object description saved (id, grasp, features, wrong predictions)"
+    LEARN = "learn", ("the new object description saved (id, grasp, features, wrong predictions; `by: appearance` "
+                      "when nothing was sensed and it is stored by its appearance), or `id: null` and the `reason` "
+                      "nothing was stored (docs/method.md §5.3)")
     REST_OF_CLUSTER = "rest_of_cluster", "a cluster's grasped object put away: what the camera sees left of it, queued next", True
     GAVE_UP = "gave_up", "the object is reported failed (every grasp failed, or its step budget was spent)"
     DRIVER_ERROR = "driver_error", "the driver refused or failed a verb (code and message)"

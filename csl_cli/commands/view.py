@@ -1,4 +1,4 @@
-"""``csl view``: an episode as one HTML page to replay in a browser (reporting/replay_page.py)."""
+"""``csl view``: an episode as one HTML page to replay in a browser (recording/replay_page.py)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_view(args: argparse.Namespace) -> int:
-    from reporting.replay_page import load_replay, write_page
+    from recording.replay_page import load_replay, write_page
 
     out = args.out or (args.run if args.run.is_dir() else args.run.parent) / "replay.html"
     if not out.parent.is_dir():

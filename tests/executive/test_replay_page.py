@@ -15,7 +15,7 @@ import pytest
 
 import hero_driver.worlds
 from csl_cli.main import main
-from reporting.replay_page import ACTIVE, UNKNOWN, load_replay, page, page_data, replay
+from recording.replay_page import ACTIVE, UNKNOWN, load_replay, page, page_data, replay
 from tests.executive.test_recording import record_episode
 
 CHROMIUM = Path("/usr/bin/chromium")

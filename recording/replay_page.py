@@ -30,7 +30,7 @@ from executive.episode_log import IsRecording, read_log
 from recording.reader import read_recorded_events
 from recording.topics import MAP, METRES_PER_INCH, NODES, POSE
 from recording.tree_nodes import tree_nodes
-from reporting.replay_template import TEMPLATE
+from recording.replay_template import TEMPLATE
 from robot_profile import load_profile
 
 UNKNOWN = "UNKNOWN"

@@ -1,4 +1,4 @@
-"""The replay page's HTML, style and script (reporting/replay_page.py fills in the data).
+"""The replay page's HTML, style and script (recording/replay_page.py fills in the data).
 Everything is inline and nothing is fetched, so the page opens from a file with no
 network. Laid out for a laptop screen (1366 x 768): the tree and the map side by side
 under the slider, the objects below; no font under 12 px."""
