@@ -30,7 +30,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bench.bench_library_fetch import free_endpoint, serve  # noqa: E402
+from bench.bench_library_fetch import free_endpoint, serve, stop  # noqa: E402
 from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
 from learner.library.store import LibraryStore  # noqa: E402
@@ -102,11 +102,7 @@ def run(db: Path, n: int, robots: int, mode: str) -> str:
                                          cwd=ROOT, stdout=subprocess.PIPE, text=True) for _ in range(robots)]
             lines = [c.communicate(timeout=1800)[0].strip().splitlines() for c in children]
     finally:
-        process.kill()
-        process.wait(10)
-        for stream in (process.stdout, process.stderr):
-            if stream:
-                stream.close()
+        stop(process)
     results = [json.loads(out[-1]) if out else {"ok": False, "error": "no output"} for out in lines]
     started = [r for r in results if r["ok"] and r["n"] == n]
     times = [r["s"] for r in started]

@@ -68,6 +68,15 @@ def serve(db: Path, endpoint: str) -> subprocess.Popen[str]:
     return process
 
 
+def stop(process: subprocess.Popen[str]) -> None:
+    """End a service started by :func:`serve` and close its pipes."""
+    process.kill()
+    process.wait(10)
+    for stream in (process.stdout, process.stderr):
+        if stream:
+            stream.close()
+
+
 def timed(fn: Callable[[], object]) -> tuple[float, object]:
     began = time.perf_counter()
     out = fn()
@@ -115,11 +124,7 @@ def main() -> None:
                     d, w = statistics.median(deltas), statistics.median(wholes)
                     print(f"| {n:,} | {first:.2f} | {d * 1e3:.1f} | {w:.2f} | {w / d:,.0f}x |", flush=True)
             finally:
-                process.kill()
-                process.wait(10)
-                for stream in (process.stdout, process.stderr):
-                    if stream:
-                        stream.close()
+                stop(process)
             db.unlink()
 
 

@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from bench.bench_fleet_start import PeakRss, rss_mb  # noqa: E402
-from bench.bench_library_fetch import free_endpoint, serve  # noqa: E402
+from bench.bench_library_fetch import free_endpoint, serve, stop  # noqa: E402
 from learner.service.protocol import LEARN, learner_keys  # noqa: E402
 from learner.service.zenoh_client import ZenohLearner  # noqa: E402
 from zenoh_rpc.client import RpcClient  # noqa: E402
@@ -71,8 +71,7 @@ def main() -> None:
             answered = f"no: {str(exc).splitlines()[0]}"
         finally:
             after = rss_mb(process.pid)
-            process.kill()
-            process.wait(10)
+            stop(process)
     print("| clients x MB | outcomes | service answered after | RSS before | peak | after |")
     print("|---|---|---|---:|---:|---:|")
     print(f"| {args.clients} x {args.mb} | {', '.join(f'{k}: {v}' for k, v in sorted(outcomes.items()))} | "
