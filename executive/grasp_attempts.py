@@ -84,11 +84,7 @@ def plausible_duration(grasp: str, seconds: float, knowledge: Knowledge) -> bool
     """Whether a ``grasp`` the driver says took ``seconds`` lies within
     :data:`DURATION_FACTOR` of the procedure's ``time_s`` either way (a grasp the profile
     prices at 0 s, or does not know, takes no judging: nothing to compare with)."""
-    try:
-        expected = knowledge.grasp(grasp).time_s
-    except KeyError:
-        return True
-    return expected <= 0 or expected / DURATION_FACTOR <= seconds <= expected * DURATION_FACTOR
+    return implausible_attempt(knowledge, grasp, seconds, success=True) is None  # a held grasp's bounds: its own
 
 
 def implausible_grasps(events: Iterable[Mapping[str, object]], knowledge: Knowledge) -> list[Mapping[str, object]]:
@@ -143,8 +139,9 @@ class LearnedGraspCosts:
         attempts = recordable_attempts((e for e in self.events if not any(e is i for i in ignored)), [record.index])
         # what the learner would refuse (a failure with more voided sensing than any robot
         # pays): left out here, said, so one object's record never fails the whole batch
-        for a in [a for a in attempts if implausible_attempt(self.knowledge, a.grasp, a.seconds, a.success)]:
-            attempts.remove(a)
+        refused = [a for a in attempts if implausible_attempt(self.knowledge, a.grasp, a.seconds, a.success)]
+        attempts = [a for a in attempts if a not in refused]
+        for a in refused:
             if self.log is not None:
                 self.log.event(Event.GRASP_COST_IGNORED, object=record.index, behaviour="LearnedGraspCosts",
                                grasp=a.grasp, seconds=round(a.seconds, 1), expected=self.knowledge.grasp(a.grasp).time_s,

@@ -78,10 +78,10 @@ class StateCheck:
         return any(self.under_way.get(v, 0) > 0 or v in self.answered for v in verbs)
 
     def _impossible(self, last: RobotState, state: RobotState) -> str:
-        a, b = last.pose, state.pose
-        moved_in = math.hypot(b.x_in - a.x_in, b.y_in - a.y_in)
-        turned = abs((b.heading_deg - a.heading_deg + 180.0) % 360.0 - 180.0)
-        if _apart(a, b) is not None and not self._may(MOVES_ROBOT):
+        b = state.pose
+        apart = _apart(last.pose, b)
+        if apart is not None and not self._may(MOVES_ROBOT):
+            moved_in, turned = apart
             return (f"the pose moved {moved_in:.1f} in and turned {turned:.1f} deg, to ({b.x_in:.1f}, {b.y_in:.1f}, "
                     f"{b.heading_deg:.1f} deg), with no move, reset or charge under way")
         if state.battery > last.battery + BATTERY_SLACK and not self._may(CHARGES):

@@ -50,8 +50,7 @@ def _interrupted(out: Path, after_s: float | None) -> tuple[int, list[str]]:
         if after_s is None:
             log = out / "episode.jsonl"
             while demo.poll() is None and not (log.is_file() and log.stat().st_size > 0):
-                assert time.monotonic() - began < 300, "no event logged"
-                time.sleep(0.01)
+                time.sleep(0.01)  # the demo ends by itself: no event before that fails the status check below
         else:
             time.sleep(max(0.0, after_s - (time.monotonic() - began)))
         if demo.poll() is None:
