@@ -80,7 +80,7 @@ class Executive:
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
             library=LibraryMatrix(learner, knowledge), served=_served(driver))
         self.grasp_costs = (  # docs/method.md §5.7: priced by what grasps cost, recorded after each object
-            LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events, self.log)
+            LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events, self.log, driver.robot)
             if params.learned_grasp_costs and isinstance(learner, KeepsGraspCosts) else None)
         self.namespace = namespace(driver.robot)
         self.root = build_tree(driver.robot)

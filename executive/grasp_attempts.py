@@ -114,10 +114,13 @@ class LearnedGraspCosts:
     on are priced by every record so far, the knowledge file's costs the prior."""
 
     def __init__(self, learner: KeepsGraspCosts, knowledge: Knowledge, library: LibraryMatrix,
-                 events: Sequence[Mapping[str, object]], log: EventSink | None = None) -> None:
+                 events: Sequence[Mapping[str, object]], log: EventSink | None = None,
+                 robot: str | None = None) -> None:
         """``log`` hears of each attempt left out for an implausible duration
-        (``grasp_cost_ignored``); None: nobody is told."""
+        (``grasp_cost_ignored``); None: nobody is told. ``robot``: whose attempts they
+        are, one robot's weight in the fleet's prices (None: unnamed)."""
         self.learner, self.knowledge, self.library, self.events = learner, knowledge, library, events
+        self.robot = robot
         self.log = log
         self._episode = uuid.uuid4().hex  # keys are this episode's object indices under it
         self.reprice()
@@ -148,6 +151,6 @@ class LearnedGraspCosts:
                                factor=DURATION_FACTOR)
         if attempts:
             self.learner.record_grasp_attempts([a.as_record() for a in attempts],
-                                               key=f"{self._episode}/{record.index}")
+                                               key=f"{self._episode}/{record.index}", robot=self.robot)
             self.reprice()
         return attempts

@@ -88,6 +88,15 @@ PRIOR_WEIGHT = 3.0
 the learned cost moves halfway to what attempts cost after three of them."""
 
 
+ROBOT_WEIGHT = 200
+"""How many attempts of one grasp one robot's record may weigh in the fleet's totals
+(docs/method.md §5.7): a robot that floods its grasp costs (a fault, or a robot
+someone controls) moves the fleet's price at most as far as 200 attempts of its own
+can, however many it sends, while an honest robot's price is as good as its 200 last
+attempts make it (the prior weighs 3). Which robot sent a record is the service's key
+(``csl/learner/<name>/rpc/record_grasps/<robot>``), which the router's access control
+can tie to one user per robot (docs/security.md)."""
+
 DURATION_FACTOR = 10.0
 """How far a grasp's seconds may lie from its procedure's ``time_s``, either way, before
 they are implausible: milliseconds (x 1000) and minutes (/ 60) both lie beyond; the
@@ -130,6 +139,27 @@ class GraspCostRecord:
     @property
     def attempts(self) -> int:
         return self.successes + self.failures
+
+    def capped(self, at: int) -> GraspCostRecord:
+        """This record weighing at most ``at`` attempts, each kind's mean cost and the
+        share that held kept (counts rounded, seconds scaled with them): what one robot's
+        record may weigh in the fleet's (:data:`ROBOT_WEIGHT`). Unchanged when it
+        weighs no more; scaling again and again makes it a window over about the last
+        ``at`` attempts, so a robot's share also follows a grasp that changed."""
+        if self.attempts <= at:
+            return self
+        successes = round(self.successes * at / self.attempts)
+        failures = at - successes
+        return dataclasses.replace(
+            self, successes=successes, failures=failures,
+            success_s=self.success_s * successes / self.successes if self.successes else 0.0,
+            failure_s=self.failure_s * failures / self.failures if self.failures else 0.0)
+
+    def plus(self, other: GraspCostRecord) -> GraspCostRecord:
+        """Both records' attempts together (the same grasp)."""
+        return dataclasses.replace(self, successes=self.successes + other.successes,
+                                   success_s=self.success_s + other.success_s,
+                                   failures=self.failures + other.failures, failure_s=self.failure_s + other.failure_s)
 
     def with_attempt(self, seconds: float, success: bool) -> GraspCostRecord:
         """This record with one more attempt of ``seconds`` (finite, >= 0)."""

@@ -7,6 +7,11 @@ would let one careless ``get`` move a robot or write a library, so a verb's
 queryable answers only its exact key; the catch-all on ``rpc/**`` gives wildcards
 and unknown verbs one error reply each, so a client always learns why nothing ran.
 
+A verb may also be *named*: served as well at ``rpc/<verb>/<name>``, one more chunk
+that says on whose behalf the client asks (the learner's ``record_grasps/<robot>``),
+so the router's access control, which knows who is asking, can allow each user its
+own name only. The handler reads the name with :func:`named_by`.
+
 Every query a server answers is logged at INFO, one line when it is answered: the
 key, how long it took and the outcome (``ok`` or the error code), so an operator of
 ``csl driver sim`` or ``csl learner serve`` sees who asked what and what came of it.
@@ -21,7 +26,7 @@ from typing import Any
 
 import zenoh
 
-from zenoh_rpc.keys import KeySpace
+from zenoh_rpc.keys import KeySpace, check_chunk
 
 JSON = zenoh.Encoding.APPLICATION_JSON
 log = logging.getLogger(__name__)
@@ -107,9 +112,12 @@ class RpcServer:
     """
 
     def __init__(self, session: zenoh.Session, keys: KeySpace, verbs: Sequence[str], handle: Handler,
-                 encode_error: ErrorEncoder, *, bad_request: str, unknown_verb: str) -> None:
+                 encode_error: ErrorEncoder, *, bad_request: str, unknown_verb: str,
+                 named: Sequence[str] = ()) -> None:
+        """``named``: the verbs (of ``verbs``) also served at ``rpc/<verb>/<name>``."""
         self.keys = keys
         self.verbs = tuple(verbs)
+        self.named = tuple(named)
         self._handle = handle
         self._encode_error = encode_error
         self._bad_request = bad_request
@@ -119,6 +127,8 @@ class RpcServer:
             session.declare_queryable(keys.rpc(verb), self._exact(verb), complete=True)
             for verb in self.verbs
         ]
+        self._queryables += [session.declare_queryable(f"{keys.rpc(verb)}/*", self._exact_named(verb), complete=True)
+                             for verb in self.named]
         self._queryables.append(session.declare_queryable(keys.rpc_all, self._on_other_key))
         # Declared last: a client that sees the token finds every queryable in place.
         self._token = session.liveliness().declare_token(keys.alive)
@@ -149,10 +159,19 @@ class RpcServer:
 
         return on_query
 
+    def _exact_named(self, verb: str) -> Callable[[zenoh.Query], None]:
+        def on_query(query: zenoh.Query) -> None:
+            if named_by(query, self.keys, verb) is None:
+                query.drop()  # a wildcard or a name that is not one chunk: the catch-all answers it
+                return
+            self._handle(verb, _Logged(query))  # type: ignore[arg-type]  # quacks as a Query
+
+        return on_query
+
     def _on_other_key(self, raw: zenoh.Query) -> None:
         key = str(raw.key_expr)
         verb = key.removeprefix(self.keys.rpc_root)
-        if verb in self.verbs:
+        if verb in self.verbs or any(named_by(raw, self.keys, v) is not None for v in self.named):
             raw.drop()  # answered by the verb's own queryable
             return
         query = _Logged(raw)
@@ -161,3 +180,16 @@ class RpcServer:
         else:
             self.reply_error(query, self._unknown_verb,
                              f"{verb!r} is not a verb (known: {', '.join(self.verbs)})")
+
+
+def named_by(query: zenoh.Query, keys: KeySpace, verb: str) -> str | None:
+    """The name a query for a named ``verb`` gives (``rpc/<verb>/<name>``): one key chunk
+    (:func:`~zenoh_rpc.keys.check_chunk`); None for the verb's plain key, a wildcard, or
+    anything else."""
+    name = str(query.key_expr).removeprefix(keys.rpc(verb) + "/")
+    if name == str(query.key_expr):
+        return None
+    try:
+        return check_chunk(name)
+    except ValueError:
+        return None

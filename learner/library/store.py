@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TypeVar
 
 from learner.appearance import Appearance
-from learner.costs import GraspCostRecord
+from learner.costs import ROBOT_WEIGHT, GraspCostRecord
 from learner.description import ObjectDescription, Observation, in_order
 from learner.library.backup import damage_line, problems
 from learner.library.format import FORMAT, READS, VERSION, read_library_json
@@ -83,7 +83,16 @@ _SET_META = "INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)"
 _GRASP_COSTS = """CREATE TABLE IF NOT EXISTS grasp_costs (grasp TEXT PRIMARY KEY, successes INTEGER NOT NULL,
     success_s REAL NOT NULL, failures INTEGER NOT NULL, failure_s REAL NOT NULL)"""
 """Per grasp, the attempts that held and failed and the robot seconds they cost
-(learner.costs.GraspCostRecord); made by the first record, absent before."""
+(learner.costs.GraspCostRecord), the fleet's: the sum over ``grasp_costs_by_robot``,
+kept beside it so a reader needs no sum (and a csl from before robots reads it as
+ever); made by the first record, absent before."""
+
+_GRASP_COSTS_BY_ROBOT = """CREATE TABLE IF NOT EXISTS grasp_costs_by_robot (grasp TEXT NOT NULL,
+    robot TEXT NOT NULL, successes INTEGER NOT NULL, success_s REAL NOT NULL, failures INTEGER NOT NULL,
+    failure_s REAL NOT NULL, PRIMARY KEY (grasp, robot))"""
+"""Per grasp and robot, what that robot's attempts weigh, at most ``ROBOT_WEIGHT``
+attempts (learner.costs); robot ``''`` holds attempts recorded without a robot's
+name, and a store's totals from before robots were named (one anonymous robot)."""
 
 
 def durable_and_quick(db: sqlite3.Connection) -> None:
@@ -335,28 +344,46 @@ class LibraryStore:
         return self._db.execute("SELECT 1 FROM descriptions WHERE id = ?", (object_id,)).fetchone() is not None
 
     # -- what each grasp has cost (docs/library-format.md, "Grasp costs") ---------------
-    def record_grasp_attempts(self, attempts: Iterable[tuple[str, float, bool]], key: str | None = None) -> bool:
-        """Add ``(grasp, robot seconds, success)`` attempts to the per-grasp running totals;
-        returns False, adding nothing, when the ``meta`` row ``key`` (an idempotency key:
-        this batch was recorded) is already stored. The key and the totals are one
-        transaction: a crash leaves both or neither, so a retry neither counts the batch
-        twice nor finds it marked but missing. The table is made by the first record, so
-        a store that never records a grasp is left exactly as it was."""
+    def record_grasp_attempts(self, attempts: Iterable[tuple[str, float, bool]], key: str | None = None,
+                              robot: str = "") -> bool:
+        """Add ``(grasp, robot seconds, success)`` attempts by ``robot`` (``''``: unnamed)
+        to its per-grasp running totals, each capped at ``ROBOT_WEIGHT`` attempts, and
+        bring the fleet's totals (their sum) up to date; returns False, adding nothing,
+        when the ``meta`` row ``key`` (an idempotency key: this batch was recorded) is
+        already stored. The key and the totals are one transaction: a crash leaves both
+        or neither, so a retry neither counts the batch twice nor finds it marked but
+        missing. The tables are made by the first record, so a store that never records
+        a grasp is left exactly as it was."""
         added: dict[str, GraspCostRecord] = {}  # the batch per grasp, checked before anything is written
         for grasp, seconds, success in attempts:
             added[grasp] = added.get(grasp, GraspCostRecord(grasp)).with_attempt(float(seconds), bool(success))
-        with self._db:  # added to what is stored in SQL: two writers never lose each other's attempts
+        with self._db:  # read and written in one transaction: two writers never lose each other's attempts
             if key is not None:
                 if self.meta_int(key):
                     return False
                 self._db.execute(_SET_META, (key, "1"))
-            self._db.execute(_GRASP_COSTS)
-            self._db.executemany(
-                "INSERT INTO grasp_costs VALUES (?,?,?,?,?) ON CONFLICT(grasp) DO UPDATE SET"
-                " successes = successes + excluded.successes, success_s = success_s + excluded.success_s,"
-                " failures = failures + excluded.failures, failure_s = failure_s + excluded.failure_s",
-                [(r.grasp, r.successes, r.success_s, r.failures, r.failure_s) for r in added.values()])
+            self._robots_named()
+            for grasp, batch in added.items():
+                row = self._db.execute("SELECT successes, success_s, failures, failure_s FROM grasp_costs_by_robot"
+                                       " WHERE grasp = ? AND robot = ?", (grasp, robot)).fetchone()
+                held = GraspCostRecord(grasp, *row) if row else GraspCostRecord(grasp)
+                now = held.plus(batch).capped(ROBOT_WEIGHT)
+                self._db.execute("INSERT OR REPLACE INTO grasp_costs_by_robot VALUES (?,?,?,?,?,?)",
+                                 (grasp, robot, now.successes, now.success_s, now.failures, now.failure_s))
+                self._db.execute(
+                    "INSERT OR REPLACE INTO grasp_costs SELECT grasp, SUM(successes), SUM(success_s), SUM(failures),"
+                    " SUM(failure_s) FROM grasp_costs_by_robot WHERE grasp = ? GROUP BY grasp", (grasp,))
         return True
+
+    def _robots_named(self) -> None:
+        """Make the grasp-cost tables; a store whose totals predate robots' names gets
+        them as the unnamed robot's (inside the caller's transaction)."""
+        self._db.execute(_GRASP_COSTS)
+        if self._db.execute("SELECT 1 FROM sqlite_master WHERE type='table' AND name='grasp_costs_by_robot'"
+                            ).fetchone() is None:
+            self._db.execute(_GRASP_COSTS_BY_ROBOT)
+            self._db.execute("INSERT INTO grasp_costs_by_robot SELECT grasp, '', successes, success_s, failures,"
+                             " failure_s FROM grasp_costs")
 
     def grasp_cost_records(self) -> list[GraspCostRecord]:
         """Every grasp's running totals, by name (none in a store that never recorded one)."""

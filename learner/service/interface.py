@@ -8,6 +8,7 @@ the in-process one is the reference the zenoh pair is tested against.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
@@ -84,12 +85,15 @@ class KeepsGraspCosts(Protocol):
     """A service that keeps what each grasp has cost on the robots it serves
     (docs/method.md §5.7), so the executive can price grasps by it."""
 
-    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
-        """Add ``(grasp, robot seconds, success)`` attempts to the per-grasp totals in
-        one transaction. ``key``, made once per object by the client, makes a retry
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None,
+                              robot: str | None = None) -> None:
+        """Add ``(grasp, robot seconds, success)`` attempts made by ``robot`` (None:
+        unnamed; every unnamed record counts as one robot's) to the per-grasp totals in
+        one transaction, one robot weighing at most ``learner.costs.ROBOT_WEIGHT``
+        attempts of a grasp. ``key``, made once per object by the client, makes a retry
         harmless: a batch whose key is already stored adds nothing. Raises ValueError
         for an attempt that cannot be counted (unknown grasp, seconds not finite >= 0,
-        too many); then nothing is added."""
+        too many, a robot name that is not one key chunk); then nothing is added."""
         ...
 
     def grasp_costs(self) -> list[GraspCostRecord]:
@@ -142,6 +146,18 @@ def check_learn_key(key: object) -> str:
     if not isinstance(key, str) or not key or len(key) > MAX_KEY_CHARS or not key.isprintable():
         raise ValueError(f"key: an idempotency key is 1 to {MAX_KEY_CHARS} printable characters, got {key!r:.120}")
     return key
+
+
+_ROBOT_NAME = re.compile(r"[A-Za-z0-9_.-]{1,64}")
+
+
+def check_robot_name(robot: object) -> str:
+    """``robot`` if it can name the robot a grasp record comes from (1 to 64 letters,
+    digits, ``_``, ``-`` or ``.``: one chunk of a zenoh key, where the router's access
+    control can check it), else ValueError naming it."""
+    if not isinstance(robot, str) or not _ROBOT_NAME.fullmatch(robot):
+        raise ValueError(f"robot: a robot name is 1 to 64 letters, digits, '_', '-' or '.', got {robot!r:.120}")
+    return robot
 
 
 MAX_GRASP_ATTEMPTS = 1000

@@ -36,7 +36,8 @@ from learner.knowledge import Knowledge
 from learner.library.checks import check_library
 from learner.library.store import LibraryStore
 from learner.service.admission import Quarantined, admitted, partition
-from learner.service.interface import LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key
+from learner.service.interface import (LibraryChanges, LibrarySnapshot, check_grasp_attempts, check_learn_key,
+                                       check_robot_name)
 
 VERSION_KEY = "learner_version"
 """The ``meta`` row holding the library's version (absent means 0)."""
@@ -123,7 +124,8 @@ class LocalLearner:
                     version, self._snapshot.descriptions.plus([replace(checked, object_id=object_id)]))
         return object_id
 
-    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None,
+                              robot: str | None = None) -> None:
         """Add ``(grasp, robot seconds, success)`` attempts to the store's per-grasp cost
         totals (docs/library-format.md, "Grasp costs"); the library's version is not
         bumped: descriptions did not change. Checked whole before anything is written
@@ -143,9 +145,11 @@ class LocalLearner:
                     raise ValueError(f"grasp costs not recorded: attempts[{i}]: {why}")
         if key is not None:
             check_learn_key(key)
+        if robot is not None:
+            check_robot_name(robot)
         with self._lock:
             self._check_open()
-            self._store.record_grasp_attempts(checked, None if key is None else GRASP_RECORD_KEY + key)
+            self._store.record_grasp_attempts(checked, None if key is None else GRASP_RECORD_KEY + key, robot or "")
 
     def grasp_costs(self) -> list[GraspCostRecord]:
         """What each grasp has cost so far, for :func:`learner.costs.with_learned_grasp_costs`."""

@@ -165,7 +165,8 @@ class OutboxLearner:
                     raise
                 return self._last.version
 
-    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None,
+                              robot: str | None = None) -> None:
         """Passed to the service when it keeps grasp costs (docs/method.md §5.7). Not
         queued: a record the service cannot take (it is unreachable, or refuses it, as a
         service from before grasp costs refuses the verb) is dropped and counted in
@@ -176,7 +177,7 @@ class OutboxLearner:
             if not isinstance(self.service, KeepsGraspCosts):
                 return
             try:
-                self.service.record_grasp_attempts(attempts, key)
+                self.service.record_grasp_attempts(attempts, key, robot)
             except (LearnerUnavailable, ValueError):
                 self.grasp_records_lost += 1
 

@@ -26,7 +26,7 @@ from learner.costs import GraspCostRecord
 from learner.description import Descriptions, ObjectDescription
 from learner.service import protocol
 from learner.service.interface import (LearnerTimedOut, LearnerUnavailable, LibraryChanges, LibraryPage,
-                                        LibrarySnapshot)
+                                        LibrarySnapshot, check_robot_name)
 from learner.service.protocol import (CHANGES, GRASP_COSTS, LEARN, LIBRARY, RECORD_GRASPS, VERSION_VERB,
                                       ProtocolError)
 from zenoh_rpc.client import RpcClient
@@ -66,6 +66,7 @@ class ZenohLearner:
             raise ValueError(f"page_size must be 1 to {protocol.MAX_PAGE}, got {page_size}")
         self.page_size = page_size
         self._paged = True  # False once a service from before pages refused one
+        self._named_records = True  # False once a service from before named records refused one
         self._where = ", ".join(connect)
         self._lock = threading.Lock()
         self._cached: LibrarySnapshot | None = None
@@ -156,12 +157,25 @@ class ZenohLearner:
         return self._decode(protocol.decode_learn_reply,
                             self._call(LEARN, protocol.encode_learn_request(description, key)))
 
-    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None,
+                              robot: str | None = None) -> None:
         """Record ``(grasp, seconds, success)`` attempts under idempotency ``key`` (a fresh
-        uuid when None, as :meth:`learn`); ValueError when the service refuses them."""
+        uuid when None, as :meth:`learn`), as ``robot``'s: sent to
+        ``rpc/record_grasps/<robot>``, the key the router's access control lets only that
+        robot's user query (docs/security.md); to ``rpc/record_grasps`` when None or when
+        the service predates named records. ValueError when the service refuses them."""
         key = key if key is not None else str(uuid.uuid4())
-        self._decode(protocol.decode_recorded_reply,
-                     self._call(RECORD_GRASPS, protocol.encode_record_grasps_request(attempts, key)))
+        request = protocol.encode_record_grasps_request(attempts, key)
+        if robot is not None and self._named_records:
+            verb = f"{RECORD_GRASPS}/{check_robot_name(robot)}"
+            try:
+                self._decode(protocol.decode_recorded_reply, self._call(verb, request))
+                return
+            except ValueError as exc:  # a service from before named records: the key is no verb to it
+                if "is not a verb" not in str(exc):
+                    raise
+                self._named_records = False
+        self._decode(protocol.decode_recorded_reply, self._call(RECORD_GRASPS, request))
 
     def grasp_costs(self) -> list[GraspCostRecord]:
         """What each grasp has cost so far, as the service keeps it."""

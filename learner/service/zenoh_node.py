@@ -23,7 +23,7 @@ from learner.service import protocol
 from learner.service.interface import KeepsChanges, KeepsGraspCosts, LearnerService, LibraryChanges, LibraryPage
 from learner.service.protocol import (BAD_REQUEST, CHANGES, GRASP_COSTS, INTERNAL, LEARN, LIBRARY, RECORD_GRASPS,
                                       VERBS)
-from zenoh_rpc.server import RpcServer, payload_of, reply
+from zenoh_rpc.server import RpcServer, named_by, payload_of, reply
 from zenoh_rpc.config import UserConfig
 from zenoh_rpc.serving import serve_until
 
@@ -43,7 +43,7 @@ class LearnerNode:
         self.name = keys.name
         # No separate unknown-verb code in this protocol: a wrong verb is a bad request.
         self._server = RpcServer(session, keys, VERBS, self._serve, protocol.encode_error,
-                                 bad_request=BAD_REQUEST, unknown_verb=BAD_REQUEST)
+                                 bad_request=BAD_REQUEST, unknown_verb=BAD_REQUEST, named=(RECORD_GRASPS,))
 
     def close(self) -> None:
         """Stop serving: undeclare the token, then the queryables."""
@@ -57,7 +57,8 @@ class LearnerNode:
 
     def _serve(self, verb: str, query: zenoh.Query) -> None:
         try:
-            body = self._answer(verb, payload_of(query, protocol.MAX_REQUEST_BYTES))
+            body = self._answer(verb, payload_of(query, protocol.MAX_REQUEST_BYTES),
+                                named_by(query, self._server.keys, verb))
         except ValueError as exc:  # ProtocolError included: the request's fault
             self._server.reply_error(query, BAD_REQUEST, f"{verb}: {exc}")
         except Exception as exc:  # the node outlives any service failure
@@ -66,7 +67,9 @@ class LearnerNode:
         else:
             reply(query, body)
 
-    def _answer(self, verb: str, payload: bytes) -> bytes:
+    def _answer(self, verb: str, payload: bytes, robot: str | None = None) -> bytes:
+        """The reply to ``verb``; ``robot``: the name its key gives (only
+        ``record_grasps/<robot>`` has one: whose attempts they are)."""
         if verb == LEARN:
             description, key = protocol.decode_learn_request(payload)
             return protocol.encode_learn_reply(self.service.learn(description, key))
@@ -74,7 +77,7 @@ class LearnerNode:
             return protocol.encode_changes_reply(self._changes(protocol.decode_changes_request(payload)))
         if verb == RECORD_GRASPS:
             attempts, key = protocol.decode_record_grasps_request(payload)
-            self._grasp_costs().record_grasp_attempts(attempts, key)
+            self._grasp_costs().record_grasp_attempts(attempts, key, robot)
             return protocol.encode_recorded_reply(len(attempts))
         if verb == GRASP_COSTS:
             protocol.decode_empty_request(payload)

@@ -45,11 +45,11 @@ class _DiesBeforeTheAttempts:
     def __exit__(self, *exc: object) -> bool | None:
         return self._db.__exit__(*exc)
 
-    def executemany(self, sql: str, rows: object) -> sqlite3.Cursor:
-        if sql.startswith("INSERT INTO grasp_costs") and not self.failed:
+    def execute(self, sql: str, *args: object) -> sqlite3.Cursor:
+        if sql.startswith("INSERT OR REPLACE INTO grasp_costs_by_robot") and not self.failed:
             self.failed = True
             raise sqlite3.OperationalError("disk I/O error (injected)")
-        return self._db.executemany(sql, rows)  # type: ignore[arg-type]
+        return self._db.execute(sql, *args)  # type: ignore[arg-type]
 
 
 def _costs(store: Path) -> tuple[LocalLearner, LearnedGraspCosts]:

@@ -162,3 +162,68 @@ def test_the_service_refuses_a_duration_no_grasp_of_this_robot_takes(
             with pytest.raises(ValueError, match=f"grasp costs not recorded: attempts\\[1\\]: {why}"):
                 learner.record_grasp_attempts([("Front-Wrap", 60.0, True), attempt])
             assert learner.grasp_costs() == []  # the batch is refused whole
+
+
+def test_a_record_capped_keeps_each_kinds_mean_and_the_share_that_held() -> None:
+    # 300 attempts, 240 held at 60 s each, 60 failed at 90 s each, capped at 200:
+    # 160 held and 40 failed, at the same 60 s and 90 s means
+    record = GraspCostRecord("Front-Wrap", 240, 240 * 60.0, 60, 60 * 90.0)
+    capped = record.capped(200)
+    assert (capped.successes, capped.failures) == (160, 40)
+    assert capped.success_s == pytest.approx(160 * 60.0) and capped.failure_s == pytest.approx(40 * 90.0)
+    assert record.capped(300) is record  # no heavier than the cap: unchanged
+
+
+@given(st.integers(0, 5000), st.integers(0, 5000), st.floats(0, 86_400), st.floats(0, 86_400), st.integers(1, 500))
+def test_a_capped_record_weighs_at_most_the_cap_and_keeps_its_means(
+        successes: int, failures: int, success_mean: float, failure_mean: float, cap: int) -> None:
+    record = GraspCostRecord("g", successes, successes * success_mean, failures, failures * failure_mean)
+    capped = record.capped(cap)
+    assert capped.attempts == min(record.attempts, cap)
+    if capped.successes:
+        assert capped.success_s / capped.successes == pytest.approx(success_mean)
+    if capped.failures:
+        assert capped.failure_s / capped.failures == pytest.approx(failure_mean)
+
+
+def test_a_robot_that_floods_weighs_no_more_than_its_cap_in_the_fleets_price(tmp_path) -> None:  # noqa: ANN001
+    """r1 records 1,000 Front-Wrap holds at 600 s (ten times the file's 60 s), r2 ten at
+    60 s. Uncapped the fleet's mean would be (600,000 + 600) / 1,010 = 594.6 s; r1
+    weighs ROBOT_WEIGHT = 200 attempts, so it is (200 x 600 + 10 x 60) / 210 = 574.3 s,
+    and r2's next hold counts as 1 in 211, not 1 in 1,011. An unnamed record is one
+    more robot ('')."""
+    with LibraryStore(tmp_path / "library.sqlite") as store:
+        for batch in range(10):
+            store.record_grasp_attempts([("Front-Wrap", 600.0, True)] * 100, key=f"r1/{batch}", robot="r1")
+        store.record_grasp_attempts([("Front-Wrap", 60.0, True)] * 10, key="r2/0", robot="r2")
+        [fleet] = store.grasp_cost_records()
+        assert (fleet.successes, fleet.failures) == (210, 0)
+        assert fleet.success_s / fleet.successes == pytest.approx((200 * 600 + 10 * 60) / 210)
+        store.record_grasp_attempts([("Front-Wrap", 60.0, True)] * 5)  # unnamed
+        assert store.grasp_cost_records()[0].successes == 215
+        by_robot = dict(((r, n) for r, n in store._db.execute(
+            "SELECT robot, successes FROM grasp_costs_by_robot ORDER BY robot")))
+        assert by_robot == {"": 5, "r1": 200, "r2": 10}
+
+
+def test_a_store_with_totals_from_before_robots_keeps_them_as_the_unnamed_robots(tmp_path) -> None:  # noqa: ANN001
+    path = tmp_path / "library.sqlite"
+    with LibraryStore(path) as store:
+        store.add([desc("cup", "Front-Wrap", ("Width", P(6, 0), 3))])
+    db = sqlite3.connect(path)  # as a csl from before robots were named left it
+    with db:
+        db.execute("CREATE TABLE grasp_costs (grasp TEXT PRIMARY KEY, successes INTEGER NOT NULL, success_s REAL "
+                   "NOT NULL, failures INTEGER NOT NULL, failure_s REAL NOT NULL)")
+        db.execute("INSERT INTO grasp_costs VALUES ('Front-Wrap', 4, 240.0, 1, 90.0)")
+    db.close()
+    with LibraryStore(path) as store:
+        assert store.grasp_cost_records() == [GraspCostRecord("Front-Wrap", 4, 240.0, 1, 90.0)]  # read as ever
+        store.record_grasp_attempts([("Front-Wrap", 60.0, True)], robot="r1")
+        assert store.grasp_cost_records() == [GraspCostRecord("Front-Wrap", 5, 300.0, 1, 90.0)]
+
+
+def test_the_local_learner_refuses_a_robot_name_that_is_not_one_key_chunk(tmp_path) -> None:  # noqa: ANN001
+    with LocalLearner(tmp_path / "l.sqlite", [desc("cup", "Front-Wrap", ("Width", P(6, 0), 3))]) as learner:
+        with pytest.raises(ValueError, match=r"^robot: a robot name is 1 to 64 letters"):
+            learner.record_grasp_attempts([("Front-Wrap", 70.0, True)], robot="r1/../r2")
+        assert learner.grasp_costs() == []

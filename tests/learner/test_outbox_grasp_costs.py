@@ -21,7 +21,8 @@ class OldService:
         self.records: list[GraspCostRecord] = [GraspCostRecord("Front-Wrap", 1, 240.0, 0, 0.0)]
         self.refuse = False
 
-    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None) -> None:
+    def record_grasp_attempts(self, attempts: Sequence[tuple[str, float, bool]], key: str | None = None,
+                              robot: str | None = None) -> None:
         self._answer()
 
     def grasp_costs(self) -> list[GraspCostRecord]:

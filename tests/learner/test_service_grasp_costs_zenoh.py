@@ -8,6 +8,7 @@ refused whole, the outbox client keeps deciding when the service is gone, and
 from __future__ import annotations
 
 import json
+import sqlite3
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -49,6 +50,31 @@ def test_attempts_recorded_by_one_robot_are_the_totals_another_reads(service: Se
         assert r2.grasp_costs() == [GraspCostRecord("Front-Wrap", 2, 480.0, 1, 300.0),
                                     GraspCostRecord("Top-Pinch", 1, 63.0, 0, 0.0)]
         assert r2.version() == 1  # the descriptions did not change
+
+
+def test_a_record_named_by_its_robot_is_that_robots_and_a_wildcard_name_is_refused(service: ServiceProcess,
+                                                                                    tmp_path: Path) -> None:
+    """``record_grasps/<robot>``: the name in the key says whose attempts they are (the
+    store keeps each robot's weight apart); a wildcard in that place is refused with
+    ``bad_request``, not run."""
+    with robot(service) as r1:
+        r1.record_grasp_attempts([("Front-Wrap", 240.0, True)], key="ep/0", robot="r1")
+        r1.record_grasp_attempts([("Front-Wrap", 60.0, True)], key="ep/1")  # unnamed
+        assert r1.grasp_costs() == [GraspCostRecord("Front-Wrap", 2, 300.0, 0, 0.0)]
+    session = open_session(connect=[service.endpoint], connect_timeout_s=3.0)
+    try:
+        keys = learner_keys(service.name)
+        request = b'{"v": 1, "key": "k", "attempts": [["Front-Wrap", 60, true]]}'
+        [reply] = list(session.get(keys.rpc("record_grasps/*"), payload=request, timeout=5.0))
+        assert reply.ok is None and b"bad_request" in reply.err.payload.to_bytes()
+    finally:
+        session.close()
+    db = sqlite3.connect(tmp_path / "lib.sqlite")
+    try:
+        assert db.execute("SELECT robot, successes FROM grasp_costs_by_robot ORDER BY robot").fetchall() == [
+            ("", 1), ("r1", 1)]
+    finally:
+        db.close()
 
 
 BAD_RECORDS = [
@@ -116,3 +142,31 @@ def test_csl_run_records_each_objects_grasps_with_the_zenoh_learner(service: Ser
         recorded = r1.grasp_costs()
     assert recorded and sum(r.attempts for r in recorded) == len(attempts)  # every attempt, each once
     assert sum(r.success_s + r.failure_s for r in recorded) == pytest.approx(sum(a.seconds for a in attempts))
+
+
+def test_a_robot_records_unnamed_to_a_service_from_before_named_records(tmp_path: Path,
+                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A service that serves only ``rpc/record_grasps`` answers the named key with
+    ``'record_grasps/r1' is not a verb``: the client sends the record unnamed, once, and
+    from then on unnamed."""
+    import functools
+
+    from learner.service import zenoh_node
+    from learner.service.local import LocalLearner
+    from learner.service.zenoh_client import ZenohLearner
+
+    class OldServer(zenoh_node.RpcServer):
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            kwargs.pop("named", None)
+            super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(zenoh_node, "RpcServer", OldServer)
+    endpoint = free_endpoint()
+    with LocalLearner(tmp_path / "old.sqlite", four_objects()) as service, \
+            open_session(listen=[endpoint]) as session, zenoh_node.LearnerNode(service, session, "old"), \
+            ZenohLearner("old", connect=[endpoint], timeout_s=3.0) as client:
+        sent = functools.partial(client.record_grasp_attempts, robot="r1")
+        sent([("Front-Wrap", 240.0, True)], key="ep/0")
+        assert client._named_records is False
+        sent([("Front-Wrap", 60.0, True)], key="ep/1")
+        assert client.grasp_costs() == [GraspCostRecord("Front-Wrap", 2, 300.0, 0, 0.0)]

@@ -131,10 +131,10 @@ def test_robots_starting_together_all_get_the_whole_library(tmp_path: Path) -> N
 class BeforePages(LearnerNode):
     """A learner node as it was before pages: ``library`` takes no fields."""
 
-    def _answer(self, verb: str, payload: bytes) -> bytes:
+    def _answer(self, verb: str, payload: bytes, robot: str | None = None) -> bytes:
         if verb == LIBRARY:
             protocol.decode_empty_request(payload)
-        return super()._answer(verb, payload)
+        return super()._answer(verb, payload, robot)
 
 
 @pytest.mark.zenoh

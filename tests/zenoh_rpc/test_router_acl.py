@@ -208,11 +208,13 @@ def test_the_monitor_watches_but_cannot_move_the_robot_or_learn(in_folder: Deplo
         learner.close()
 
 
-def test_a_monitors_forged_state_and_token_never_reach_the_executive(in_folder: Deployment) -> None:
-    """Only the driver speaks for its robot: a monitor that publishes a state (a pose
-    far away, the battery nearly flat) and declares the robot's liveliness token is
-    dropped by the router, so a session of the executive's sees neither (every state it
-    receives meanwhile is the driver's; no token appears)."""
+@pytest.mark.parametrize("forger", ["monitor", "executive"])
+def test_a_forged_state_and_token_never_reach_the_executive(in_folder: Deployment, forger: str) -> None:
+    """Only the driver speaks for its robot: a monitor, or another session of the
+    executive's own user, that publishes a state (a pose far away, the battery nearly
+    flat) and declares the robot's liveliness token is dropped by the router, so a
+    session of the executive's sees neither (every state it receives meanwhile is the
+    driver's; no token appears)."""
     executive = open_session(user=in_folder.config("executive.json5"))
     received: list[dict[str, object]] = []
     appeared: list[str] = []
@@ -223,7 +225,7 @@ def test_a_monitors_forged_state_and_token_never_reach_the_executive(in_folder: 
     try:
         time.sleep(0.5)  # the driver's 5 Hz states arrive: the path is open
         assert received
-        monitor = open_session(user=in_folder.config("monitor.json5"))
+        monitor = open_session(user=in_folder.config(f"{forger}.json5"))
         try:
             forged = {"v": 1, "pose": {"x_in": 999.0, "y_in": 999.0, "heading_deg": 90.0}, "clock_s": 1.0,
                       "battery": 0.02}
@@ -242,6 +244,29 @@ def test_a_monitors_forged_state_and_token_never_reach_the_executive(in_folder: 
         executive.close()
     assert len(received) > 5 and all(state["pose"] != forged["pose"] for state in received)
     assert appeared == []  # neither the monitor's token nor its going
+
+
+def test_the_executive_records_grasp_costs_as_its_own_robot_only(in_folder: Deployment) -> None:
+    """The router lets the executive's user query ``record_grasps/r1`` and nothing else
+    of ``record_grasps``: a record as another robot, or unnamed, gets no reply and adds
+    nothing, so one robot's weight in the fleet's grasp prices is what
+    ``learner.costs.ROBOT_WEIGHT`` allows r1 (docs/security.md)."""
+    learner = executive_learner(in_folder)
+    try:
+        before = {r.grasp: r.attempts for r in learner.grasp_costs()}
+        learner.record_grasp_attempts([("Front-Wrap", 30.0, True)], robot="r1")
+        after = {r.grasp: r.attempts for r in learner.grasp_costs()}
+        assert after["Front-Wrap"] == before.get("Front-Wrap", 0) + 1
+        executive = open_session(user=in_folder.config("executive.json5"))
+        try:
+            request = json.dumps({"v": 1, "attempts": [["Front-Wrap", 30.0, True]], "key": "as-another"}).encode()
+            assert answers(executive, "csl/learner/default/rpc/record_grasps/r2", request) == []
+            assert answers(executive, "csl/learner/default/rpc/record_grasps", request) == []
+        finally:
+            executive.close()
+        assert {r.grasp: r.attempts for r in learner.grasp_costs()} == after
+    finally:
+        learner.close()
 
 
 def test_the_monitor_reads_the_state_with_csl_driver_state(in_folder: Deployment) -> None:
