@@ -13,6 +13,7 @@ from typing import Any
 import cv2
 import numpy as np
 import pytest
+import zenoh
 from scipy import ndimage
 
 from hero_driver.interface import NO_CAMERA, DriverError, Pose
@@ -23,6 +24,11 @@ from hero_driver.sim.odometry import Drift
 from hero_driver.sim.truth_map import truth_map, write_png
 from hero_driver.sim.world import SimWorld
 from hero_driver.sim.worldfile import WorldSpec, load_world, parse_world
+from hero_driver.sim_driver import SimulatedHero
+from hero_driver.zenoh_link.client import ZenohDriver
+from hero_driver.zenoh_link.node import DriverNode
+from tests.hero_driver.test_zenoh_node import REPLY_S, error_of
+from tests.hero_driver.test_zenoh_support import DriverProcess
 
 PROFILE, CATALOGUE = profile_and_catalogue(None)
 RADIUS = PROFILE.robot.geometry.base_radius_in
@@ -259,3 +265,34 @@ def test_the_truth_map_png_has_north_up(tmp_path: Path) -> None:
     assert image.shape == (100, 200)
     assert (image[2 * (50 - 41):2 * (50 - 39)] == 0).all()  # the wall at y 39-41 is 9-11 cells from the top
     assert (image[0:2 * (50 - 41)] == 255).all()  # above it, nothing but floor
+
+
+# ---------------------------------------------------------------- over zenoh
+
+
+@pytest.mark.zenoh
+def test_a_driver_node_resets_to_the_apartment_and_answers_no_camera(server: zenoh.Session, endpoint: str) -> None:
+    node = DriverNode(SimulatedHero("home1", noise=NoiseConfig.off()), server)
+    client = ZenohDriver("home1", connect=[endpoint], discover_s=5.0)
+    with node, client:
+        assert client.wait_ready(5.0)
+        assert client.reset(world="apartment", seed=0).result(REPLY_S).pose == Pose(50, 50, 0)
+        refused = error_of(client.camera())
+        assert refused.code == NO_CAMERA and "no ceiling camera" in refused.message
+        moved = client.move([Pose(80, 50, 0)]).result(REPLY_S)  # the node serves on
+        assert (moved.pose.x_in, moved.pose.y_in) == pytest.approx((80, 50))
+        assert client.reset(world="lab").result(REPLY_S).pose == Pose(30, 30, 0)
+        assert client.camera().result(REPLY_S).pixels.size > 0
+
+
+@pytest.mark.zenoh
+def test_csl_driver_sim_serves_the_apartment(endpoint: str) -> None:
+    argv = ["-m", "csl_cli", "driver", "sim", "--robot", "home2", "--world", "apartment", "--listen", endpoint]
+    with DriverProcess(argv) as process:
+        process.ready()
+        with ZenohDriver("home2", connect=[endpoint], discover_s=5.0) as client:
+            assert client.wait_ready(5.0)
+            assert client.state().pose == Pose(50, 50, 0)
+            assert error_of(client.camera()).code == NO_CAMERA
+            assert client.reset(world="apartment-2").result(REPLY_S).pose == Pose(40, 210, 0)
+        assert process.stop() == 0
