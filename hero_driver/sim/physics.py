@@ -143,8 +143,8 @@ class Physics:
         """Whether a disc at ``centre`` touches any wall, furniture (a table's top
         included), object or mover."""
         hit = self.space.point_query_nearest(centre, radius, pymunk.ShapeFilter())
-        return (hit is not None or self.above_floor.point_query_nearest(centre, radius, pymunk.ShapeFilter()) is not None
-                or self.movers.nearest_gap(centre, radius) < 0.0)
+        top = self.above_floor.point_query_nearest(centre, radius, pymunk.ShapeFilter())
+        return hit is not None or top is not None or self.movers.nearest_gap(centre, radius) < 0.0
 
     def lift(self, obj: SimObject) -> None:
         """Take an object off the floor (held or binned): gone from rays and images."""

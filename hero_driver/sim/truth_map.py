@@ -3,9 +3,9 @@ scans is scored against (IoU of occupied cells), and the picture shown beside it
 
 A cell is occupied when a wall, a piece of furniture or (when asked) an object covers
 any part of it (touching its edge is not covering): a wall thinner than a cell still
-shows, as the cells a range sensor's hits fall in would. Two layers: ``scan`` is what a planar range sensor just above the
-floor meets (a table is its four legs), ``footprint`` what the base may not enter (a
-table is its whole top). Ground truth, for reports and tests: never for the executive.
+shows, as the cells a range sensor's hits fall in would. Two layers: ``scan`` is
+what a planar range sensor just above the floor meets (a table is its four legs),
+``footprint`` what the base may not enter (a table is its whole top). Ground truth, for reports and tests: never for the executive.
 """
 
 from __future__ import annotations

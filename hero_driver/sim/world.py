@@ -241,7 +241,8 @@ class SimWorld:
             if length < 1e-6:
                 continue
             course = math.degrees(math.atan2(dy, dx))
-            turn_s = abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
+            turned = abs(_wrap_deg(course - heading))
+            turn_s = turned / motion.turn_deg_per_s
             duration += turn_s
             self._pass(turn_s, (x, y), course)
             heading = course
@@ -254,7 +255,7 @@ class SimWorld:
             stop = (x + travel * dx / length, y + travel * dy / length) if collided or blocked else towards
             self.contacts += int(collided)
             x, y = self._slip(self._odometry(stop, course, travel), travel)
-            self._heading_slip(turn_s * motion.turn_deg_per_s, travel, (x, y))
+            self._heading_slip(turned, travel, (x, y))
             if collided or blocked is not None:
                 break
         centred = False

@@ -58,8 +58,8 @@ class Furniture:
         """What a sensor just above the floor meets: the whole outline, or a table's legs."""
         if self.kind != "table":
             return [self.outline]
-        return [rect_polygon(x, y, self.leg_in, self.leg_in, self.yaw_deg)
-                for x, y in leg_centres(self.x_in, self.y_in, self.width_in, self.depth_in, self.yaw_deg, self.leg_in)]
+        legs = leg_centres(self.x_in, self.y_in, self.width_in, self.depth_in, self.yaw_deg, self.leg_in)
+        return [rect_polygon(x, y, self.leg_in, self.leg_in, self.yaw_deg) for x, y in legs]
 
 
 @dataclass(frozen=True)

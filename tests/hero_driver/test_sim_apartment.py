@@ -95,7 +95,8 @@ def test_a_bad_wall_is_one_line_naming_its_field(wall: dict[str, Any], field: st
 def test_objects_and_furniture_through_a_wall_are_refused() -> None:
     wall = {"from": [50, 0], "to": [50, 50], "thickness_in": 4}
     box = {"id": "closed-box-2x2x2/upright", "x_in": 51, "y_in": 25}
-    assert refusal(world(walls=[wall], objects=[box])).endswith("objects[0] 'closed-box-2x2x2/upright': overlaps walls[0]")
+    through = refusal(world(walls=[wall], objects=[box]))
+    assert through.endswith("objects[0] 'closed-box-2x2x2/upright': overlaps walls[0]")
     sofa = {"name": "sofa", "x_in": 60, "y_in": 25, "width_in": 20, "depth_in": 10}
     assert refusal(world(walls=[wall], furniture=[sofa])).endswith("furniture 'sofa': overlaps walls[0]")
     flush = {"name": "sofa", "x_in": 62, "y_in": 25, "width_in": 20, "depth_in": 10}  # x from 52: touching
