@@ -160,11 +160,22 @@ def parse_home(top: FieldReader, width: float, depth: float) -> Home:
 def _point(r: FieldReader, field: str, width: float, depth: float, value: object = None) -> tuple[float, float]:
     """Field ``field`` of ``r`` (or ``value``, an array item named ``field``) as a point inside the room."""
     value = r.table.get(field) if value is None else value
-    if (not isinstance(value, list) or len(value) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
-            or not (0 <= value[0] <= width and 0 <= value[1] <= depth)):
-        raise r.fail(field, f"must be [x_in, y_in] inside the {width:g}x{depth:g} in room, got {value!r}")
-    return float(value[0]), float(value[1])
+    xy = [_number(v) for v in value] if isinstance(value, list) and len(value) == 2 else [None]
+    if None in xy or not (0 <= xy[0] <= width and 0 <= xy[1] <= depth):  # type: ignore[operator]
+        raise r.fail(field, f"must be [x_in, y_in] inside the {width:g}x{depth:g} in room, got {value!r:.80}")
+    return xy[0], xy[1]  # type: ignore[return-value]
+
+
+def _number(value: object) -> float | None:
+    """A JSON number as a finite float; None for anything else (text, true, NaN, an
+    integer of 400 digits, which has no float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    try:
+        number = float(value)
+    except OverflowError:
+        return None
+    return number if math.isfinite(number) else None
 
 
 def _list(top: FieldReader, field: str) -> list[object]:

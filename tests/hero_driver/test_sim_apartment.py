@@ -83,6 +83,8 @@ def test_a_doorway_narrower_than_the_base_and_its_margin_is_refused() -> None:
 
 @pytest.mark.parametrize("wall, field", [
     ({"from": [50, 0], "to": [50, 60]}, "'to'"),  # beyond the room
+    ({"from": [10 ** 400, 0], "to": [50, 50]}, "'from'"),  # an integer with no float
+    ({"from": [50, 0], "to": [50, float("nan")]}, "'to'"),
     ({"from": [50, 0], "to": [50, 50], "doors": [{"at_in": 40, "width_in": 30}]}, "'at_in'"),  # past its end
     ({"from": [50, 0], "to": [50, 50], "doors": [{"at_in": 12, "width_in": 24}, {"at_in": 30, "width_in": 24}]},
      "doors[1]: field 'at_in'"),  # two doorways over each other
