@@ -38,9 +38,10 @@ UNAVAILABLE = "unavailable"  # the driver is gone (client side) or not ready
 TIMEOUT = "timeout"  # no reply within the client's deadline, or the driver cancelled a verb past its bound
 INTERNAL = "internal"  # the driver failed; it keeps serving
 BATTERY_EMPTY = "battery_empty"  # the battery feature: flat, nothing moves until it charges
+NO_CAMERA = "no_camera"  # camera: the robot's world has no ceiling camera (a home; onboard perception only)
 ERROR_CODES = frozenset(
     {BAD_REQUEST, UNKNOWN_VERB, UNKNOWN_PROCEDURE, OUT_OF_RANGE, NO_TARGET, BUSY,
-     UNAVAILABLE, TIMEOUT, INTERNAL, BATTERY_EMPTY}
+     UNAVAILABLE, TIMEOUT, INTERNAL, BATTERY_EMPTY, NO_CAMERA}
 )
 
 

@@ -15,7 +15,7 @@ def shipped_worlds() -> list[str]:
     """The names of the shipped worlds: the files in :data:`WORLDS_DIR` that place
     objects (not the catalogue, not the calibration board)."""
     names = []
-    for path in sorted(WORLDS_DIR.glob("*.json")):
+    for path in sorted(WORLDS_DIR.glob("*.json"), key=lambda p: p.stem):  # "apartment" before "apartment-2"
         try:
             document = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):

@@ -148,8 +148,8 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     img = np.full((frame.height_px, frame.width_px), WALL, dtype=np.uint8)
     _paint(img, frame, [rect_polygon(spec.room_width_in / 2, spec.room_depth_in / 2,
                                      spec.room_width_in, spec.room_depth_in, 0.0)], FLOOR)
-    _paint(img, frame, [rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg) for f in spec.furniture],
-           WALL)
+    _paint(img, frame, [rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg) for f in spec.furniture]
+           + spec.wall_outlines(), WALL)
     _paint(img, frame, list(movers), WALL)
     _paint(img, frame, [footprint_polygon(fp, x, y, yaw, segments=64) for fp, x, y, yaw in objects], OBJECT)
     _paint(img, frame, [_disc(robot.x_in, robot.y_in, base_radius_in)], BASE)

@@ -19,7 +19,8 @@ from types import MappingProxyType
 # Fields that are probabilities: scaling caps them at 1, world files reject values above 1.
 PROBABILITIES = ("outlier_p", "dropout_p", "curved_depth_p", "specular_p", "multipath_p", "crosstalk_p")
 # Fields that are rates or sigmas: scaling multiplies them without a cap.
-SIGMAS = ("odometry_frac", "odometry_heading_deg", "odometry_drift", "camera_yaw_deg", "pixel_sigma")
+SIGMAS = ("odometry_frac", "odometry_heading_deg", "odometry_drift", "heading_drift_turn", "heading_drift_travel",
+          "camera_yaw_deg", "pixel_sigma")
 # On/off imperfections: kept by any positive scale factor, turned off by zero.
 SWITCHES = ("sonar", "fisheye")
 # ``specular_angle_deg`` is none of these: it is the transducer's geometry (half its
@@ -55,6 +56,11 @@ class NoiseConfig:
     ``odometry_drift``: dead-reckoning drift, in/√in: the reported position wanders
     from the true one as a random walk whose sigma per axis after s inches of driving
     is ``odometry_drift`` x √s, accumulating over the episode.
+    ``heading_drift_turn``, ``heading_drift_travel``: unsensed heading drift of a base
+    without a gyro, deg/√deg turned and deg/√in driven: the reported heading wanders
+    from the true one as a random walk whose sigma after turning a degrees and driving
+    s inches is √(turn² x a + travel² x s). Only in a world that asks for it
+    (``"heading_drift": true``, docs/simulator.md "Homes"): the lab never drifts in heading.
 
     The overhead camera (:mod:`hero_driver.sim.camera`):
 
@@ -75,6 +81,8 @@ class NoiseConfig:
     odometry_frac: float = 0.005
     odometry_heading_deg: float = 1.0
     odometry_drift: float = 0.0
+    heading_drift_turn: float = 0.0
+    heading_drift_travel: float = 0.0
     camera_yaw_deg: float = 0.0
     pixel_sigma: float = 4.0
     fisheye: bool = False
@@ -139,8 +147,10 @@ NOISE_PRESETS: Mapping[str, NoiseConfig] = MappingProxyType({
     "mild": NoiseConfig(),
     "paper": NoiseConfig(outlier_p=0.03, dropout_p=0.02, curved_depth_p=0.3, specular_p=0.7,
                          multipath_p=0.03, crosstalk_p=0.01, odometry_frac=0.01, odometry_heading_deg=2.0,
-                         odometry_drift=0.03, camera_yaw_deg=3.0, pixel_sigma=6.0, fisheye=True),
+                         odometry_drift=0.03, heading_drift_turn=0.1, heading_drift_travel=0.05,
+                         camera_yaw_deg=3.0, pixel_sigma=6.0, fisheye=True),
     "harsh": NoiseConfig(outlier_p=0.06, dropout_p=0.04, curved_depth_p=0.5, specular_p=1.0,
                          multipath_p=0.08, crosstalk_p=0.04, odometry_frac=0.02, odometry_heading_deg=4.0,
-                         odometry_drift=0.08, camera_yaw_deg=8.0, pixel_sigma=10.0, fisheye=True),
+                         odometry_drift=0.08, heading_drift_turn=0.25, heading_drift_travel=0.12,
+                         camera_yaw_deg=8.0, pixel_sigma=10.0, fisheye=True),
 })

@@ -1,6 +1,8 @@
 """The pymunk space behind the simulated world: walls, furniture and the objects on
 the floor, used for every geometric question (sonar rays, the base's swept path) and
-for the motion a failed grasp causes.
+for the motion a failed grasp causes. A home's interior walls and a table's legs are
+static shapes like the outer walls; a table's top is in a space of its own
+(``above_floor``) that only the base's questions consult.
 
 There is no gravity in a top-down world; floor friction is a pivot joint and a gear
 joint from each object to the static body with zero bias and a bounded force, which
@@ -69,8 +71,16 @@ class Physics:
                  (-t / 2, d / 2, t, d + 2 * t), (w + t / 2, d / 2, t, d + 2 * t))
         for x, y, length, width in walls:
             self._add_static(rect_polygon(x, y, length, width, 0.0))
+        # Table tops stand above the floor: the base's sweep meets them, rays at the
+        # scan plane and objects on the floor do not, so they live in a space of their own.
+        self.above_floor = pymunk.Space()
         for f in spec.furniture:
-            self._add_static(rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
+            for polygon in f.at_scan_plane():
+                self._add_static(polygon)
+            if f.kind == "table":
+                self.above_floor.add(pymunk.Poly(self.above_floor.static_body, f.outline))
+        for polygon in spec.wall_outlines():
+            self._add_static(polygon)
         self.objects: list[SimObject] = []
         self._owner: dict[pymunk.Shape, SimObject] = {}
         for i, p in enumerate(spec.objects):
@@ -109,7 +119,8 @@ class Physics:
         return self._owner.get(shape) if shape is not None else None
 
     def ray(self, start: tuple[float, float], end: tuple[float, float]) -> pymunk.SegmentQueryInfo | None:
-        """First shape a thin ray meets (walls, furniture and objects all occlude)."""
+        """First shape a thin ray at the scan plane meets (walls, furniture and objects
+        all occlude; a table's top is above it, its legs are not)."""
         return self.space.segment_query_first(start, end, 0.0, pymunk.ShapeFilter())
 
     def sweep_circle(self, start: tuple[float, float], end: tuple[float, float], radius: float) -> float | None:
@@ -118,7 +129,9 @@ class Physics:
         already touches at the start only counts when the path heads into it, so a
         base that stopped against something can still back away."""
         dx, dy = end[0] - start[0], end[1] - start[1]
-        hits = sorted(self.space.segment_query(start, end, radius, pymunk.ShapeFilter()), key=lambda h: h.alpha)
+        hits = sorted([*self.space.segment_query(start, end, radius, pymunk.ShapeFilter()),
+                       *self.above_floor.segment_query(start, end, radius, pymunk.ShapeFilter())],
+                      key=lambda h: h.alpha)
         for hit in hits:
             touching = hit.shape.point_query(start)
             if touching.distance < radius and dx * touching.gradient.x + dy * touching.gradient.y >= 0:
@@ -127,9 +140,11 @@ class Physics:
         return None
 
     def overlaps_disc(self, centre: tuple[float, float], radius: float) -> bool:
-        """Whether a disc at ``centre`` touches any wall, furniture, object or mover."""
+        """Whether a disc at ``centre`` touches any wall, furniture (a table's top
+        included), object or mover."""
         hit = self.space.point_query_nearest(centre, radius, pymunk.ShapeFilter())
-        return hit is not None or self.movers.nearest_gap(centre, radius) < 0.0
+        top = self.above_floor.point_query_nearest(centre, radius, pymunk.ShapeFilter())
+        return hit is not None or top is not None or self.movers.nearest_gap(centre, radius) < 0.0
 
     def lift(self, obj: SimObject) -> None:
         """Take an object off the floor (held or binned): gone from rays and images."""

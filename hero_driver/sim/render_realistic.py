@@ -158,7 +158,7 @@ def render(spec: WorldSpec, objects: Sequence[tuple[Footprint, float, float, flo
     if board is not None:
         print_board(board, albedo, geo.world_to_pixel, PAPER_ALBEDO, INK_ALBEDO)
     furniture = _coverage(geo, [rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg)
-                                for f in spec.furniture])
+                                for f in spec.furniture] + spec.wall_outlines())
     albedo = furniture * FURNITURE_ALBEDO + (1 - furniture) * albedo
 
     object_polys = [footprint_polygon(fp, x, y, yaw, segments=64) for fp, x, y, yaw in objects]

@@ -17,7 +17,7 @@ import numpy as np
 
 from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle, Pose, RobotState, SenseResult,
+    BAD_REQUEST, NO_CAMERA, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle, Pose, RobotState, SenseResult,
 )
 from hero_driver.sim import camera, grasping, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
@@ -25,9 +25,10 @@ from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.catalogue import GraspRule, profile_and_catalogue
 from hero_driver.sim.disturber import Disturber, Happened
 from hero_driver.sim.events import DisturbPreset
+from hero_driver.sim.home import check_doorways
 from hero_driver.sim.movers import STEP_S, MoverPreset, MoverTruth, preset_movers
 from hero_driver.sim.noise import NoiseConfig
-from hero_driver.sim.odometry import Drift, slip
+from hero_driver.sim.odometry import Drift, heading_slip, slip
 from hero_driver.sim.physics import Physics, SimObject
 from hero_driver.sim.readings import perturb, perturb_flag, specular_miss, specular_value
 from hero_driver.sim.worldfile import WorldSpec, load_world
@@ -104,6 +105,7 @@ class SimWorld:
         physics = Physics(spec, self.catalogue, spec.movers + preset_movers(
             self.mover_preset, spec.room_width_in, spec.room_depth_in, seed))
         x, y, heading = spec.robot
+        check_doorways(spec.home, spec.source, self.profile.robot.geometry.base_radius_in)
         physics.movers.make_room((x, y, self.profile.robot.geometry.base_radius_in))
         if physics.overlaps_disc((x, y), self.profile.robot.geometry.base_radius_in):
             raise ValueError(f"{spec.source}: robot: base at ({x:g}, {y:g}) overlaps a wall, furniture or object")
@@ -193,7 +195,10 @@ class SimWorld:
 
     def _reckoned(self, pose: Pose) -> Pose:
         """A true pose as the robot's dead reckoning places it: less the drift."""
-        return Pose(pose.x_in - self.drift.dx_in, pose.y_in - self.drift.dy_in, pose.heading_deg)
+        x, y = self.drift.to_reckoned((pose.x_in, pose.y_in))
+        if self.drift.dheading_deg == 0.0:
+            return Pose(x, y, pose.heading_deg)
+        return Pose(x, y, normalise_deg(pose.heading_deg - self.drift.dheading_deg))
 
     def truth(self) -> list[ObjectTruth]:
         return [ObjectTruth(o.index, o.entry.id, o.entry.name, o.entry.pose, o.x_in, o.y_in, o.yaw_deg,
@@ -230,13 +235,14 @@ class SimWorld:
         self._pass(motion.vision_s, (x, y))
         collided, blocked = False, None
         for wp in waypoints:
-            towards = (wp.x_in + self.drift.dx_in, wp.y_in + self.drift.dy_in)
+            towards = self.drift.to_true((wp.x_in, wp.y_in))
             dx, dy = towards[0] - x, towards[1] - y
             length = math.hypot(dx, dy)
             if length < 1e-6:
                 continue
             course = math.degrees(math.atan2(dy, dx))
-            turn_s = abs(_wrap_deg(course - heading)) / motion.turn_deg_per_s
+            turned = abs(_wrap_deg(course - heading))
+            turn_s = turned / motion.turn_deg_per_s
             duration += turn_s
             self._pass(turn_s, (x, y), course)
             heading = course
@@ -249,23 +255,26 @@ class SimWorld:
             stop = (x + travel * dx / length, y + travel * dy / length) if collided or blocked else towards
             self.contacts += int(collided)
             x, y = self._slip(self._odometry(stop, course, travel), travel)
+            self._heading_slip(turned, travel, (x, y))
             if collided or blocked is not None:
                 break
         centred = False
         if not collided and blocked is None:
             if face is not None:
-                face = (face[0] + self.drift.dx_in, face[1] + self.drift.dy_in)
+                face = self.drift.to_true(face)
                 target = self._centring_target(x, y, face)
                 goal = (target.x_in, target.y_in) if target is not None else face
                 final = math.degrees(math.atan2(goal[1] - y, goal[0] - x))
                 duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s + motion.centring_s
                 self._pass(abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s + motion.centring_s, (x, y), final)
                 centred = target is not None
+                self._heading_slip(abs(_wrap_deg(final - heading)), 0.0, (x, y))
                 heading = final if centred else final + self._heading_error()
             else:
-                final = waypoints[-1].heading_deg
+                final = waypoints[-1].heading_deg + self.drift.dheading_deg
                 duration += abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s
                 self._pass(abs(_wrap_deg(final - heading)) / motion.turn_deg_per_s, (x, y), final)
+                self._heading_slip(abs(_wrap_deg(final - heading)), 0.0, (x, y))
                 heading = final + self._heading_error()
         self.pose = Pose(x, y, normalise_deg(heading))
         self.clock_s += duration
@@ -298,7 +307,7 @@ class SimWorld:
                 paused += waited
                 if mover is not None:
                     at = mover.truth()
-                    obstacle = Obstacle(at.x_in - self.drift.dx_in, at.y_in - self.drift.dy_in, at.reach_in)
+                    obstacle = Obstacle(*self.drift.to_reckoned((at.x_in, at.y_in)), at.reach_in)
                     return done, False, obstacle, paused
             step_to = travel * i / steps
             if movers.nearest_gap((start[0] + step_to * u[0], start[1] + step_to * u[1]), radius) < 0.0:
@@ -331,6 +340,17 @@ class SimWorld:
             return at
         self.drift = self.drift.plus(dx, dy)
         return moved
+
+    def _heading_slip(self, turned_deg: float, travel_in: float, at: tuple[float, float]) -> None:
+        """A world that drifts in heading (``home.heading_drift``): turning ``turned_deg``
+        and driving ``travel_in`` with the base ending truly at ``at`` turns the
+        reckoned frame about ``at`` by an unsensed error (hero_driver.sim.odometry)."""
+        if not self.spec.home.heading_drift:
+            return
+        error = heading_slip(turned_deg, travel_in, self.noise.heading_drift_turn, self.noise.heading_drift_travel,
+                             self.rng)
+        if error != 0.0:
+            self.drift = self.drift.turned(error, at)
 
     def _heading_error(self) -> float:
         sigma = self.noise.odometry_heading_deg
@@ -463,7 +483,11 @@ class SimWorld:
     def camera(self) -> CameraImage:
         """The overhead image through this world's camera preset (vision time is
         charged to moves, not here); each object's orientation is drawn off by its
-        camera error."""
+        camera error. A world without a ceiling camera (a home) answers ``no_camera``:
+        there the robot must find its way with its own sensors."""
+        if not self.spec.home.ceiling_camera:
+            raise DriverError(NO_CAMERA, f"camera: world '{self.spec.name}' has no ceiling camera; "
+                                         "it needs onboard perception (range scans)")
         return self.render(self.camera_preset)
 
     def render(self, preset: str) -> CameraImage:

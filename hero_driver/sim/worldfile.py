@@ -22,19 +22,23 @@ from hero_driver.shipped import WORLDS_DIR
 from hero_driver.sim.battery import Charge, Dock
 from hero_driver.sim.catalogue import CatalogueEntry, Footprint, FieldReader
 from hero_driver.sim.events import Disturbance, parse_events
+from hero_driver.sim.home import Home, furniture_kind, leg_centres, parse_home
 from hero_driver.sim.movers import MoverSpec, parse_movers_field
 from hero_driver.sim.noise import NoiseConfig
 
 log = logging.getLogger(__name__)
 
 DEFAULT_WORLD = "lab"
+HOME_FIELDS = ("walls", "rooms", "ceiling_camera", "heading_drift")  # read by hero_driver.sim.home
 WORLD_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
 """What ``reset`` accepts as a world: a name, never a path (no '/', no '.', so no '..')."""
 
 
 @dataclass(frozen=True)
 class Furniture:
-    """A rectangle the robot must not enter: a table's legs and top, a cabinet."""
+    """A rectangle the robot must not enter: a cabinet, a sofa, a table's top. A
+    ``solid`` one is solid to the floor; under a ``table`` a planar sensor at base
+    height sees only its four legs (``leg_in`` square, hero_driver.sim.home)."""
 
     name: str
     x_in: float
@@ -42,6 +46,20 @@ class Furniture:
     width_in: float  # along the furniture's own x
     depth_in: float  # along its own y
     yaw_deg: float = 0.0
+    kind: str = "solid"  # "solid" or "table" (hero_driver.sim.home.FURNITURE_KINDS)
+    leg_in: float = 0.0  # a table's leg side; 0 for solid furniture
+
+    @property
+    def outline(self) -> list[tuple[float, float]]:
+        """The footprint the base may not enter (a table's top)."""
+        return rect_polygon(self.x_in, self.y_in, self.width_in, self.depth_in, self.yaw_deg)
+
+    def at_scan_plane(self) -> list[list[tuple[float, float]]]:
+        """What a sensor just above the floor meets: the whole outline, or a table's legs."""
+        if self.kind != "table":
+            return [self.outline]
+        legs = leg_centres(self.x_in, self.y_in, self.width_in, self.depth_in, self.yaw_deg, self.leg_in)
+        return [rect_polygon(x, y, self.leg_in, self.leg_in, self.yaw_deg) for x, y in legs]
 
 
 @dataclass(frozen=True)
@@ -69,6 +87,11 @@ class WorldSpec:
     battery: Charge | None = None  # start level and drain multiplier; None: full, or tethered without a dock
     events: tuple[Disturbance, ...] = ()  # scheduled disturbances (docs/simulator.md, Disturbances)
     movers: tuple[MoverSpec, ...] = ()  # people and carts crossing the floor (docs/simulator.md, Moving obstacles)
+    home: Home = Home()  # interior walls, named rooms, no ceiling camera (docs/simulator.md, Homes)
+
+    def wall_outlines(self) -> list[list[tuple[float, float]]]:
+        """The interior walls' solid pieces (doorways cut out) as polygons."""
+        return [p.outline for wall in self.home.walls for p in wall.pieces()]
 
 
 def resolve(world: str | Path | None) -> Path:
@@ -119,17 +142,18 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     """Check and build a world from decoded JSON (``source`` names it in errors)."""
     top = FieldReader(source, "world", data)
     top.only("about", "name", "room", "furniture", "robot", "objects", "noise", "board", "dock", "battery",
-             "battery_drain", "events", "movers")
+             "battery_drain", "events", "movers", *HOME_FIELDS)
     room = FieldReader(source, "room", top.table.get("room"))
     room.only("width_in", "depth_in")
     width, depth = room.number("width_in", 24.0), room.number("depth_in", 24.0)
     furniture = []
     for i, raw in enumerate(_array(top, "furniture")):
         r = FieldReader(source, f"furniture[{i}]", raw)
-        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg")
+        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg", "kind", "leg_in")
+        kind, leg = furniture_kind(r)
         furniture.append(Furniture(r.text("name"), r.number("x_in"), r.number("y_in"),
                                    r.number("width_in", 0.5), r.number("depth_in", 0.5),
-                                   r.number("yaw_deg", -360.0, 0.0)))
+                                   r.number("yaw_deg", -360.0, 0.0), kind, leg))
     rr = FieldReader(source, "robot", top.table.get("robot"))
     rr.only("x_in", "y_in", "heading_deg")
     robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))
@@ -154,7 +178,8 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
                      tuple(furniture), robot, tuple(objects), noise, _board(top, source),
                      dock=_dock(source, top.table.get("dock"), width, depth), battery=_battery(top),
                      events=parse_events(top.table.get("events"), source, [p.entry_id for p in objects], catalogue),
-                     movers=parse_movers_field(top.table.get("movers"), source, width, depth))
+                     movers=parse_movers_field(top.table.get("movers"), source, width, depth),
+                     home=parse_home(top, width, depth))
     _check_layout(spec, catalogue)
     return spec
 
@@ -221,22 +246,43 @@ def _array(reader: FieldReader, field: str) -> list[object]:
     return value
 
 
+# The kinds of shape the layout check compares; which pairs may overlap is :func:`_may_overlap`'s.
+WALL, SOLID, TABLE_TOP, LEG, OBJECT = "wall", "solid", "table top", "leg", "object"
+
+
 def _check_layout(spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry]) -> None:
-    shapes: list[tuple[str, list[tuple[float, float]]]] = [
-        (f"furniture '{f.name}'", rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
-        for f in spec.furniture]
+    """Everything inside the room, and nothing through anything else: walls, furniture
+    (a table's top and its legs), objects. Walls may meet walls (corners and junctions);
+    an object may lie under a table's top, not in one of its legs."""
+    shapes: list[tuple[str, list[tuple[float, float]], str, int]] = [  # label, polygon, kind, owner
+        (f"walls[{i}]", poly, WALL, -1 - i) for i, poly in _wall_outlines_by_wall(spec)]
+    for k, f in enumerate(spec.furniture):
+        shapes.append((f"furniture '{f.name}'", f.outline, SOLID if f.kind != "table" else TABLE_TOP, k))
+        if f.kind == "table":
+            shapes += [(f"furniture '{f.name}' leg {j}", leg, LEG, k) for j, leg in enumerate(f.at_scan_plane())]
     for i, p in enumerate(spec.objects):
         shapes.append((f"objects[{i}] '{p.entry_id}'",
-                       footprint_polygon(catalogue[p.entry_id].footprint, p.x_in, p.y_in, p.yaw_deg)))
-    for label, poly in shapes:
+                       footprint_polygon(catalogue[p.entry_id].footprint, p.x_in, p.y_in, p.yaw_deg),
+                       OBJECT, len(spec.furniture) + i))
+    for label, poly, _, _ in shapes:
         x0, y0, x1, y1 = _bounds(poly)
         if x0 < 0 or y0 < 0 or x1 > spec.room_width_in or y1 > spec.room_depth_in:
             room = f"{spec.room_width_in:g}x{spec.room_depth_in:g} in"
             raise ValueError(f"{spec.source}: {label}: lies outside the {room} room")
-    for i, (label_a, a) in enumerate(shapes):
-        for label_b, b in shapes[i + 1:]:
-            if _overlap(a, b):
+    for i, (label_a, a, kind_a, owner_a) in enumerate(shapes):
+        for label_b, b, kind_b, owner_b in shapes[i + 1:]:
+            if not _may_overlap(kind_a, owner_a, kind_b, owner_b) and _overlap(a, b):
                 raise ValueError(f"{spec.source}: {label_b}: overlaps {label_a}")
+
+
+def _may_overlap(kind_a: str, owner_a: int, kind_b: str, owner_b: int) -> bool:
+    """Pairs the layout check allows to overlap: one table's top and its own legs, two
+    walls (where they meet), and an object under a table's top."""
+    return owner_a == owner_b or {kind_a, kind_b} in ({WALL}, {TABLE_TOP, OBJECT})
+
+
+def _wall_outlines_by_wall(spec: WorldSpec) -> list[tuple[int, list[tuple[float, float]]]]:
+    return [(i, p.outline) for i, wall in enumerate(spec.home.walls) for p in wall.pieces()]
 
 
 def load_world(world: str | Path | None, catalogue: Mapping[str, CatalogueEntry]) -> WorldSpec:
