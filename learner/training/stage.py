@@ -346,8 +346,13 @@ def train(
     estimator: MoveCostEstimator,
     progress: Callable[[str], None] | None = None,
     reuse: bool = True,
+    distances: Sequence[float] | None = None,
 ) -> TrainingResult:
     """Both phases: positions, per-position descriptions, then merged descriptions.
+
+    ``distances`` replaces the training distances phase 1 would choose (phase 1 still
+    runs and still logs its candidates): a what-if, e.g. what training costs at the
+    paper's distances.
 
     ``reuse=False`` is the method as written: every phase-2 prediction rebuilds the
     descriptions at its position and grows its whole tree anew
@@ -372,7 +377,8 @@ def train(
                                               _record_at(obj, at))
                     sizes.update({(obj.object_id, n): float(values[n]) for n in yielded if values.get(n) is not None})
         log.distance_reasons += candidate_distances(objects, sizes, knowledge)
-    log.distances = cluster_distances([*scan_distances, *(r.distance_in for r in log.distance_reasons)])
+    log.distances = (sorted(float(d) for d in distances) if distances is not None else
+                     cluster_distances([*scan_distances, *(r.distance_in for r in log.distance_reasons)]))
     for at in (Position(d, o) for d in sorted(log.distances, reverse=True) for o in log.orientations):
         train_position(objects, at, knowledge, recorder, progress, trees)
     log.moving_s = _moving_cost(objects, recorder, estimator)

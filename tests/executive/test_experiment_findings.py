@@ -12,8 +12,10 @@ from experiments.conditions import STRATEGIES_OFF, STRATEGIES_ON
 from experiments.config import ExperimentConfig
 from experiments.episodes import EpisodeRow
 from experiments.study_execution import first_grasp_right, recoveries_per_object
+from experiments.study_training import distances_note, unresolved_hours
 from experiments.study_trends import root_gain_by_distance
 from learner.choosing.criteria import DEFAULT_CRITERION
+from learner.training.stage import DistanceReason, TrainingLog
 from tests.learner.fixtures import ANY, P, desc, hero
 
 
@@ -70,3 +72,26 @@ def test_strategies_off_runs_on_both_object_sets_beside_the_execution_runs() -> 
     on = {(s.objects, s.seed) for s in specs if s.control == STRATEGIES_ON and s.library == "trained"
           and s.criterion == DEFAULT_CRITERION}
     assert {(s.objects, s.seed) for s in off} <= on  # every off run has its on run, paired by floor
+
+
+def test_the_distances_note_counts_the_candidates_each_distance_stands_for() -> None:
+    # candidates 6, 6.4, 8 and 11 stand for 6 in; 15.5 and 20 for 15 in; 39.7 for 39 in
+    log = TrainingLog(distances=[6.0, 15.0, 39.0], distance_reasons=[
+        DistanceReason("Width-Degree-5°", "a", "b", d) for d in (6.0, 6.4, 8.0, 11.0, 15.5, 20.0)]
+        + [DistanceReason("Width-Degree-1°", "box", "open-box", 39.7)])
+    note = distances_note(log)
+    assert "7 candidates" in note
+    assert "6 in: 4, 15 in: 2, 39 in: 1." in note
+    assert "The farthest, 39.7 in (Width-Degree-1° separating box from open-box)" in note
+
+
+def test_unresolved_hours_count_the_sensing_at_pairs_never_classified() -> None:
+    # the box at (15,0) was never classified: its two sweeps there (100 s + 45 s) count;
+    # the same sweep on the cup, and the box's at 6 in, do not
+    k = hero()
+    at, near = P(15, 0), P(6, 0)
+    log = TrainingLog(applied=[("box", "H-Sweep-1°", at, "discriminate"), ("box", "H-Sweep-5°", at, "discriminate"),
+                               ("cup", "H-Sweep-1°", at, "discriminate"), ("box", "H-Scan-0.3", near, "discriminate")],
+                      unresolved=[("box", at), ("box", at)])
+    times = {p.name: p.time_s for p in k.sensing}
+    assert unresolved_hours(log, k) == pytest.approx((times["H-Sweep-1°"] + times["H-Sweep-5°"]) / 3600)

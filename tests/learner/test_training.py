@@ -130,6 +130,18 @@ class Geometry:
         }[procedure]
 
 
+def test_training_at_given_distances_trains_there_and_still_logs_the_candidates() -> None:
+    k = hero()
+    objects = [obj("cup", "Front-Wrap", round_=True), obj("box", "Front-Pinch", rect(9, 4)),
+               obj("closed", "No-Grab", rect(11, 9))]
+    source = Geometry({"cup": (3.5, 3.5, 3.5, True), "box": (9, 4, 5, True), "closed": (11, 9, 12, False)})
+    chosen = train(objects, k, source, ModelMoveCost(k.move)).log
+    given = train(objects, k, source, ModelMoveCost(k.move), distances=[24, 6, 16]).log
+    assert given.distances == [6, 16, 24]
+    assert given.distance_reasons == chosen.distance_reasons  # phase 1 ran as before
+    assert {pos.distance_in for _, _, pos, why in given.applied if not why.startswith("phase 1")} <= {6, 16, 24}
+
+
 def test_training_classifies_every_object_and_measures_only_what_it_needs() -> None:
     k = hero()
     objects = [obj("cup", "Front-Wrap", round_=True), obj("box", "Front-Pinch", rect(9, 4)),
