@@ -43,8 +43,10 @@ class Correction:
     """The corrected pose for one scan, and what the odometry got wrong.
 
     ``drift_*`` is the reported pose less the corrected one (world inches, degrees in
-    (-180, 180]): how far the odometry has wandered since the start. ``matched`` is False
-    when the scan could not be aligned and the pose is dead reckoning from the last match.
+    (-180, 180]): how far the odometry has wandered since the start. ``matched`` is True
+    when the scan was aligned to the map (or, the first with returns, started it) and
+    added to it; False when it could not be, and the pose is dead reckoned from the last
+    corrected one.
     """
 
     pose: Pose
@@ -109,15 +111,11 @@ class ScanMatcher:
         self._map.set_lru(horizon=NEVER_FORGET, clear_cycle=NEVER_FORGET)  # the whole home, not a local map
         self._last: tuple[np.ndarray, np.ndarray] | None = None  # (reported, corrected) at the last scan
 
-    @property
-    def started(self) -> bool:
-        """True once a scan has been given (the first one fixes the map's frame)."""
-        return self._last is not None
-
     def update(self, scan: PlanarScan) -> Correction:
         """The corrected pose of ``scan``, which is added to the map when matched.
 
-        The first scan is taken as right: the map's frame is the odometry's at the start.
+        The first scan with returns is taken as right: the map's frame is the odometry's
+        at the start.
         """
         reported = _transform(scan.x_in, scan.y_in, math.radians(scan.heading_deg))
         points = scan.points()
@@ -127,11 +125,15 @@ class ScanMatcher:
             cloud, _ = small_gicp.preprocess_points(np.vstack(layers),
                                                     downsampling_resolution=self.settings.downsample_in,
                                                     num_neighbors=self.settings.neighbours)
-        if self._last is None:
-            corrected, matched, inliers = reported, cloud is not None, 0
-        else:
+        guess = reported
+        if self._last is not None:
             previous_reported, previous_corrected = self._last
             guess = previous_corrected @ np.linalg.inv(previous_reported) @ reported
+        if cloud is None:
+            corrected, matched, inliers = guess, False, 0
+        elif self._map.size() == 0:
+            corrected, matched, inliers = guess, True, 0  # the first scan with returns starts the map
+        else:
             corrected, matched, inliers = self._align(guess, cloud)
         if matched:
             self._map.insert(cloud, corrected)
@@ -141,12 +143,10 @@ class ScanMatcher:
         return Correction(pose, scan.x_in - x, scan.y_in - y, _wrap_deg(scan.heading_deg - pose.heading_deg),
                           matched, inliers, scan.stamp_s)
 
-    def _align(self, guess: np.ndarray, cloud: small_gicp.PointCloud | None) -> tuple[np.ndarray, bool, int]:
+    def _align(self, guess: np.ndarray, cloud: small_gicp.PointCloud) -> tuple[np.ndarray, bool, int]:
         """The aligned pose (on the floor), whether it is to be trusted, and its inliers;
         the guess itself when it is not."""
         s = self.settings
-        if cloud is None or self._map.size() == 0:
-            return guess, False, 0
         result = small_gicp.align(self._map, cloud, init_T_target_source=guess,
                                   max_correspondence_distance=s.max_correspondence_in,
                                   max_iterations=s.max_iterations)

@@ -71,6 +71,20 @@ def test_a_scan_without_enough_returns_is_dead_reckoned() -> None:
     assert correction.pose == pytest.approx(reported)
 
 
+def test_the_first_scan_with_returns_starts_the_map() -> None:
+    """A blind first scan adds nothing; the next one, 10 in on by the odometry, starts
+    the map where the odometry puts it; a third, reported 5 in off, is matched to it."""
+    walls, rng = room(), np.random.default_rng(5)
+    matcher = ScanMatcher()
+    start = Pose(50.0, 50.0, 0.0)
+    assert not matcher.update(scan_at(walls, start, start, rng, lidar=Lidar(dropout=1.0))).matched
+    second = Pose(60.0, 50.0, 0.0)
+    first_seen = matcher.update(scan_at(walls, second, second, rng, 1.0))
+    assert first_seen.matched and first_seen.pose == pytest.approx(second)
+    third = matcher.update(scan_at(walls, Pose(70.0, 50.0, 0.0), Pose(75.0, 50.0, 0.0), rng, 2.0))
+    assert third.matched and abs(third.pose.x_in - 70.0) < TOLERANCE_IN
+
+
 def test_a_loop_round_the_apartment_stays_within_inches() -> None:
     """Once round four rooms (about 850 in, 230 scans): the odometry ends feet and tens of
     degrees off; the matcher ends within a few inches and a degree, having matched every scan
