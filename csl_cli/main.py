@@ -197,7 +197,7 @@ def log_level(args: argparse.Namespace) -> int:
     return max(logging.WARNING - 10 * args.verbose, logging.DEBUG)
 
 
-OUR_PACKAGES = frozenset({"executive", "behaviours", "learner", "planner", "hero_driver", "robot_profile",
+OUR_PACKAGES = frozenset({"executive", "behaviours", "learner", "planner", "mapping", "hero_driver", "robot_profile",
                           "zenoh_rpc", "camera_model", "reporting", "recording", "experiments", "csl_cli",
                           "csl_testing"})
 """The top-level packages whose log lines ``-v`` and ``-vv`` show (pyproject.toml's)."""

@@ -13,7 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 LEAVES = {"camera_model", "zenoh_rpc"}
-BELOW_EXECUTIVE = {"behaviours", "learner", "planner", "hero_driver", "robot_profile", *LEAVES}
+BELOW_EXECUTIVE = {"behaviours", "learner", "planner", "hero_driver", "robot_profile", "mapping", *LEAVES}
 MAY_IMPORT: dict[str, set[str]] = {
     "camera_model": set(),
     "zenoh_rpc": set(),
@@ -21,6 +21,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "learner": {"zenoh_rpc"},  # its service's transport only; the core imports nothing of ours
     "planner": {"camera_model", "robot_profile"},
     "hero_driver": {"camera_model", "robot_profile", "zenoh_rpc", "planner"},  # planner: the camera check's vision
+    "mapping": {"camera_model", "planner"},  # planner: the map it plans on (VisionMap) and its Pose
     "behaviours": {"camera_model", "hero_driver", "learner", "planner", "robot_profile"},
     "executive": BELOW_EXECUTIVE,
     "reporting": {"executive", *BELOW_EXECUTIVE},
