@@ -117,7 +117,8 @@ class Doubts:
                        "those tests were reselected; check the sensors' units")
         if self.refused_states:
             out.append(f"{self.refused_states} state publications for {robot} refused: nothing asked of the robot "
-                       "explained them (a second client driving it, or a forged state; docs/security.md)")
+                       "explained them (a second client driving it, a driver that restarted with a fresh world, or a "
+                       "forged state; docs/security.md)")
         if refusals and self.range_refusals:
             out.append(f"{self.range_refusals} procedures refused for range: check the sonar's unit and the "
                        "robot's range check against the profile")
