@@ -72,6 +72,7 @@ def test_state_publications_the_link_refused_end_the_run_3_and_say_so() -> None:
     status, why, lines = run_status(["grasped", "left"], [], "r1", refused_states=4)
     assert status == LOST
     assert lines == ["4 state publications for r1 refused: nothing asked of the robot explained them (a second "
-                     "client driving it, or a forged state; docs/security.md)"]
+                     "client driving it, a driver that restarted with a fresh world, or a forged state; "
+                     "docs/security.md)"]
     assert why.startswith(lines[0]) and why.endswith("all 2 objects were handled")
     assert run_status(["grasped", "left"], [], "r1")[0] == ALL_HANDLED  # none refused: nothing said
