@@ -64,24 +64,28 @@ class Physics:
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
         self.static_shapes: list[pymunk.Shape] = []
+        self.glass: set[pymunk.Shape] = set()  # furniture a lidar's light passes (hero_driver.sim.scan)
         w, d, t = spec.room_width_in, spec.room_depth_in, WALL_IN
         walls = ((w / 2, -t / 2, w + 2 * t, t), (w / 2, d + t / 2, w + 2 * t, t),
                  (-t / 2, d / 2, t, d + 2 * t), (w + t / 2, d / 2, t, d + 2 * t))
         for x, y, length, width in walls:
             self._add_static(rect_polygon(x, y, length, width, 0.0))
         for f in spec.furniture:
-            self._add_static(rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
+            shape = self._add_static(rect_polygon(f.x_in, f.y_in, f.width_in, f.depth_in, f.yaw_deg))
+            if f.glass:
+                self.glass.add(shape)
         self.objects: list[SimObject] = []
         self._owner: dict[pymunk.Shape, SimObject] = {}
         for i, p in enumerate(spec.objects):
             self.objects.append(self._make_object(i, catalogue[p.entry_id], p.x_in, p.y_in, p.yaw_deg))
         self.movers = Movers(movers, self.space)  # people and carts (hero_driver.sim.movers): no query sees them
 
-    def _add_static(self, polygon: list[tuple[float, float]]) -> None:
+    def _add_static(self, polygon: list[tuple[float, float]]) -> pymunk.Shape:
         shape = pymunk.Poly(self.space.static_body, polygon)
         shape.friction, shape.elasticity = 0.6, 0.2
         self.space.add(shape)
         self.static_shapes.append(shape)
+        return shape
 
     def _make_object(self, index: int, entry: CatalogueEntry, x: float, y: float, yaw_deg: float) -> SimObject:
         body = pymunk.Body(mass=1.0, moment=1.0)

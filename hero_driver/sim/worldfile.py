@@ -34,7 +34,8 @@ WORLD_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
 
 @dataclass(frozen=True)
 class Furniture:
-    """A rectangle the robot must not enter: a table's legs and top, a cabinet."""
+    """A rectangle the robot must not enter: a table's legs and top, a cabinet; ``glass``
+    (a glass door or partition) lets a lidar's light through (docs/simulator.md, Scans)."""
 
     name: str
     x_in: float
@@ -42,6 +43,7 @@ class Furniture:
     width_in: float  # along the furniture's own x
     depth_in: float  # along its own y
     yaw_deg: float = 0.0
+    glass: bool = False
 
 
 @dataclass(frozen=True)
@@ -126,10 +128,10 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     furniture = []
     for i, raw in enumerate(_array(top, "furniture")):
         r = FieldReader(source, f"furniture[{i}]", raw)
-        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg")
+        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg", "glass")
         furniture.append(Furniture(r.text("name"), r.number("x_in"), r.number("y_in"),
                                    r.number("width_in", 0.5), r.number("depth_in", 0.5),
-                                   r.number("yaw_deg", -360.0, 0.0)))
+                                   r.number("yaw_deg", -360.0, 0.0), "glass" in r.table and r.flag("glass")))
     rr = FieldReader(source, "robot", top.table.get("robot"))
     rr.only("x_in", "y_in", "heading_deg")
     robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))
