@@ -15,9 +15,12 @@ milliseconds, stamps it at the wrong place or time. Verify, don't believe:
   both echoed agree within :func:`agree`);
 - ``scan-turn``: after a turn in place of :data:`TURN_DEG`, the scan is the one before
   turned by the reported turn (it is in the robot's frame);
-- ``scan-drive``: facing a wall the scan shows square on (a local minimum of range,
-  with room), a drive of :data:`DRIVE_IN` straight at it shortens the range ahead by the
-  distance the reported poses say was driven (the ranges are inches).
+- ``scan-drive``: facing a wall the scan shows square on (a local minimum of range, as
+  a flat wall reads around it, with room), a drive of :data:`DRIVE_IN` straight at it
+  shortens the range towards it by the distance the reported poses say was driven (the
+  ranges are inches); the range is read in the wall's world direction, turned into each
+  scan's frame by its reported heading, so a turn that ends a little off still reads
+  the same wall.
 
 The robot turns in place and drives a few feet towards a wall the scan shows clear, so
 the checks are safe on hardware; they run where the robot stands.
@@ -42,8 +45,8 @@ TURN_SHARE = 0.6  # ... after which at least this share of the beams heard befor
 MIN_SHARED = 3  # fewer beams heard by both scans than this: nothing to compare
 DRIVE_IN = 36.0  # scan-drive: the drive straight at a wall
 CLEAR_IN = 40.0  # ... which must leave at least this much of the range ahead
-SQUARE_DEG = 10.0  # a wall met square on: the range is the least within this of the beam
-AHEAD_DEG = 10.0  # the range ahead: the least within this of the heading (square on: the wall's distance)
+SQUARE_DEG = 4.0  # a wall met square on: its range the least, and a flat wall's, within this of the beam
+AHEAD_DEG = 3.0  # the range ahead: the least within this of the heading (square on: the wall's distance)
 RESCANS = 3  # the range ahead: scans taken at most, until one hears an echo ahead (dropouts, mirrors)
 DRIVE_SLACK_IN = 2.0  # the range ahead must shrink by the distance driven within this ...
 DRIVE_SLACK_FRAC = 0.25  # ... plus this share of the distance driven ...
@@ -64,16 +67,22 @@ def range_at(scan: RangeScan, angle_deg: float) -> float | None:
     return scan.ranges_in[best] if abs(wrapped(scan.angles_deg[best] - angle_deg)) <= spacing / 2 + 1e-9 else None
 
 
-def near(scan: RangeScan, angle_deg: float, half_deg: float) -> list[float]:
-    """The ranges of the beams within ``half_deg`` of ``angle_deg``, and at least of the
-    beams on either side of it (a coarse scan's neighbours lie further off)."""
-    half = max(half_deg, 1.01 * 360.0 / len(scan.angles_deg))
+def near(scan: RangeScan, angle_deg: float, half_deg: float, neighbours: bool = True) -> list[float]:
+    """The ranges of the beams within ``half_deg`` of ``angle_deg``; with
+    ``neighbours``, of at least the beam on either side of it too (a coarse scan's
+    neighbours lie further off), else of at least the beam nearest it."""
+    spacing = 360.0 / len(scan.angles_deg)
+    half = max(half_deg, 1.01 * spacing if neighbours else spacing / 2)
     return [r for a, r in zip(scan.angles_deg, scan.ranges_in, strict=True) if abs(wrapped(a - angle_deg)) <= half]
 
 
-def least_within(scan: RangeScan, angle_deg: float, half_deg: float) -> float:
-    """The least range of the beams :func:`near` ``angle_deg`` (inf: none echoed)."""
-    return min(near(scan, angle_deg, half_deg), default=math.inf)
+def toward(scan: RangeScan, world_deg: float) -> float:
+    """The range toward the world heading ``world_deg``, turned into the scan's frame by
+    its reported heading (so a turn that ended a little off still looks at the same
+    wall): the least of the beams within AHEAD_DEG of it, or of the one nearest it in a
+    coarse scan (whose wide beam holds the rest); inf: no echo."""
+    return min(near(scan, wrapped(world_deg - scan.pose.heading_deg), AHEAD_DEG, neighbours=False),
+               default=math.inf)
 
 
 def agree(a: float, b: float) -> bool:
@@ -95,16 +104,27 @@ def compared(before: RangeScan, after: RangeScan, turn_deg: float = 0.0) -> tupl
 
 def square_wall(scan: RangeScan, clear_in: float) -> float | None:
     """A direction (robot frame) in which a wall is met square on with at least
-    ``clear_in`` of room: a beam whose range is the least within SQUARE_DEG of it, every
-    beam there echoing, the farthest such within the scan's reach; None when none is."""
-    best: tuple[float, float] | None = None
-    for angle, r in zip(scan.angles_deg, scan.ranges_in, strict=True):
+    ``clear_in`` of room: a beam whose range ``r`` is the least of those near it (within
+    SQUARE_DEG, and at least two beams to each side: a coarse scan's wide beams make a
+    small object look flat over one), each of which echoes and reads what a flat wall
+    there would give, ``r / cos`` of its angle off the beam (within :func:`agree`: not a small object
+    with the room behind it, nor a corner). Of those, the farthest; of those that agree
+    with it, the one whose two neighbours read most alike: the wall's normal, also in the
+    middle of the run of coarse beams whose wide cones all hold it. None when there is none."""
+    spacing = 360.0 / len(scan.angles_deg)
+    found: list[tuple[float, float, float]] = []  # angle, range, how unlike its neighbours read
+    for i, (angle, r) in enumerate(zip(scan.angles_deg, scan.ranges_in, strict=True)):
         if not clear_in <= r < scan.range_max_in:
             continue
-        around = near(scan, angle, SQUARE_DEG)
-        if all(math.isfinite(q) for q in around) and min(around) >= r and (best is None or r > best[1]):
-            best = (angle, r)
-    return None if best is None else best[0]
+        around = [(wrapped(a - angle), q) for a, q in zip(scan.angles_deg, scan.ranges_in, strict=True)
+                  if abs(wrapped(a - angle)) <= max(SQUARE_DEG, 2.01 * spacing)]
+        if all(math.isfinite(q) and q >= r and agree(q, r / math.cos(math.radians(off))) for off, q in around):
+            left, right = scan.ranges_in[i - 1], scan.ranges_in[(i + 1) % len(scan.ranges_in)]
+            found.append((angle, r, abs(left - right)))
+    if not found:
+        return None
+    farthest = max(r for _, r, _ in found)
+    return min((f for f in found if agree(f[1], farthest)), key=lambda f: (f[2], -f[1]))[0]
 
 
 class ScanChecks:
@@ -207,12 +227,12 @@ class ScanChecks:
                               "robot's heading, in degrees")
         return f"after a {turned:.0f} deg turn in place, {agreeing} of {shared} beams agree with the scan turned by it"
 
-    def _ahead(self, what: str) -> tuple[RangeScan, float]:
-        """A scan and its range ahead, scanning again (up to RESCANS) while it heard
-        nothing ahead."""
+    def _toward(self, world_deg: float, what: str) -> tuple[RangeScan, float]:
+        """A scan and its range :func:`toward` ``world_deg``, scanning again (up to
+        RESCANS) while it heard nothing there."""
         for _ in range(RESCANS):
             scan = self._scan(what)
-            ahead = least_within(scan, 0.0, AHEAD_DEG)
+            ahead = toward(scan, world_deg)
             if math.isfinite(ahead):
                 break
         return scan, ahead
@@ -225,21 +245,24 @@ class ScanChecks:
         if angle is None:
             return (f"not checked: no wall met square on with {DRIVE_IN + CLEAR_IN:g} in of room in the scan "
                     "(place the robot in front of one)")
+        wall = seen.pose.heading_deg + angle  # the wall's direction in the world
         self._turn(seen.pose, angle)
-        ahead, before = self._ahead("the scan facing the wall")
+        ahead, before = self._toward(wall, "the scan facing the wall")
+        if not math.isfinite(before):  # a wide beam turned a little off the wall may have it mirrored away
+            return (f"not checked: facing the wall the scan showed {seen.ranges_in[seen.angles_deg.index(angle)]:.1f} "
+                    f"in away at {angle:g} deg, {RESCANS} scans heard no echo ahead")
         start = ahead.pose
-        u = (math.cos(math.radians(start.heading_deg)), math.sin(math.radians(start.heading_deg)))
-        goal = {**pose_json(start), "x_in": start.x_in + DRIVE_IN * u[0], "y_in": start.y_in + DRIVE_IN * u[1]}
+        u = (math.cos(math.radians(wall)), math.sin(math.radians(wall)))
+        goal = {"x_in": start.x_in + DRIVE_IN * u[0], "y_in": start.y_in + DRIVE_IN * u[1], "heading_deg": wall}
         moved = self.probe.result("move", {"waypoints": [goal], "face": None})
         if moved.collided:
             raise CheckFailed(f"the scan showed {before:.1f} in clear ahead, yet a {DRIVE_IN:g} in drive collided at "
                               f"({moved.pose.x_in:.1f}, {moved.pose.y_in:.1f})")
-        end, after = self._ahead("the scan after the drive")
+        end, after = self._toward(wall, "the scan after the drive")
         driven = (end.pose.x_in - start.x_in) * u[0] + (end.pose.y_in - start.y_in) * u[1]
-        if not (math.isfinite(before) and math.isfinite(after)):
-            raise CheckFailed(f"no echo ahead {'before' if not math.isfinite(before) else 'after'} the drive in "
-                              f"{RESCANS} scans, from a wall the scan showed "
-                              f"{seen.ranges_in[seen.angles_deg.index(angle)]:.1f} in away")
+        if not math.isfinite(after):
+            raise CheckFailed(f"the range ahead was {before:.1f} in, and after a {driven:.1f} in drive straight at "
+                              f"it no echo came back ahead in {RESCANS} scans")
         slack = DRIVE_SLACK_IN + DRIVE_SLACK_FRAC * abs(driven) + DRIVE_RANGE_FRAC * before
         if abs((before - after) - driven) > slack:
             raise CheckFailed(f"driving {driven:.1f} in straight at a wall took the range ahead from {before:.1f} to "
