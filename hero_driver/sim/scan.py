@@ -82,7 +82,7 @@ def cast(physics: Physics, origin: tuple[float, float], bearing_deg: float, reac
     end = (origin[0] + reach_in * u[0], origin[1] + reach_in * u[1])
     hits: list[pymunk.SegmentQueryInfo] = list(physics.space.segment_query(origin, end, 0.0, pymunk.ShapeFilter()))
     hits += [hit for hit in (m.shape.segment_query(origin, end, 0.0) for m in physics.movers.all)
-             if hit.shape is not None]
+             if hit is not None and hit.shape is not None]
     for hit in sorted(hits, key=lambda h: h.alpha):
         if spec.through_glass and hit.shape in physics.glass:
             continue

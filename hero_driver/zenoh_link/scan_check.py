@@ -9,8 +9,9 @@ heading; a pose corrected by the driver's own localisation, or the clock in
 milliseconds, stamps it at the wrong place or time. Verify, don't believe:
 
 - ``scan``: without the feature, ``scan`` is ``unknown_verb``; with it, the reply
-  decodes strictly and its pose and clock are those the driver publishes while the
-  robot stands (the state before and after it);
+  decodes strictly, its beams span at least :data:`MIN_SPAN_DEG` (what a scan for
+  finding one's way must see; degrees, not radians) and its pose and clock are those the
+  driver publishes while the robot stands (the state before and after it);
 - ``scan-repeat``: two scans in a row, standing still, see the same walls (ranges that
   both echoed agree within :func:`agree`);
 - ``scan-turn``: after a turn in place of :data:`TURN_DEG`, the scan is the one before
@@ -37,6 +38,7 @@ from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, Probe,
                                               valid_states)
 
 SCAN = VERB_BY_NAME["scan"].feature  # the feature that brings the verb
+MIN_SPAN_DEG = 180.0  # a scan's beams span at least this (a front-facing lidar's half turn)
 AGREE_IN = 3.0  # two readings of one surface agree within this ...
 AGREE_FRAC = 0.1  # ... plus this share of the range (harsh noise: 2% sigma per reading)
 REPEAT_SHARE = 0.8  # scan-repeat: at least this share of the beams both scans heard agree
@@ -170,6 +172,10 @@ class ScanChecks:
         before = self._state_after(time.monotonic())
         scan = self._scan("scan")
         after = self._state_after(time.monotonic())
+        span = scan.angles_deg[-1] - scan.angles_deg[0]
+        if span < MIN_SPAN_DEG - 1e-9:
+            raise CheckFailed(f"the beams span {span:g} deg, from {scan.angles_deg[0]:g} to {scan.angles_deg[-1]:g}: "
+                              f"a scan covers at least {MIN_SPAN_DEG:g} deg, its angles in degrees (not radians)")
         for state, when in ((before, "before"), (after, "after")):
             p, q = scan.pose, state.pose
             turn = abs(wrapped(p.heading_deg - q.heading_deg))

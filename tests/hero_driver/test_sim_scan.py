@@ -29,12 +29,12 @@ def scanner(model: str, **changes: object) -> ScannerSpec:
 
 
 def world(width: float, depth: float, robot: tuple[float, float, float], *, furniture: tuple[dict, ...] = (),
-          objects: tuple[dict, ...] = (), model: str = "lidar", noise: NoiseConfig = CLEAN, seed: int = 0,
-          **scanner_changes: object) -> SimWorld:
+          objects: tuple[dict, ...] = (), movers: tuple[dict, ...] = (), model: str = "lidar",
+          noise: NoiseConfig = CLEAN, seed: int = 0, **scanner_changes: object) -> SimWorld:
     """A rectangular room with the robot at ``robot`` and the given scanner."""
     data = {"room": {"width_in": width, "depth_in": depth},
             "robot": {"x_in": robot[0], "y_in": robot[1], "heading_deg": robot[2]},
-            "furniture": list(furniture), "objects": list(objects)}
+            "furniture": list(furniture), "objects": list(objects), "movers": list(movers)}
     profile = dataclasses.replace(PROFILE, scanner=scanner(model, **scanner_changes))
     spec = parse_world(data, "scan-test.json", profile_and_catalogue(profile)[1])
     return SimWorld(spec, seed, profile, noise)
@@ -86,6 +86,15 @@ def test_an_object_lower_than_the_scan_plane_is_not_seen() -> None:
     high = world(200, 100, (50, 40, 0), objects=box, height_in=3.0).scan()
     assert at(low.ranges_in, low.angles_deg, 0.0) == pytest.approx(69.0)
     assert at(high.ranges_in, high.angles_deg, 0.0) == pytest.approx(150.0)
+
+
+def test_a_person_crossing_is_seen() -> None:
+    """A person (a disc of radius 9) 30 in along a path from (120, 10) to (120, 90)
+    stands at (120, 40), straight ahead: the beam stops 70 - 9 in away; a sonar's
+    sensing looks past people, a range scan does not."""
+    person = ({"shape": "disc", "path": [[120, 10], [120, 90]], "speed_in_s": 1, "start_in": 30},)
+    scan = world(200, 100, (50, 40, 0), movers=person).scan()
+    assert at(scan.ranges_in, scan.angles_deg, 0.0) == pytest.approx(61.0)
 
 
 def test_beyond_the_maximum_range_nothing_echoes() -> None:
