@@ -16,7 +16,9 @@ profile file (docs/conventions.md, "Adding a robot constant").
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from types import MappingProxyType
 
 from learner.knowledge import GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 
@@ -122,7 +124,7 @@ class ScannerSpec:
         return 360.0 / self.beams
 
 
-SCANNER_DEFAULTS: dict[str, dict[str, object]] = {
+SCANNER_DEFAULTS: Mapping[str, Mapping[str, object]] = MappingProxyType({
     # A hobby-grade 2-D lidar low on the base: a beam per degree, half an inch to 40 ft,
     # a thin ray that loses only near-grazing returns, one revolution in a fifth of a second.
     "lidar": {"beams": 360, "range_in": (0.5, 480.0), "beam_deg": 0.0, "specular_deg": 80.0,
@@ -133,7 +135,7 @@ SCANNER_DEFAULTS: dict[str, dict[str, object]] = {
     # edge) to the sensing procedures' 127 in; the base turns a full circle at 5 deg/s.
     "sonar": {"beams": 24, "range_in": (12.0, 127.0), "beam_deg": 30.0, "specular_deg": 15.0,
               "height_in": 0.0, "through_glass": False, "time_s": 90.0},
-}
+})
 """Each model's values, which a profile's ``[scanner]`` table may override key by key."""
 
 
