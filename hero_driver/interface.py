@@ -120,6 +120,29 @@ class GraspResult:
 
 
 @dataclass(frozen=True)
+class RangeScan:
+    """One planar range scan (the ``scan`` feature, docs/driver-protocol.md "Scans"):
+    what the robot's own range sensor saw around it, for a robot with no ceiling camera.
+
+    ``angles_deg`` are beam directions in the robot's frame, counter-clockwise from its
+    heading (degrees, as every angle of the protocol), strictly increasing within
+    [-180, 180); ``ranges_in[i]`` is how far from the base centre the beam at
+    ``angles_deg[i]`` met something, within [``range_min_in``, ``range_max_in``], or
+    ``inf`` when no echo came back within them. ``pose`` is where the driver says the
+    robot stood (its reported pose, the frame of ``state().pose``: a drifting base's scan
+    is taken at the truth and stamped with what its encoders say), ``clock_s`` the robot
+    clock when the scan was taken, as the state publications carry it.
+    """
+
+    pose: Pose
+    clock_s: float
+    angles_deg: tuple[float, ...]
+    ranges_in: tuple[float, ...]
+    range_min_in: float
+    range_max_in: float
+
+
+@dataclass(frozen=True)
 class Hello:
     """What a driver process serves: the protocol versions it speaks and the optional
     features it offers (the ``hello`` verb's answer, docs/driver-protocol.md).
@@ -206,6 +229,19 @@ class BlockedMoves(Protocol):
         ...
 
 
+@runtime_checkable
+class Scanner(Protocol):
+    """A driver with the optional ``scan`` feature: a planar range sensor on the robot
+    (a 2-D lidar, or the wrist sonar swept in place), for finding its way and the
+    objects without the ceiling camera. A driver without it still works; nothing that
+    needs scans is then offered."""
+
+    def scan(self) -> Future[RangeScan]:
+        """Take one planar range scan where the robot stands (it does not move) and
+        answer it with the pose it was taken from."""
+        ...
+
+
 # -- the verb table ------------------------------------------------------------------------
 
 
@@ -248,12 +284,14 @@ DRIVER_VERBS: tuple[DriverVerb, ...] = (
     DriverVerb("charge", RobotState, poses_out=("pose",), feature="battery"),
     DriverVerb("safety_in", float, robot_time=False, feature="blocked_moves"),
     DriverVerb("wait", RobotState, ("seconds",), poses_out=("pose",), feature="blocked_moves"),
+    DriverVerb("scan", RangeScan, poses_out=("pose",), feature="scan"),
 )
-"""Every method of :class:`Driver`, :class:`Charger` and :class:`BlockedMoves`, one row
+"""Every method of :class:`Driver`, :class:`Charger`, :class:`BlockedMoves` and :class:`Scanner`, one row
 each (``tests/hero_driver/test_driver_verbs.py`` holds the protocols to it)."""
 
 VERB_BY_NAME: dict[str, DriverVerb] = {verb.name: verb for verb in DRIVER_VERBS}
-PROTOCOLS: Mapping[str | None, type] = {None: Driver, "battery": Charger, "blocked_moves": BlockedMoves}
+PROTOCOLS: Mapping[str | None, type] = {None: Driver, "battery": Charger, "blocked_moves": BlockedMoves,
+                                         "scan": Scanner}
 """The protocol that declares a row's method, by the row's ``feature``."""
 
 

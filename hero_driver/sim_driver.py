@@ -16,7 +16,7 @@ from typing import TypeVar
 
 from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, UNAVAILABLE, DriverError, GraspResult, MoveResult, Pose, RobotState, SenseResult,
+    BAD_REQUEST, UNAVAILABLE, DriverError, GraspResult, MoveResult, Pose, RangeScan, RobotState, SenseResult,
 )
 from hero_driver.sim.disturber import Happened
 from hero_driver.sim.events import DisturbPreset
@@ -112,6 +112,11 @@ class SimulatedHero:
     def wait(self, seconds: float) -> Future[RobotState]:
         """The blocked_moves feature: stand still while movers walk on."""
         return self._done(lambda sim: sim.wait(seconds))
+
+    def scan(self) -> Future[RangeScan]:
+        """The scan feature (:class:`~hero_driver.interface.Scanner`): one range scan of
+        the profile's scanner where the robot stands."""
+        return self._done(lambda sim: sim.scan())
 
     def reset(self, world: str | None = None, seed: int | None = None) -> Future[RobotState]:
         """Restore the world named ``world`` (None: the current one) with ``seed``

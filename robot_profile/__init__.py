@@ -14,11 +14,12 @@ so depending on it keeps this package free of cycles and of anything heavy
 (docs/conventions.md, "Adding a robot constant"). Format: docs/knowledge-format.md.
 """
 
-from robot_profile.model import Robot, RobotGeometry, RobotMotion, RobotProfile
+from robot_profile.model import SCANNER_DEFAULTS, Robot, RobotGeometry, RobotMotion, RobotProfile, ScannerSpec
 from robot_profile.reader import DEFAULT_PROFILE, knowledge_from_dict, load_knowledge, load_profile, profile_from_dict
 from robot_profile.stamp import ProfileStamp, profile_stamp
 
 __all__ = [
-    "DEFAULT_PROFILE", "ProfileStamp", "Robot", "RobotGeometry", "RobotMotion", "RobotProfile", "knowledge_from_dict",
+    "DEFAULT_PROFILE", "SCANNER_DEFAULTS", "ProfileStamp", "Robot", "RobotGeometry", "RobotMotion", "RobotProfile",
+    "ScannerSpec", "knowledge_from_dict",
     "load_knowledge", "load_profile", "profile_from_dict", "profile_stamp",
 ]

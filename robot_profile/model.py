@@ -16,7 +16,9 @@ profile file (docs/conventions.md, "Adding a robot constant").
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from types import MappingProxyType
 
 from learner.knowledge import GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 
@@ -79,6 +81,64 @@ class Robot:
     motion: RobotMotion
 
 
+SCANNER_MODELS = ("lidar", "sonar")
+
+
+@dataclass(frozen=True)
+class ScannerSpec:
+    """The ``[scanner]`` table: the robot's planar range sensor, which the simulator
+    serves as the ``scan`` feature (docs/simulator.md, "Scans").
+
+    ``model`` is ``lidar`` (a 2-D laser scanner over the base centre) or ``sonar`` (the
+    wrist sonar swept in place by the base turning a full circle under it, the
+    1991-faithful option); the rest defaults to the model's values
+    (:data:`SCANNER_DEFAULTS`). ``beams`` directions spread evenly over a full turn;
+    ranges within ``range_in`` (from the base centre); ``beam_deg`` is how wide one
+    beam is (0: a thin ray; wider: the nearest echo within the cone); beyond
+    ``specular_deg`` off a surface's normal the echo may be reflected away; objects
+    lower than ``height_in`` lie under the scan plane; ``through_glass``: light passes
+    glass, sound does not; ``time_s`` is the robot time one scan takes.
+    """
+
+    model: str
+    beams: int
+    range_in: tuple[float, float]
+    beam_deg: float
+    specular_deg: float
+    height_in: float
+    through_glass: bool
+    time_s: float
+
+    def __post_init__(self) -> None:
+        lo, hi = self.range_in
+        if (self.model not in SCANNER_MODELS or self.beams < 1 or not 0 <= lo < hi
+                or not 0 <= self.beam_deg < 180 or not 0 <= self.specular_deg <= 90
+                or self.height_in < 0 or self.time_s < 0):
+            raise ValueError(f"scanner needs a model of {', '.join(SCANNER_MODELS)}, beams >= 1, "
+                             f"0 <= range low < high, 0 <= beam_deg < 180, 0 <= specular_deg <= 90, "
+                             f"height_in and time_s >= 0 (got {self})")
+
+    @property
+    def step_deg(self) -> float:
+        """The angle between neighbouring beams."""
+        return 360.0 / self.beams
+
+
+SCANNER_DEFAULTS: Mapping[str, Mapping[str, object]] = MappingProxyType({
+    # A hobby-grade 2-D lidar low on the base: a beam per degree, half an inch to 40 ft,
+    # a thin ray that loses only near-grazing returns, one revolution in a fifth of a second.
+    "lidar": {"beams": 360, "range_in": (0.5, 480.0), "beam_deg": 0.0, "specular_deg": 80.0,
+              "height_in": 1.5, "through_glass": True, "time_s": 0.2},
+    # The HERO's wrist sonar swept in place: a ping every 15 degrees, a beam about 30
+    # degrees wide (the Polaroid-style transducer of docs/simulator.md's specular effect,
+    # mirrored beyond half of it), heard from about a foot (its ringing and the base's
+    # edge) to the sensing procedures' 127 in; the base turns a full circle at 5 deg/s.
+    "sonar": {"beams": 24, "range_in": (12.0, 127.0), "beam_deg": 30.0, "specular_deg": 15.0,
+              "height_in": 0.0, "through_glass": False, "time_s": 90.0},
+})
+"""Each model's values, which a profile's ``[scanner]`` table may override key by key."""
+
+
 @dataclass(frozen=True)
 class RobotProfile:
     """A whole profile file; ``source`` names it in messages."""
@@ -88,6 +148,7 @@ class RobotProfile:
     sensing: tuple[SensingProcedure, ...]
     grasping: tuple[GraspingProcedure, ...]
     source: str
+    scanner: ScannerSpec | None = None  # the [scanner] table; None: the profile has none
 
     def sensing_procedure(self, name: str) -> SensingProcedure | None:
         """The sensing procedure called ``name``, or None: a driver refuses unknown names."""

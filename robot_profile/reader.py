@@ -25,7 +25,8 @@ from typing import BinaryIO, TypeVar
 
 from learner.knowledge import FeatureSpec, GraspingProcedure, Knowledge, MoveModel, SensingProcedure
 from robot_profile import fields
-from robot_profile.model import Robot, RobotGeometry, RobotMotion, RobotProfile
+from robot_profile.model import (SCANNER_DEFAULTS, SCANNER_MODELS, Robot, RobotGeometry, RobotMotion, RobotProfile,
+                                 ScannerSpec)
 
 DEFAULT_PROFILE = Path(__file__).resolve().parent.parent / "hero_driver" / "profiles" / "hero2000.toml"
 
@@ -87,10 +88,10 @@ def _open_regular(path: Path) -> BinaryIO:
 
 def profile_from_dict(data: Mapping[str, object], source: str = "<profile>") -> RobotProfile:
     """Validate parsed TOML data into a :class:`RobotProfile` (``[robot]`` required)."""
-    robot, knowledge = _parts(data, source, robot_required=True)
+    robot, knowledge, scanner = _parts(data, source, robot_required=True)
     assert robot is not None
     return RobotProfile(robot=robot, move=knowledge.move, sensing=knowledge.sensing, grasping=knowledge.grasping,
-                        source=source)
+                        source=source, scanner=scanner)
 
 
 def knowledge_from_dict(data: Mapping[str, object], source: str = "<knowledge>") -> Knowledge:
@@ -99,10 +100,12 @@ def knowledge_from_dict(data: Mapping[str, object], source: str = "<knowledge>")
     return _parts(data, source, robot_required=False)[1]
 
 
-def _parts(data: Mapping[str, object], source: str, robot_required: bool) -> tuple[Robot | None, Knowledge]:
-    """The ``[robot]`` table (None when absent and not required) and the learner's part,
-    checked in the file's reading order so the first problem is the one reported."""
-    fields.only_keys(data, {"move", "robot", "sensing", "grasping"}, source)
+def _parts(data: Mapping[str, object], source: str,
+           robot_required: bool) -> tuple[Robot | None, Knowledge, ScannerSpec | None]:
+    """The ``[robot]`` table (None when absent and not required), the learner's part and
+    the optional ``[scanner]``, checked in the file's reading order so the first problem
+    is the one reported (the learner ignores the scanner, but a typo there is still one)."""
+    fields.only_keys(data, {"move", "robot", "sensing", "grasping", "scanner"}, source)
     move = _move(fields.table(data, "move", source), f"{source}: [move]")
     robot = (_robot(fields.table(data, "robot", source), f"{source}: [robot]")
              if robot_required or "robot" in data else None)
@@ -119,7 +122,9 @@ def _parts(data: Mapping[str, object], source: str, robot_required: bool) -> tup
         raise ValueError(f"{source}: no [[sensing]] procedures")
     if not grasping:
         raise ValueError(f"{source}: no [[grasping]] procedures")
-    return robot, Knowledge(sensing=sensing, grasping=grasping, move=move, source=source)
+    where = f"{source}: [scanner]"
+    scanner = _scanner(fields.as_table(data["scanner"], where), where) if "scanner" in data else None
+    return robot, Knowledge(sensing=sensing, grasping=grasping, move=move, source=source), scanner
 
 
 def _check_features(sensing: tuple[SensingProcedure, ...], source: str) -> None:
@@ -173,6 +178,34 @@ def _part(part: type[_Part], table: Mapping[str, object], where: str) -> _Part:
         for f in dataclasses.fields(part) if f.name in table or f.default is dataclasses.MISSING
     }
     return part(**values)
+
+
+def _scanner(table: Mapping[str, object], where: str) -> ScannerSpec:
+    """The ``[scanner]`` table: its ``model`` and any of that model's values overridden."""
+    fields.only_keys(table, {"model", *SCANNER_DEFAULTS["lidar"]}, where)
+    model = table.get("model")
+    if model not in SCANNER_MODELS:
+        raise ValueError(f"{where}: 'model' must be one of {', '.join(SCANNER_MODELS)}, got {model!r}")
+    values = dict(SCANNER_DEFAULTS[str(model)])
+    if "beams" in table:
+        beams = table["beams"]
+        if isinstance(beams, bool) or not isinstance(beams, int) or not 1 <= beams <= 3600:
+            raise ValueError(f"{where}: 'beams' must be a whole number from 1 to 3600, got {beams!r}")
+        values["beams"] = beams
+    if "range_in" in table:
+        lo, hi = fields.pair(table, "range_in", where)
+        if lo < 0 or lo == hi:
+            raise ValueError(f"{where}: 'range_in' must be [low, high] with 0 <= low < high, got [{lo:g}, {hi:g}]")
+        values["range_in"] = (lo, hi)
+    for key, top in (("beam_deg", 179.0), ("specular_deg", 90.0), ("height_in", None), ("time_s", None)):
+        if key in table:
+            value = fields.cost(table, key, where)
+            if top is not None and value > top:
+                raise ValueError(f"{where}: '{key}' must be at most {top:g}, got {value:g}")
+            values[key] = value
+    if "through_glass" in table:
+        values["through_glass"] = fields.flag(table, "through_glass", False, where)
+    return ScannerSpec(model=str(model), **values)  # type: ignore[arg-type]
 
 
 def _sensing(entry: object, where: str) -> SensingProcedure:

@@ -6,7 +6,9 @@ learner's knowledge (feature errors, spans, the ``[move]`` cost model, side-effe
 penalties) still name the same robot, while any change the planner or the simulator
 would feel changes it: every ``[robot]`` constant, and for each procedure its name,
 its distance range and its execution time (and, for sensing, the names of the
-features it yields, since the driver is the one that reports them).
+features it yields, since the driver is the one that reports them). The ``[scanner]``
+table is left out: every scan states its own angles and range limits, so a client
+reads a scan right whatever scanner the robot carries, and no plan depends on it.
 """
 
 from __future__ import annotations

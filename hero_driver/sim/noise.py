@@ -17,10 +17,11 @@ from dataclasses import dataclass, fields
 from types import MappingProxyType
 
 # Fields that are probabilities: scaling caps them at 1, world files reject values above 1.
-PROBABILITIES = ("outlier_p", "dropout_p", "curved_depth_p", "specular_p", "multipath_p", "crosstalk_p")
+PROBABILITIES = ("outlier_p", "dropout_p", "curved_depth_p", "specular_p", "multipath_p", "crosstalk_p",
+                 "scan_dropout_p", "scan_specular_p")
 # Fields that are rates or sigmas: scaling multiplies them without a cap.
 SIGMAS = ("odometry_frac", "odometry_heading_deg", "odometry_drift", "heading_drift_turn", "heading_drift_travel",
-          "camera_yaw_deg", "pixel_sigma")
+          "camera_yaw_deg", "pixel_sigma", "scan_range_frac")
 # On/off imperfections: kept by any positive scale factor, turned off by zero.
 SWITCHES = ("sonar", "fisheye")
 # ``specular_angle_deg`` is none of these: it is the transducer's geometry (half its
@@ -68,6 +69,13 @@ class NoiseConfig:
     while the object stays put.
     ``pixel_sigma``: pixel noise sigma (clipped to ±12 levels).
     ``fisheye``: render the overhead image through a fish-eye lens.
+
+    The range scan (:mod:`hero_driver.sim.scan`, drawn from a stream of its own):
+
+    ``scan_range_frac``: sigma of a range's error as a share of the range.
+    ``scan_dropout_p``: chance a beam hears no echo.
+    ``scan_specular_p``: chance, per beam, that a surface met beyond the scanner's
+    ``specular_deg`` off its normal reflects the beam away (no echo from it).
     """
 
     sonar: bool = True
@@ -86,6 +94,9 @@ class NoiseConfig:
     camera_yaw_deg: float = 0.0
     pixel_sigma: float = 4.0
     fisheye: bool = False
+    scan_range_frac: float = 0.005
+    scan_dropout_p: float = 0.005
+    scan_specular_p: float = 0.0
 
     @classmethod
     def off(cls) -> NoiseConfig:
@@ -148,9 +159,11 @@ NOISE_PRESETS: Mapping[str, NoiseConfig] = MappingProxyType({
     "paper": NoiseConfig(outlier_p=0.03, dropout_p=0.02, curved_depth_p=0.3, specular_p=0.7,
                          multipath_p=0.03, crosstalk_p=0.01, odometry_frac=0.01, odometry_heading_deg=2.0,
                          odometry_drift=0.03, heading_drift_turn=0.1, heading_drift_travel=0.05,
-                         camera_yaw_deg=3.0, pixel_sigma=6.0, fisheye=True),
+                         camera_yaw_deg=3.0, pixel_sigma=6.0, fisheye=True,
+                         scan_range_frac=0.01, scan_dropout_p=0.02, scan_specular_p=0.5),
     "harsh": NoiseConfig(outlier_p=0.06, dropout_p=0.04, curved_depth_p=0.5, specular_p=1.0,
                          multipath_p=0.08, crosstalk_p=0.04, odometry_frac=0.02, odometry_heading_deg=4.0,
                          odometry_drift=0.08, heading_drift_turn=0.25, heading_drift_travel=0.12,
-                         camera_yaw_deg=8.0, pixel_sigma=10.0, fisheye=True),
+                         camera_yaw_deg=8.0, pixel_sigma=10.0, fisheye=True,
+                         scan_range_frac=0.02, scan_dropout_p=0.05, scan_specular_p=0.9),
 })

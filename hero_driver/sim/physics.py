@@ -66,6 +66,7 @@ class Physics:
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
         self.static_shapes: list[pymunk.Shape] = []
+        self.glass: set[pymunk.Shape] = set()  # furniture a lidar's light passes (hero_driver.sim.scan)
         w, d, t = spec.room_width_in, spec.room_depth_in, WALL_IN
         walls = ((w / 2, -t / 2, w + 2 * t, t), (w / 2, d + t / 2, w + 2 * t, t),
                  (-t / 2, d / 2, t, d + 2 * t), (w + t / 2, d / 2, t, d + 2 * t))
@@ -76,7 +77,9 @@ class Physics:
         self.above_floor = pymunk.Space()
         for f in spec.furniture:
             for polygon in f.at_scan_plane():
-                self._add_static(polygon)
+                shape = self._add_static(polygon)
+                if f.glass:
+                    self.glass.add(shape)
             if f.kind == "table":
                 self.above_floor.add(pymunk.Poly(self.above_floor.static_body, f.outline))
         for polygon in spec.wall_outlines():
@@ -87,11 +90,12 @@ class Physics:
             self.objects.append(self._make_object(i, catalogue[p.entry_id], p.x_in, p.y_in, p.yaw_deg))
         self.movers = Movers(movers, self.space)  # people and carts (hero_driver.sim.movers): no query sees them
 
-    def _add_static(self, polygon: list[tuple[float, float]]) -> None:
+    def _add_static(self, polygon: list[tuple[float, float]]) -> pymunk.Shape:
         shape = pymunk.Poly(self.space.static_body, polygon)
         shape.friction, shape.elasticity = 0.6, 0.2
         self.space.add(shape)
         self.static_shapes.append(shape)
+        return shape
 
     def _make_object(self, index: int, entry: CatalogueEntry, x: float, y: float, yaw_deg: float) -> SimObject:
         body = pymunk.Body(mass=1.0, moment=1.0)

@@ -17,9 +17,10 @@ import numpy as np
 
 from camera_model.image import CameraImage
 from hero_driver.interface import (
-    BAD_REQUEST, NO_CAMERA, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle, Pose, RobotState, SenseResult,
+    BAD_REQUEST, NO_CAMERA, NO_TARGET, OUT_OF_RANGE, UNKNOWN_PROCEDURE, DriverError, GraspResult, MoveResult, Obstacle,
+    Pose, RangeScan, RobotState, SenseResult,
 )
-from hero_driver.sim import camera, grasping, sonar
+from hero_driver.sim import camera, grasping, scan, sonar
 from hero_driver.sim.battery import DOCK_REACH_IN, GRASPING_PER_S, MOVING_PER_S, SENSING_PER_S, Battery
 from hero_driver.sim.camera import PRESETS
 from hero_driver.sim.catalogue import GraspRule, profile_and_catalogue
@@ -102,6 +103,7 @@ class SimWorld:
         (a start overlapping something, a battery level out of range, a seed numpy
         refuses) leaves the world as it was, so the next reset of it still works."""
         rng = np.random.default_rng(seed)
+        scan_rng = scan.scan_rng(seed)
         physics = Physics(spec, self.catalogue, spec.movers + preset_movers(
             self.mover_preset, spec.room_width_in, spec.room_depth_in, seed))
         x, y, heading = spec.robot
@@ -113,6 +115,7 @@ class SimWorld:
         battery = Battery(1.0 if spec.battery is None else spec.battery, metered)
         disturber = Disturber(spec.events, self.disturb, seed, self.catalogue)
         self.spec, self.seed, self.physics, self.rng = spec, seed, physics, rng
+        self.scanner, self.scan_rng = scan.scanner_of(self.profile), scan_rng  # the scan feature's own stream
         self.noise = next((n for n in (self._explicit_noise, spec.noise) if n is not None), NoiseConfig())
         self.pose = Pose(x, y, normalise_deg(heading))
         self.drift = Drift()
@@ -414,6 +417,20 @@ class SimWorld:
         the echo over its top is often lost early, so Depth comes out far too small."""
         return (aim.target.entry.rolls and sonar.approach_is_end_on(aim.heading_deg, aim.target)
                 and self.noise.curved_depth_p > 0 and self.rng.random() < self.noise.curved_depth_p)
+
+    def scan(self) -> RangeScan:
+        """One planar range scan (docs/simulator.md, Scans): cast from the true pose,
+        stamped with the reported one; the robot stands while it takes the scanner's
+        time (the sonar's base turns a full circle and ends where it began)."""
+        self.battery.require("scan")
+        taken = scan.take(self.physics, self.pose, self.scanner, self.noise, self.scan_rng)
+        pose = self.reported_pose()
+        self._pass(self.scanner.time_s, (self.pose.x_in, self.pose.y_in))
+        self.clock_s += self.scanner.time_s
+        self.battery.drain(self.scanner.time_s, SENSING_PER_S)
+        self._verb_ended()
+        low, high = self.scanner.range_in
+        return RangeScan(pose, self.clock_s, taken.angles_deg, taken.ranges_in, low, high)
 
     # -- grasping ----------------------------------------------------------------
 

@@ -38,7 +38,8 @@ WORLD_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
 class Furniture:
     """A rectangle the robot must not enter: a cabinet, a sofa, a table's top. A
     ``solid`` one is solid to the floor; under a ``table`` a planar sensor at base
-    height sees only its four legs (``leg_in`` square, hero_driver.sim.home)."""
+    height sees only its four legs (``leg_in`` square, hero_driver.sim.home). ``glass``
+    (a glass door or partition) lets a lidar's light through (docs/simulator.md, Scans)."""
 
     name: str
     x_in: float
@@ -48,6 +49,7 @@ class Furniture:
     yaw_deg: float = 0.0
     kind: str = "solid"  # "solid" or "table" (hero_driver.sim.home.FURNITURE_KINDS)
     leg_in: float = 0.0  # a table's leg side; 0 for solid furniture
+    glass: bool = False
 
     @property
     def outline(self) -> list[tuple[float, float]]:
@@ -149,11 +151,12 @@ def parse_world(data: object, source: str, catalogue: Mapping[str, CatalogueEntr
     furniture = []
     for i, raw in enumerate(_array(top, "furniture")):
         r = FieldReader(source, f"furniture[{i}]", raw)
-        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg", "kind", "leg_in")
+        r.only("name", "x_in", "y_in", "width_in", "depth_in", "yaw_deg", "kind", "leg_in", "glass")
         kind, leg = furniture_kind(r)
         furniture.append(Furniture(r.text("name"), r.number("x_in"), r.number("y_in"),
                                    r.number("width_in", 0.5), r.number("depth_in", 0.5),
-                                   r.number("yaw_deg", -360.0, 0.0), kind, leg))
+                                   r.number("yaw_deg", -360.0, 0.0), kind, leg,
+                                   "glass" in r.table and r.flag("glass")))
     rr = FieldReader(source, "robot", top.table.get("robot"))
     rr.only("x_in", "y_in", "heading_deg")
     robot = (rr.number("x_in"), rr.number("y_in"), rr.number("heading_deg", -360.0, 0.0))

@@ -46,7 +46,7 @@ from hero_driver.zenoh_link.codec import CodecError, EmptyRequest, Request
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.state_check import StateCheck
 from hero_driver.zenoh_link.verbs import BY_NAME, VERBS, Verb
-from hero_driver.zenoh_link.versions import BEFORE_HELLO, Agreement, Greeting, NoCommonVersion, agree
+from hero_driver.zenoh_link.versions import BEFORE_HELLO, VERB_FEATURES, Agreement, Greeting, NoCommonVersion, agree
 from robot_profile import ProfileStamp
 from zenoh_rpc.client import Reply, RpcClient
 from zenoh_rpc.config import UserConfig, close_session, open_session
@@ -374,6 +374,10 @@ class ZenohDriver:
             return future
         call = _Call(self, verb, future, self.timeouts.of(verb))
         with self._lock:
+            lacking = self._lacking(verb)
+            if lacking:
+                future.set_exception(DriverError(UNKNOWN_VERB, lacking))
+                return future
             if self._closed:
                 refusal = "the client is closed"
             elif not self._alive:
@@ -394,6 +398,18 @@ class ZenohDriver:
         except zenoh.ZError as exc:
             call.fail(DriverError(UNAVAILABLE, f"{verb}: {exc}"))
         return future
+
+    def _lacking(self, verb: str) -> str:
+        """With the lock held: why the live driver cannot serve ``verb``, a verb of a
+        feature that brings only verbs (:data:`~.versions.VERB_FEATURES`) which its
+        ``hello`` did not list; "" otherwise, or before its ``hello`` is answered. Such
+        a verb is used only with a driver that lists its feature (docs/driver-protocol.md,
+        Versioning), so it fails here at once, as the driver would answer it."""
+        row = BY_NAME[verb]
+        feature = row.driver_verb.feature if row.touches_robot else None
+        if feature not in VERB_FEATURES or self._agreement is None or feature in self._agreement.features:
+            return ""
+        return f"{verb}: this driver has no {feature} feature (see its hello)"
 
     def _forget(self, call: _Call, pose: Pose | None = None) -> None:
         """``call`` is over; ``pose``: where its reply says the robot ended, if it says."""

@@ -30,7 +30,8 @@ import numpy as np
 
 from camera_model.image import CameraImage
 from hero_driver.interface import (
-    ERROR_CODES, PROTOCOL_VERSION, DriverError, GraspResult, Hello, MoveResult, Obstacle, Pose, RobotState, SenseResult,
+    ERROR_CODES, PROTOCOL_VERSION, DriverError, GraspResult, Hello, MoveResult, Obstacle, Pose, RangeScan, RobotState,
+    SenseResult,
 )
 from hero_driver.zenoh_link.versions import BATTERY, BLOCKED_MOVES, PROFILE, Greeting
 from zenoh_rpc.numbers import whole_number
@@ -43,6 +44,8 @@ MAX_REQUEST_BYTES = 128 * 1024
 whose numbers take the longest form JSON gives a double is about 100 KiB (a test
 holds it under this cap); anything larger is refused before it is parsed, so a 44 MB move
 costs the driver no more than its length check."""
+MAX_SCAN_BEAMS = 3600
+"""The most beams one ``scan`` reply may carry: a tenth of a degree over a full turn."""
 MAX_WAYPOINTS = 1000
 """The most waypoints one ``move`` may carry: the planner's paths have tens; a
 million would keep the robot busy for minutes on a single request."""
@@ -428,6 +431,61 @@ def grasp_result_in(message: Json) -> GraspResult:
                        _not_negative(_real(fields["duration_s"], "duration_s"), "duration_s"))
 
 
+def range_scan_out(scan: object) -> Json:
+    if not isinstance(scan, RangeScan):
+        raise CodecError(f"message: expected a RangeScan, got {type(scan).__name__}")
+    low, high = _range_limits(scan.range_min_in, scan.range_max_in)
+    angles = _scan_angles(scan.angles_deg)
+    ranges = _array(scan.ranges_in, "ranges_in", len(angles))
+    return {"pose": _pose_out(scan.pose, "pose"),
+            "clock_s": _not_negative(_real(scan.clock_s, "clock_s"), "clock_s"),
+            "angles_deg": list(angles),
+            "ranges_in": [None if _no_echo(r) else _scan_range(r, low, high, f"ranges_in[{i}]")
+                          for i, r in enumerate(ranges)],
+            "range_min_in": low, "range_max_in": high}
+
+
+def range_scan_in(message: Json) -> RangeScan:
+    fields = _fields(message, "", ("pose", "clock_s", "angles_deg", "ranges_in", "range_min_in", "range_max_in"))
+    low, high = _range_limits(fields["range_min_in"], fields["range_max_in"])
+    angles = _scan_angles(fields["angles_deg"])
+    ranges = _array(fields["ranges_in"], "ranges_in", len(angles))
+    return RangeScan(_pose_in(fields["pose"], "pose"),
+                     _not_negative(_real(fields["clock_s"], "clock_s"), "clock_s"), angles,
+                     tuple(math.inf if r is None else _scan_range(r, low, high, f"ranges_in[{i}]")
+                           for i, r in enumerate(ranges)), low, high)
+
+
+def _range_limits(low: object, high: object) -> tuple[float, float]:
+    lo = _not_negative(_real(low, "range_min_in"), "range_min_in")
+    hi = _real(high, "range_max_in")
+    if hi <= lo:
+        raise CodecError(f"range_max_in: {hi} is not above range_min_in {lo}")
+    return lo, hi
+
+
+def _scan_angles(value: object) -> tuple[float, ...]:
+    """Beam angles: 1 to MAX_SCAN_BEAMS numbers in [-180, 180), strictly increasing."""
+    items = _array(value, "angles_deg")
+    if not 1 <= len(items) <= MAX_SCAN_BEAMS:
+        raise CodecError(f"angles_deg: expected 1 to {MAX_SCAN_BEAMS} beams, got {len(items)}")
+    angles = tuple(_real(item, f"angles_deg[{i}]") for i, item in enumerate(items))
+    for i, angle in enumerate(angles):
+        if not -180.0 <= angle < 180.0:
+            raise CodecError(f"angles_deg[{i}]: {angle} outside [-180, 180) degrees")
+        if i and angle <= angles[i - 1]:
+            raise CodecError(f"angles_deg[{i}]: {angle} does not increase on the beam before it ({angles[i - 1]})")
+    return angles
+
+
+def _no_echo(value: object) -> bool:
+    return isinstance(value, float) and value == math.inf
+
+
+def _scan_range(value: object, low: float, high: float, path: str) -> float:
+    return _between(_real(value, path), low, high, path)
+
+
 def _pixels_out(pixels: object) -> Json:
     if not isinstance(pixels, np.ndarray) or pixels.dtype != np.uint8 or pixels.ndim != 2:
         raise CodecError("image: expected an HxW uint8 array")
@@ -654,6 +712,7 @@ GRASPED = Message(GraspResult, grasp_result_in, grasp_result_out)
 STATE = Message(RobotState, state_in, state_out)
 IMAGE = Message(CameraImage, camera_in, camera_out)
 GREETING = Message(Greeting, hello_in, hello_out)
+SCANNED = Message(RangeScan, range_scan_in, range_scan_out)
 NOTHING = Message(type(None), noop_in, noop_out)
 
 

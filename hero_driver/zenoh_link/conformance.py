@@ -54,6 +54,7 @@ from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, CheckR
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
 from hero_driver.zenoh_link.reference_check import NOT_CHECKED, Reference, reference_checks
+from hero_driver.zenoh_link.scan_check import ScanChecks
 from hero_driver.zenoh_link.verbs import VERBS
 from hero_driver.zenoh_link.versions import NoCommonVersion, agree
 from zenoh_rpc.client import Reply, RpcClient
@@ -118,6 +119,7 @@ class _Suite:
         self.image: CameraImage | None = None
         self.greeting: Greeting | None = None
         self.motion = MotionChecks(probe, timing or Timing.from_profile(), procedures.sense, vision)
+        self.scans = ScanChecks(probe, lambda: () if self.greeting is None else self.greeting.served.features)
         self.lab_refused = False  # reset-objects found a driver that cannot restore KNOWN_WORLD (a real robot)
 
     def checks(self) -> list[tuple[str, Callable[[], str]]]:
@@ -140,6 +142,7 @@ class _Suite:
             ("release", self.release),
             ("charge", self.charge),
             ("blocked-moves", self.blocked_moves),
+            *self.scans.checks(),  # scan, scan-repeat, scan-turn, scan-drive (scan_check.py)
             ("out-of-range-target", self.out_of_range),
             ("unknown-verb", self.unknown_verb),
             ("unknown-procedure", self.unknown_procedure),

@@ -5,8 +5,9 @@ The codec (:mod:`.codec`) stays the authority; these schemas say the same thing 
 language-neutral form, and ``tests/hero_driver/test_zenoh_schemas.py`` holds the two
 together: every message the codec writes validates, and the schemas refuse what the
 codec refuses (mutated messages are fed to both). What a schema cannot say is listed
-in docs/driver-protocol.md: that ``image.data`` decodes to an H x W image, and that
-``NaN``/``Infinity`` are refused (they are not JSON, so a JSON parser refuses them).
+in docs/driver-protocol.md: that ``image.data`` decodes to an H x W image, that a
+scan's ``angles_deg`` increase and its ``ranges_in`` are as many and within its range
+limits, and that ``NaN``/``Infinity`` are refused (they are not JSON, so a JSON parser refuses them).
 
 Every number carries its unit twice: in ``description``, the annotation every JSON
 Schema tool keeps and shows (editors, documentation and code generators), and in
@@ -39,10 +40,12 @@ from hero_driver.interface import (
     CameraImage,
     GraspResult,
     MoveResult,
+    RangeScan,
     RobotState,
     SenseResult,
 )
-from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
+from hero_driver.zenoh_link.codec import (MAX_SCAN_BEAMS, EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest,
+                                         WaitRequest)
 from hero_driver.zenoh_link.verbs import VERBS, Verb
 from hero_driver.zenoh_link.versions import Greeting
 from robot_profile import DEFAULT_PROFILE, RobotProfile, load_profile, profile_stamp
@@ -154,6 +157,21 @@ REPLY_FIELDS: Mapping[type, Fields] = {
                    "clock_s": quantity("s", "robot clock when the image was taken", minimum=0),
                    "meta": {"type": "object"}},
                   ("camera_matrix", "fisheye", "clock_s", "meta")),
+    RangeScan: ({"pose": POSE,
+                 "clock_s": quantity("s", "robot clock when the scan was taken", minimum=0),
+                 "angles_deg": {"type": "array", "minItems": 1, "maxItems": MAX_SCAN_BEAMS,
+                                "items": quantity("deg", "a beam's direction in the robot's frame, counter-clockwise "
+                                                         "from its heading (strictly increasing)",
+                                                  minimum=-180, exclusiveMaximum=180),
+                                "description": "the beams' directions"},
+                 "ranges_in": {"type": "array", "minItems": 1, "maxItems": MAX_SCAN_BEAMS,
+                               "items": _or_null(quantity("in", "how far from the base centre the beam met "
+                                                                "something (null: no echo within the limits)",
+                                                          minimum=0)),
+                               "description": "one range per angle, in the same order"},
+                 "range_min_in": quantity("in", "the nearest range the sensor measures", minimum=0),
+                 "range_max_in": quantity("in", "the farthest range the sensor measures", exclusiveMinimum=0)},
+                ()),
     type(None): ({}, ()),
     Greeting: ({"versions": {"type": "array", "items": {"type": "integer", "minimum": 1},
                              "minItems": 1, "uniqueItems": True},

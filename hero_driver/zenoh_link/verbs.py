@@ -43,6 +43,7 @@ from hero_driver.zenoh_link.codec import (
     NOTHING,
     PROCEDURE,
     RESET,
+    SCANNED,
     SENSED,
     STATE,
     WAIT,
@@ -145,6 +146,8 @@ VERBS: tuple[Verb, ...] = (
     Verb("charge", EMPTY, STATE, 7200.0, 7170.0),
     # The blocked_moves feature: stand still while a moving obstacle passes (at most an hour).
     Verb("wait", WAIT, STATE, 3660.0, 3630.0),
+    # The scan feature: one planar range scan where the robot stands (a sonar sweep takes minutes).
+    Verb("scan", EMPTY, SCANNED, 300.0, 285.0),
     # The health ping and the round-trip benchmark.
     Verb("noop", EMPTY, NOTHING, 5.0, answer=lambda _greeting: None),
     # Which protocol versions and optional features this node serves, and which robot profile.

@@ -13,6 +13,7 @@ profile's name and fingerprint to the ``hello`` reply; ``battery`` adds the char
 dock's pose to it, the ``charge`` verb and the ``battery_empty`` error code.
 ``blocked_moves`` adds the safety distance to it, the optional ``blocked`` field of the
 ``move`` reply and the ``wait`` verb (docs/driver-protocol.md, "Moving obstacles").
+``scan`` adds the ``scan`` verb alone (docs/driver-protocol.md, "Scans").
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ SUPPORTED_VERSIONS: tuple[int, ...] = (PROTOCOL_VERSION,)
 FIELD_FEATURES: tuple[str, ...] = (PROFILE, BATTERY, BLOCKED_MOVES)  # each brings a field of the hello reply
 VERB_FEATURES: tuple[str, ...] = tuple(dict.fromkeys(
     verb.feature for verb in DRIVER_VERBS if verb.feature is not None and verb.feature not in FIELD_FEATURES))
-"""The features that bring verbs and nothing else (none yet): a driver offers one when it
+"""The features that bring verbs and nothing else (``scan``): a driver offers one when it
 has the feature's protocol (``hero_driver.interface.PROTOCOLS``), and the node lists it
 in ``hello`` then, so a new feature's verb needs no change here or in the node."""
 FEATURES: tuple[str, ...] = FIELD_FEATURES + VERB_FEATURES  # optional features this code serves and uses

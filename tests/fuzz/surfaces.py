@@ -521,6 +521,7 @@ _GOOD_REQUESTS: dict[str, Any] = {
     "grasp": {"v": 1, "procedure": "Front-Wrap"},
     "release": {"v": 1},
     "camera": {"v": 1},
+    "scan": {"v": 1},
     "reset": {"v": 1, "world": "lab", "seed": 1},
     "noop": {"v": 1},
     "hello": {"v": 1},

@@ -311,3 +311,31 @@ def test_csl_driver_sim_serves_the_apartment(endpoint: str) -> None:
             assert error_of(client.camera()).code == NO_CAMERA
             assert client.reset(world="apartment-2").result(REPLY_S).pose == Pose(40, 210, 0)
         assert process.stop() == 0
+
+
+@pytest.mark.parametrize("name", ["apartment", "apartment-2"])
+def test_a_lidar_scan_in_the_apartment_ends_where_the_true_map_is_occupied(name: str) -> None:
+    """The scan (ray casting in pymunk) and the true map (drawn from the world file) are
+    two readings of one home: every echo of a noise-free lidar scan from the start pose
+    ends within a cell of an occupied cell of the scan-plane map with objects, and the
+    beam is free 3 in before it ends; a beam with no echo (out through a doorway) meets
+    no occupied cell within the lidar's 480 in."""
+    home = load_world(name, CATALOGUE)
+    truth = truth_map(home, CATALOGUE, 1.0, objects=True)
+    scan = SimWorld(home, 0, PROFILE, NoiseConfig.off()).scan()
+    occupied = ndimage.binary_dilation(truth.occupied, iterations=1)
+    echoes = 0
+    for angle, r in zip(scan.angles_deg, scan.ranges_in):
+        heading = math.radians(scan.pose.heading_deg + angle)
+        if not math.isfinite(r):  # no echo within 480 in: the beam's way out is free that far
+            x0, y0, x1, y1 = truth.extent
+            way = [(scan.pose.x_in + d * math.cos(heading), scan.pose.y_in + d * math.sin(heading))
+                   for d in np.arange(1.0, scan.range_max_in - 2.0, 1.0)]
+            assert not any(truth.occupied[truth.cell_of(x, y)] for x, y in way if x0 <= x < x1 and y0 <= y < y1)
+            continue
+        echoes += 1
+        end = (scan.pose.x_in + r * math.cos(heading), scan.pose.y_in + r * math.sin(heading))
+        before = (scan.pose.x_in + (r - 3.0) * math.cos(heading), scan.pose.y_in + (r - 3.0) * math.sin(heading))
+        assert occupied[truth.cell_of(*end)], (angle, r)
+        assert not truth.occupied[truth.cell_of(*before)], (angle, r)
+    assert echoes > 0.9 * len(scan.ranges_in)  # the hall's walls: most beams end within 480 in

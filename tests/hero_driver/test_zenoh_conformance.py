@@ -19,7 +19,8 @@ pytestmark = pytest.mark.zenoh
 
 ALL_CHECKS = {
     "liveliness", "state-published", "noop", "hello", "profile", "reset", "reset-objects", "camera",
-    "camera-mapping", "move", "state-after-move", "busy", "turns", "durations", "busy-release", "sense", "grasp", "release", "charge", "blocked-moves", "out-of-range-target",
+    "camera-mapping", "move", "state-after-move", "busy", "turns", "durations", "busy-release", "sense", "grasp", "release", "charge", "blocked-moves",
+    "scan", "scan-repeat", "scan-turn", "scan-drive", "out-of-range-target",
     "unknown-verb",
     "unknown-procedure", "malformed-json", "not-utf8", "not-an-object", "every-verb", "wildcard-silence", "wrong-types",
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",

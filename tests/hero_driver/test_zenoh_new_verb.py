@@ -131,9 +131,9 @@ def test_the_schemas_describe_it(seen: dict[str, object]) -> None:
 
 
 def test_a_driver_with_the_verb_serves_it_and_lists_its_feature(seen: dict[str, object]) -> None:
-    # the simulated HERO has a dock in the lab and stops for moving obstacles, and now parks
-    assert seen["features"] == ["battery", "blocked_moves", "parking"]
-    assert seen["agreed"] == ["battery", "blocked_moves", "parking"]
+    # the simulated HERO has a dock in the lab, stops for moving obstacles, scans, and now parks
+    assert seen["features"] == ["battery", "blocked_moves", "scan", "parking"]
+    assert seen["agreed"] == ["battery", "blocked_moves", "parking", "scan"]
     x, y, heading = seen["parked"]  # back from (60, 30) to the lab's start pose (hero_driver/worlds/lab.json),
     # (30, 30) heading 0, within the simulator's motion noise
     assert abs(x - 30.0) < 0.5 and abs(y - 30.0) < 0.5 and abs((heading + 180.0) % 360.0 - 180.0) < 1.0
@@ -141,10 +141,10 @@ def test_a_driver_with_the_verb_serves_it_and_lists_its_feature(seen: dict[str, 
 
 def test_the_conformance_suite_asks_it_of_the_driver(seen: dict[str, object]) -> None:
     assert seen["failed"] == []
-    assert seen["every_verb"].startswith("11 verbs refuse a JSON array bad_request: ")
+    assert seen["every_verb"].startswith("12 verbs refuse a JSON array bad_request: ")
     assert "park" in seen["every_verb"].split(": ", 1)[1].split(", ")
 
 
 def test_a_driver_without_it_does_not_list_the_feature_and_refuses_the_verb(seen: dict[str, object]) -> None:
-    assert seen["plain_features"] == ["battery", "blocked_moves"]
+    assert seen["plain_features"] == ["battery", "blocked_moves", "scan"]
     assert seen["plain_park"] == "unknown_verb: park: this driver has no parking feature (see its hello)"

@@ -150,6 +150,12 @@ BAD: list[tuple[str, object]] = [
                      "profile": {"name": "", "sha256": "ab" * 32}}),
     ("hello.reply", {"v": 1, "versions": [1], "features": ["profile"], "profile": {"name": "rover"}}),
     ("noop.reply", {"v": 1, "ok": True}),
+    ("scan.reply", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "angles_deg": [180],
+                    "ranges_in": [1], "range_min_in": 0, "range_max_in": 10}),
+    ("scan.reply", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "angles_deg": [0],
+                    "ranges_in": ["far"], "range_min_in": 0, "range_max_in": 10}),
+    ("scan.reply", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "angles_deg": [],
+                    "ranges_in": [], "range_min_in": 0, "range_max_in": 10}),
     ("state", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "battery": 1.5}),
     ("state", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": -1, "battery": 1}),
     ("error", {"v": 1, "code": "on_fire", "message": "the gripper is smoking"}),
@@ -173,6 +179,8 @@ GOOD: list[tuple[str, object]] = [
                      "distance_in": 20}),
     ("camera.reply", {"v": 1, "image": {"format": "raw", "height": 1, "width": 1, "data": "AA=="},
                       "inches_per_pixel": 0.8, "origin_x_in": 0, "origin_y_in": 0}),
+    ("scan.reply", {"v": 1, "pose": {"x_in": 0, "y_in": 0, "heading_deg": 0}, "clock_s": 0, "angles_deg": [-180, 0],
+                    "ranges_in": [None, 10], "range_min_in": 0, "range_max_in": 10}),
 ]
 
 
@@ -246,6 +254,16 @@ def image_content(path: tuple[Any, ...], operation: str) -> bool:
     return len(path) >= 2 and path[0] == "image" and operation != "delete"
 
 
+SCAN_BEAMS = ("angles_deg", "ranges_in", "range_min_in", "range_max_in")
+
+
+def scan_content(path: tuple[Any, ...], operation: str) -> bool:
+    """A new value in a scan's beams or range limits: that the angles increase, that the
+    ranges are as many and within the limits is beyond a schema (docs/driver-protocol.md
+    says so; tests/hero_driver/test_zenoh_scan.py holds the codec to it)."""
+    return bool(path) and path[0] in SCAN_BEAMS and not (len(path) == 1 and operation == "delete")
+
+
 @pytest.mark.parametrize("name", sorted(SCHEMAS))
 @settings(max_examples=100, deadline=None)
 @given(data=st.data())
@@ -253,7 +271,7 @@ def test_schema_and_codec_agree_on_mutated_messages(name: str, data: st.DataObje
     message = written(name)
     path = data.draw(st.sampled_from(paths(message)), label="path")
     operation = data.draw(st.sampled_from(["replace", "delete", "add"]), label="operation")
-    if image_content(path, operation):
+    if image_content(path, operation) or (name == "scan.reply" and scan_content(path, operation)):
         return
     value = data.draw(json_values, label="value")
     key = data.draw(st.text(max_size=5), label="key")

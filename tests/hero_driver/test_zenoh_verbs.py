@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from camera_model.image import CameraImage
-from hero_driver.interface import GraspResult, Hello, MoveResult, Pose, RobotState, SenseResult
+from hero_driver.interface import GraspResult, Hello, MoveResult, Pose, RangeScan, RobotState, SenseResult
 from hero_driver.zenoh_link.codec import EmptyRequest, MoveRequest, ProcedureRequest, ResetRequest, WaitRequest
 from hero_driver.zenoh_link.verbs import BY_NAME, NAMES, VERBS
 from hero_driver.zenoh_link.versions import Greeting
@@ -39,6 +39,7 @@ REPLIES: dict[type, object] = {
     CameraImage: CameraImage(np.zeros((2, 3), dtype=np.uint8), 0.8, 0.0, 1.6),
     type(None): None,
     Greeting: Greeting(Hello((1,), ("an-optional-feature",))),
+    RangeScan: RangeScan(HERE, 0.2, (-90.0, 0.0, 90.0), (30.0, 210.0, float("inf")), 0.5, 480.0),
 }
 EXAMPLES: dict[str, tuple[object, object]] = {
     verb.name: (REQUESTS.get(verb.request.value), REPLIES.get(verb.reply.value)) for verb in VERBS}
