@@ -68,6 +68,10 @@ class Traits:
     blind where a carried description of another grasp is still as likely as a measured
     one; with it the session tests on while a test still tells them apart
     (docs/optimum.md, "Carried rows decide the leaf").
+    ``exact_search``: at a node of few descriptions (``exact_choice.EXACT_ROWS``) every
+    test is priced exactly, its cost plus the optimal expected cost below each branch
+    (learner/choosing/exact.py); above it the walk rollout chooses
+    (learner/choosing/exact_choice.py, docs/optimum.md, "Exact below, rollout above").
     """
 
     cost_blind_choices: bool = False
@@ -78,6 +82,7 @@ class Traits:
     rollout_follows_walk: bool = False
     rollout_searches: bool = False
     leaf_every_row: bool = False
+    exact_search: bool = False
 
 
 @dataclass(frozen=True)
@@ -221,6 +226,16 @@ def with_leaf_every_row(searched: CriterionSpec) -> CriterionSpec:
                                help="walk searched, carried rows decide leaves too", leaf_every_row=True)
 
 
+def with_exact_search(priced: CriterionSpec) -> CriterionSpec:
+    """``priced`` (a failure-priced rule) choosing by the exact search at nodes of few
+    descriptions and by its walk rollout above (``exact_search``), a node a leaf only
+    when every row at it shares a grasp (``leaf_every_row``: where the search stops)."""
+    return dataclasses.replace(with_walk_rollout(priced), name=f"{priced.name}-exact",
+                               formula=f"{priced.formula}, exact search at small nodes",
+                               help="exact below a few descriptions, walk rollout above", leaf_every_row=True,
+                               exact_search=True)
+
+
 _CS_ID3 = CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3)
 _IDX = CriterionSpec("idx", "I / C", "Norton 1989", True, _idx)
 _FAILURE_PRICED = with_grasp_paid_on_failure(_CS_ID3)
@@ -243,6 +258,7 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
         with_rollout(_CS_ID3),
         with_rollout(_IDX),
         _FAILURE_PRICED,
+        with_exact_search(_FAILURE_PRICED),
         with_leaf_every_row(with_walk_search(_FAILURE_PRICED)),
     )
 })
