@@ -33,7 +33,8 @@ its few rows: the search touches only the nodes the bound does not prune.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator, Sequence
+from bisect import bisect_right
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,12 +53,13 @@ Rows = tuple[int, ...]
 
 @dataclass(frozen=True)
 class _Branching:
-    """A test's split of a node: its children (ids) and, per child, each row's share of
-    the row's probability (1 for a row with the value, ``1/k`` for one lacking it)."""
+    """A test's split of a node: its children (ids) and, per child, its rows (their index
+    in the node) with each one's share of the row's probability (1 for a row with the
+    value, ``1/k`` for one lacking it)."""
 
     column: int
     children: tuple[int, ...]
-    shares: tuple[tuple[float, ...], ...]
+    members: tuple[tuple[tuple[int, float], ...], ...]  # per child, (index in the node, share) of its rows
 
 
 @dataclass(frozen=True)
@@ -109,7 +111,9 @@ class ExactSearch:
         self._facts: list[_NodeFacts | None] = []
         self._branchings: dict[int, tuple[_Branching, ...]] = {}
         self._node_ids: dict[Rows, int] = {}
-        self._grasp_places: dict[tuple[int, int, str], int] = {}
+        self._grasp_places: dict[tuple[object, int, str], int] = {}
+        self._recorded: dict[tuple[int, str], tuple[Position, ...]] = {}
+        self._column_from: dict[tuple[int, int], float] = {}
         self._without: dict[tuple[int, str], tuple[int, tuple[bool, ...]]] = {}
         self.positions: list[Position] = []
         self._position_ids: dict[Position, int] = {}
@@ -162,11 +166,13 @@ class ExactSearch:
         if known is not None and (known[1] or known[0] >= budget):
             return known[0]
         actions = []
-        for cost, children, target, now_free, now_taken in self.actions(node, weights, at, free, taken):
+        # an action that alone costs the budget is left out: bounding its children would not save it
+        found, some = self.actions(node, weights, at, free, taken, budget)
+        for cost, children, target, now_free, now_taken in found:
             bounds = [self._bound(child, child_weights, target, now_free) for child, _, child_weights in children]
             actions.append((cost + sum(m * x for (_, m, _), x in zip(children, bounds)), cost, children, bounds,
                             target, now_free, now_taken))
-        if not actions:
+        if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
         actions.sort(key=lambda a: a[0])
         best = math.inf
@@ -197,26 +203,40 @@ class ExactSearch:
                 return max(total + rest, limit)
         return total
 
-    def actions(self, node: int, weights: Weights, at: int, free: int,
-                taken: int) -> Iterator[tuple[float, list[tuple[int, float, Weights]], int, int, int]]:
-        """Every action from ``at``: (its expected cost now, its children as (node,
+    def actions(self, node: int, weights: Weights, at: int, free: int, taken: int,
+                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]], int, int, int]],
+                                                   bool]:
+        """Every action from ``at`` that costs less than ``budget`` by itself, and whether
+        there is any action at all: (its expected cost now, its children as (node,
         probability, their rows' probabilities), where the robot ends, free tests after,
         tests taken after). A test is paid whatever comes of it; a grasp only when it
         is wrong (the right one ends recognition, not counted), and then, as a failed
         attempt, its move and ``feature_cost_s``: time plus side-effect penalty."""
         facts = self.facts(node)
+        found: list[tuple[float, list[tuple[int, float, Weights]], int, int, int]] = []
+        some = False
+        limit = budget - _EPS
         for b in self.branchings(node):
             c = b.column
             if taken >> c & 1:
                 continue
+            some = True
             if free >> c & 1:  # re-used where the robot stands; the session records it there too
-                yield 0.0, self._children(b, weights), at, free | self._frees(c, "feature", at), taken | (1 << c)
+                found.append((0.0, self._children(b, weights), at, free | self._frees(c, "feature", at),
+                              taken | (1 << c)))
                 continue
-            children = self._children(b, weights)
+            grasp = self.is_grasp[c]
+            paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
+            children = None
             for target in self._targets_for(c, at):
-                priced = self.test_action(node, weights, b, at, target, free, taken, children)
-                if priced is not None:
-                    yield priced
+                move = self._move(at, target, sensing=not grasp)
+                cost = paid * (move + self.price[c])
+                if cost >= limit:
+                    continue  # also when no move gets there (inf)
+                if children is None:
+                    children = self._children(b, weights)
+                now_free = free if grasp else free | self._frees(c, "procedure", target)
+                found.append((cost, children, target, now_free, taken | (1 << c)))
         for grasp in facts.grasps:
             if not self.verifiable[grasp]:
                 continue  # "executing" it means moving on: the robot would never learn it was wrong
@@ -225,8 +245,12 @@ class ExactSearch:
             target = self._grasp_place(node, at, grasp)
             move = self._move(at, target)
             if math.isfinite(move):
-                yield (wrong * (move + self.failure_s[grasp]),
-                       [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k))], target, free, taken)
+                some = True
+                cost = wrong * (move + self.failure_s[grasp])
+                if cost < limit:
+                    found.append((cost, [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k))],
+                                  target, free, taken))
+        return found, some
 
     def test_action(self, node: int, weights: Weights, b: _Branching, at: int, target: int, free: int, taken: int,
                     children: list[tuple[int, float, Weights]] | None = None
@@ -239,7 +263,7 @@ class ExactSearch:
         move = self._move(at, target, sensing=not grasp)
         if not math.isfinite(move):
             return None
-        paid = sum(w * s for w, s in zip(weights, b.shares[0])) if grasp else 1.0
+        paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
         now_free = free if grasp else free | self._frees(c, "procedure", target)
         if children is None:
             children = self._children(b, weights)
@@ -251,10 +275,11 @@ class ExactSearch:
 
     def _children(self, b: _Branching, weights: Weights) -> list[tuple[int, float, Weights]]:
         children = []
-        for child, shares in zip(b.children, b.shares):
-            mass = sum(w * s for w, s in zip(weights, shares))
+        for child, members in zip(b.children, b.members):
+            raw = [weights[i] * s for i, s in members]
+            mass = sum(raw)
             if mass > _EPS:
-                children.append((child, mass, tuple(w * s / mass for w, s in zip(weights, shares) if s > 0)))
+                children.append((child, mass, tuple(x / mass for x in raw)))
         return children
 
     def bounds_of(self, children: Sequence[tuple[int, float, Weights]], target: int, free: int) -> list[float]:
@@ -276,19 +301,27 @@ class ExactSearch:
         """Where the learner would execute ``grasp`` from ``at`` (``grasp_options``: the
         cheapest of the positions its descriptions at this node record)."""
         key = (node, at, grasp)
-        if key not in self._grasp_places:
-            here = self.positions[at]
+        if key in self._grasp_places:
+            return self._grasp_places[key]
+        recorded = self._recorded.get((node, grasp))
+        if recorded is None:
             labels = self.matrix.labels
-            places = sorted({labels.positions[labels.grasp_position[r]] for r in self.rows[node]
-                             if self.matrix.classes[self.matrix.class_of[r]] == grasp})
+            recorded = self._recorded[node, grasp] = tuple(sorted(
+                {labels.positions[labels.grasp_position[r]] for r in self.rows[node]
+                 if self.matrix.classes[self.matrix.class_of[r]] == grasp}))
+        chosen = self._grasp_places.get((recorded, at, grasp))
+        if chosen is None:
+            here = self.positions[at]
+            places = recorded
             best, least = here, math.inf
             for position in places:  # grasp_options' choice: the first of the cheapest, in order
                 target = target_for(Test(grasp, position, grasp, is_grasp=True), here, self.ctx)
                 move = self.estimator.move_cost(here, target)
                 if move < least:
                     best, least = target, move
-            self._grasp_places[key] = self.place(best)
-        return self._grasp_places[key]
+            chosen = self._grasp_places[recorded, at, grasp] = self.place(best)
+        self._grasp_places[key] = chosen
+        return chosen
 
     def _bound(self, node: int, weights: Weights, at: int, free: int) -> float:
         """A lower bound of a node's expected cost: 0 when it is settled or a free test
@@ -317,8 +350,7 @@ class ExactSearch:
         paid sensing test, and per grasp of the node the cheapest try of it when it fails
         (``inf`` for one the finger sensor cannot confirm)."""
         facts = self.facts(node)
-        sensing = min((self._move(at, t, sensing=True) + self.price[c] for c in facts.columns
-                       if not self.is_grasp[c] for t in self._targets_for(c, at)), default=math.inf)
+        sensing = min((self._sensing_from(c, at) for c in facts.columns if not self.is_grasp[c]), default=math.inf)
         per_grasp = []
         for g in facts.grasps:
             if not self.verifiable[g]:
@@ -360,18 +392,29 @@ class ExactSearch:
         for c, values in zip(columns, self.matrix.values[list(rows)][:, columns].T.tolist()):
             ranges = partition([v for v in values if v == v], self.errors[c])
             k = len(ranges)
-            branch = []
-            for v in values:
-                if v != v:
-                    branch.append(-1)
+            lows = [lo - _EPS for lo, _ in ranges]
+            # each known value lies in one range (they were made from these values): the
+            # last range starting at or below it; -1: lacking, down every branch
+            branch = [bisect_right(lows, v) - 1 if v == v else -1 for v in values]
+            members: list[list[tuple[int, float]]] = [[] for _ in range(k)]
+            for i, j in enumerate(branch):
+                if j < 0:
+                    for m in members:
+                        m.append((i, 1.0 / k))
                 else:
-                    branch.append(next(i for i, (lo, hi) in enumerate(ranges) if lo - _EPS <= v <= hi + _EPS))
-            children, shares = [], []
-            for i in range(k):
-                children.append(self.node_id(tuple(r for r, j in zip(rows, branch) if j == i or j < 0)))
-                shares.append(tuple(1.0 if j == i else (1.0 / k if j < 0 else 0.0) for j in branch))
-            out.append(_Branching(c, tuple(children), tuple(shares)))
+                    members[j].append((i, 1.0))
+            children = tuple(self.node_id(tuple(rows[i] for i, _ in m)) for m in members)
+            out.append(_Branching(c, children, tuple(tuple(m) for m in members)))
         found = self._branchings[node] = tuple(out)
+        return found
+
+    def _sensing_from(self, column: int, at: int) -> float:
+        """The cheapest way to make sensing test ``column`` from ``at``: move and time."""
+        key = (column, at)
+        found = self._column_from.get(key)
+        if found is None:
+            found = self._column_from[key] = min(self._move(at, t, sensing=True) + self.price[column]
+                                                 for t in self._targets_for(column, at))
         return found
 
     def _frees(self, column: int, kind: str, at: int) -> int:

@@ -23,70 +23,44 @@ bounds.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 from learner.choosing.exact import ExactSearch, priced_all
 from learner.choosing.matrix import Test
 from learner.choosing.node import Context, Measurements, Node, ScoredTest
-from learner.choosing.rollout import rescored
-from learner.choosing.rollout_walk import WalkRollout, rolled_out, shared, star_fills
+from learner.choosing.rollout_walk import rolled_out, shared, star_fills
 from learner.position import Position
 
-EXACT_ROWS = 10
-"""The most descriptions at a node for which the exact search chooses; above it the
-walk rollout does (docs/optimum.md, "Exact below, rollout above")."""
-
-
-SHORTLIST = 6
-"""Above :data:`EXACT_ROWS`: how many of the tests least by the walk rollout are rolled
-out again with exact tails."""
-TAIL_ROWS = 6
-"""Above :data:`EXACT_ROWS`, the walk rollout finishes a candidate with the one-step
-rule down to nodes of at most this many descriptions and with the exact search below."""
+EXACT_ROWS = 14
+"""The most descriptions at the first node a session chooses at for which the exact
+search chooses there (its whole search then serves the session's later decisions)."""
+COLD_ROWS = 8
+"""The most descriptions at a later node for which a session that has not searched a
+node as large yet starts the search there; above it the walk rollout chooses."""
 
 
 def searched(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
              exclude: frozenset[Test]) -> list[ScoredTest]:
-    """``ranked`` (one-step order) reordered by expected total cost: exactly at a node
-    of at most :data:`EXACT_ROWS` descriptions, by the walk rollout above."""
-    decide = _searched if len(node.rows) <= EXACT_ROWS else rolled_out
+    """``ranked`` (one-step order) reordered by expected total cost: exactly where the
+    search is cheap (:func:`exact_here`), by the walk rollout elsewhere."""
+    if not exact_here(len(node.rows), ctx):
+        return rolled_out(node, ranked, current, ctx, measurements, exclude)
     return shared((ctx.criterion, node, current, frozenset(measurements), exclude),
-                  lambda: decide(node, ranked, current, ctx, measurements, exclude))
+                  lambda: _searched(node, ranked, current, ctx, measurements, exclude))
 
 
-class _ExactTails(WalkRollout):
-    """The walk rollout, finished exactly at nodes of at most :data:`TAIL_ROWS` rows."""
-
-    def __init__(self, ctx: Context, node: Node) -> None:
-        super().__init__(ctx, node)
-        self.search = ExactSearch(ctx.matrix, ctx.estimator, ctx)
-        self._free: dict[frozenset[tuple[str, Position]], int] = {}
-
-    def finish(self, node: Node, weights: tuple[float, ...], at: Position, measured: frozenset[tuple[str, Position]],
-               exclude: frozenset[Test], failed: frozenset[str], depth: int = 0) -> float:
-        if len(node.rows) > TAIL_ROWS:
-            return super().finish(node, weights, at, measured, exclude, failed, depth)
-        search = self.search
-        if measured not in self._free:
-            self._free[measured] = search.free_mask(dict.fromkeys(measured, math.nan))
-        return search.expected(search.node_id(node.rows), weights, search.place(at), self._free[measured],
-                               search.taken_mask(exclude))
-
-
-def _rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
-                exclude: frozenset[Test]) -> list[ScoredTest]:
-    """Every test (each also at every fill of its ``*`` slots) rolled out with the
-    one-step rule as walked; the :data:`SHORTLIST` least of those rolled out again with
-    exact tails."""
-    weights = node.weights()
-    measured = frozenset(measurements)
-    candidates = [*ranked, *(fill for test in ranked for fill in star_fills(test, current, ctx))]
-    cheap = WalkRollout(ctx, node)
-    rolled = rescored(candidates, lambda test: cheap.after(node, weights, test, measured, exclude, frozenset()),
-                      width=len(candidates))
-    tails = _ExactTails(ctx, node)
-    return rescored(rolled, lambda test: tails.after(node, weights, test, measured, exclude, frozenset()),
-                    width=SHORTLIST)
+def exact_here(rows: int, ctx: Context) -> bool:
+    """Whether the exact search chooses at a node of ``rows`` descriptions: at the
+    context's first choice up to :data:`EXACT_ROWS`; later up to :data:`COLD_ROWS`, or
+    up to the largest node already searched (whose search the later ones re-use).
+    Bounded so that a first decision stays within a few hundred milliseconds and a later
+    one within tens (bench/bench_optimum.py measures both)."""
+    first = "searched_rows" not in ctx.scratch
+    largest = ctx.scratch.setdefault("searched_rows", 0)
+    assert isinstance(largest, int)
+    exact = rows <= COLD_ROWS or rows <= largest or (first and rows <= EXACT_ROWS)
+    if exact:
+        ctx.scratch["searched_rows"] = max(largest, rows)
+    return exact
 
 
 def _searched(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
