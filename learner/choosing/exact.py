@@ -107,6 +107,7 @@ class ExactSearch:
         self.verifiable = {g: matrix.knowledge.grasp(g).verifiable for g in matrix.classes}
         self.failure_s = {g: matrix.knowledge.grasp(g).feature_cost_s for g in matrix.classes}
         self.memo: dict[tuple[object, ...], tuple[float, bool]] = {}
+        self.choices: dict[tuple[object, ...], tuple[int, int]] = {}  # a solved state's best action: (its bit, target)
         self.rows: list[Rows] = []
         self._facts: list[_NodeFacts | None] = []
         self._branchings: dict[int, tuple[_Branching, ...]] = {}
@@ -114,6 +115,7 @@ class ExactSearch:
         self._grasp_places: dict[tuple[object, int, str], int] = {}
         self._recorded: dict[tuple[int, str], tuple[Position, ...]] = {}
         self._column_from: dict[tuple[int, int], float] = {}
+        self._offered: dict[tuple[int, int], tuple[tuple[float, int], ...]] = {}
         self._without: dict[tuple[int, str], tuple[int, tuple[bool, ...]]] = {}
         self.positions: list[Position] = []
         self._position_ids: dict[Position, int] = {}
@@ -175,19 +177,32 @@ class ExactSearch:
         if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
         actions.sort(key=lambda a: a[0])
-        best = math.inf
+        best, chosen = math.inf, (0, at)
         for bound, cost, children, bounds, target, now_free, now_taken in actions:
             limit = min(best, budget)
             if bound >= limit - _EPS:
                 break  # sorted: no later action can do better
             total = self.below(cost, children, bounds, target, now_free, now_taken, limit)
-            best = min(best, total)
+            if total < best:
+                best, chosen = total, (now_taken & ~taken, target)
         if best < budget:
             self.memo[key] = (best, True)
+            self.choices[key] = chosen
             return best
         lower = max(budget, known[0] if known is not None else 0.0)
         self.memo[key] = (lower, False)
         return lower
+
+    def solved(self, node: int, weights: Weights, at: int, free: int, taken: int) -> tuple[float, int, int] | None:
+        """A state the search has solved exactly: (its least expected cost, the column of
+        its best action, -1 for a blind grasp, and where that action is made); None
+        when it was not searched to the end."""
+        facts = self.facts(node)
+        key = (node, tuple(round(w, 12) for w in weights), at, free & facts.useful, taken & facts.useful)
+        known, chosen = self.memo.get(key), self.choices.get(key)
+        if known is None or not known[1] or chosen is None:
+            return None
+        return known[0], chosen[0].bit_length() - 1, chosen[1]
 
     def below(self, cost: float, children: Sequence[tuple[int, float, Weights]], bounds: Sequence[float], target: int,
               free: int, taken: int, limit: float = math.inf) -> float:
@@ -228,11 +243,10 @@ class ExactSearch:
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
             children = None
-            for target in self._targets_for(c, at):
-                move = self._move(at, target, sensing=not grasp)
-                cost = paid * (move + self.price[c])
+            for base, target in self._offers(c, at):
+                cost = paid * base
                 if cost >= limit:
-                    continue  # also when no move gets there (inf)
+                    break  # the offers are cheapest first
                 if children is None:
                     children = self._children(b, weights)
                 now_free = free if grasp else free | self._frees(c, "procedure", target)
@@ -282,9 +296,23 @@ class ExactSearch:
                 children.append((child, mass, tuple(x / mass for x in raw)))
         return children
 
-    def bounds_of(self, children: Sequence[tuple[int, float, Weights]], target: int, free: int) -> list[float]:
-        """A lower bound of each child's expected cost (see :meth:`_bound`)."""
-        return [self._bound(child, child_weights, target, free) for child, _, child_weights in children]
+    def bounds_of(self, children: Sequence[tuple[int, float, Weights]], target: int, free: int,
+                  taken: int) -> list[float]:
+        """A lower bound of each child's expected cost: what the memo knows of its state
+        (exact, or a bound at least some budget) where it was searched, else :meth:`_bound`."""
+        out = []
+        for child, _, child_weights in children:
+            facts = self.facts(child)
+            if len(facts.grasps) < 2:
+                out.append(0.0)
+                continue
+            known = self.memo.get((child, tuple(round(w, 12) for w in child_weights), target, free & facts.useful,
+                                   taken & facts.useful))
+            if known is not None:
+                out.append(known[0])
+            else:
+                out.append(self._bound(child, child_weights, target, free))
+        return out
 
     def _dropped(self, node: int, grasp: str) -> tuple[int, tuple[bool, ...]]:
         """The node left when ``grasp`` failed (its rows dropped) and which of this
@@ -408,6 +436,17 @@ class ExactSearch:
         found = self._branchings[node] = tuple(out)
         return found
 
+    def _offers(self, column: int, at: int) -> tuple[tuple[float, int], ...]:
+        """Where test ``column`` can be made from ``at``, cheapest first: (move plus the
+        procedure's time or the grasp's ``feature_cost_s``, target), unreachable ones left out."""
+        key = (column, at)
+        found = self._offered.get(key)
+        if found is None:
+            grasp = self.is_grasp[column]
+            priced = ((self._move(at, t, sensing=not grasp) + self.price[column], t) for t in self._targets_for(column, at))
+            found = self._offered[key] = tuple(sorted(o for o in priced if math.isfinite(o[0])))
+        return found
+
     def _sensing_from(self, column: int, at: int) -> float:
         """The cheapest way to make sensing test ``column`` from ``at``: move and time."""
         key = (column, at)
@@ -474,28 +513,30 @@ def session_action(search: ExactSearch, node: int, weights: Weights, test: Score
 
 
 def priced_all(search: ExactSearch, node: int, weights: Weights, tests: Sequence[ScoredTest], at: int, free: int,
-               taken: int) -> list[float]:
+               taken: int) -> list[tuple[float, bool]]:
     """Each of ``tests`` priced as a session would take it: what it costs plus, per
-    branch, the least expected cost below it. Branch and bound, as the search's own
-    node: the tests are searched in the order of their lower bounds, and a test whose
-    bound reaches the least total found is not searched (its price is then its bound,
-    at least that least; ``inf`` for one that splits nothing here)."""
-    prices = [math.inf] * len(tests)
+    branch, the least expected cost below it, and whether that price is exact. Branch
+    and bound, as the search's own node: the tests are searched in the order of their
+    lower bounds, and one that cannot beat the least total found is searched no further
+    (its price is then a lower bound, at least that least; ``inf`` for a test that
+    splits nothing here). The least price is exact."""
+    prices = [(math.inf, False)] * len(tests)
     bounded = []
     for i, test in enumerate(tests):
         action = session_action(search, node, weights, test, at, free, taken)
         if action is not None:
             cost, children, target, now_free, now_taken = action
-            bounds = search.bounds_of(children, target, now_free)
+            bounds = search.bounds_of(children, target, now_free, now_taken)
             bounded.append((cost + sum(m * x for (_, m, _), x in zip(children, bounds)), i, action, bounds))
     bounded.sort(key=lambda a: (a[0], a[1]))
     best = math.inf
     for bound, i, (cost, children, target, now_free, now_taken), bounds in bounded:
         if bound >= best - _EPS:
-            prices[i] = max(bound, best)
+            prices[i] = (max(bound, best), False)
             continue
-        prices[i] = search.below(cost, children, bounds, target, now_free, now_taken, best)
-        best = min(best, prices[i])
+        price = search.below(cost, children, bounds, target, now_free, now_taken, best)
+        prices[i] = (price, price < best)
+        best = min(best, price)
     return prices
 
 

@@ -66,24 +66,36 @@ def exact_here(rows: int, ctx: Context) -> bool:
 def _searched(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
               exclude: frozenset[Test]) -> list[ScoredTest]:
     search = session_search(ctx)
+    here, weights, at = search.node_id(node.rows), node.weights(), search.place(current)
+    free, taken = search.free_mask(measurements), search.taken_mask(exclude)
     candidates = [*ranked, *(fill for test in ranked for fill in star_fills(test, current, ctx))]
-    totals = priced_all(search, search.node_id(node.rows), node.weights(), candidates, search.place(current),
-                        search.free_mask(measurements), search.taken_mask(exclude))
-    return _ordered(candidates, totals)
+    solved = search.solved(here, weights, at, free, taken)
+    if solved is not None:  # an earlier decision searched this state to the end: its best action is known
+        total, column, target = solved
+        where = search.positions[target]
+        best = next((i for i, t in enumerate(candidates) if ctx.matrix.column[t.test] == column
+                     and (t.target == where or t.cost <= 0)), None)
+        if best is not None:
+            rest = [t for i, t in enumerate(ranked) if i != best]  # for reselection, in one-step order
+            return [dataclasses.replace(candidates[best], score=-total, scored_on=(candidates[best].gain, total)),
+                    *rest]
+    return _ordered(candidates, priced_all(search, here, weights, candidates, at, free, taken))
 
 
 def session_search(ctx: Context) -> ExactSearch:
     """The exact search this context's decisions share (``ctx.scratch``): what one
     decision searched, the next re-uses, so a session pays for the search below its
-    first exact decision once. A new one when the library or the estimator changed."""
+    first exact decision once. (A context's library and estimator are fixed; a forked
+    session's copy of the estimator prices as the original does.)"""
     search = ctx.scratch.get("exact")
-    if not isinstance(search, ExactSearch) or search.matrix is not ctx.matrix or search.estimator is not ctx.estimator:
+    if not isinstance(search, ExactSearch) or search.matrix is not ctx.matrix:
         search = ctx.scratch["exact"] = ExactSearch(ctx.matrix, ctx.estimator, ctx)
     return search
 
 
-def _ordered(candidates: list[ScoredTest], totals: list[float]) -> list[ScoredTest]:
-    """``candidates`` least total first (ties in their given order), each scored ``-total``."""
-    order = sorted(range(len(candidates)), key=lambda i: totals[i])
-    return [dataclasses.replace(candidates[i], score=-totals[i], scored_on=(candidates[i].gain, totals[i]))
+def _ordered(candidates: list[ScoredTest], prices: list[tuple[float, bool]]) -> list[ScoredTest]:
+    """``candidates`` least price first, an exact price before a bound of the same value
+    (ties otherwise in their given order), each scored ``-price``."""
+    order = sorted(range(len(candidates)), key=lambda i: (prices[i][0], not prices[i][1]))
+    return [dataclasses.replace(candidates[i], score=-prices[i][0], scored_on=(candidates[i].gain, prices[i][0]))
             for i in order]
