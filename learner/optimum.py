@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import copy
 import math
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -64,7 +65,7 @@ from learner.choosing.node import Context, ScoredTest, measured_value
 from learner.choosing.rollout_walk import shared_decisions
 from learner.costs import MoveCostEstimator
 from learner.position import Position
-from learner.runtime import Matched, RecognitionSession, Unreliable
+from learner.runtime import Decision, Matched, RecognitionSession, Unreliable
 
 # -- the optimum ------------------------------------------------------------------------
 def optimal_cost(matrix: DescriptionMatrix, estimator: MoveCostEstimator, start: Position) -> float:
@@ -134,6 +135,52 @@ def policy_cost(matrix: DescriptionMatrix, criterion: Criterion, estimator: Move
                 *, seed: int = 0) -> float:
     """Expected seconds of the learner's greedy policy (see :func:`policy_walk`)."""
     return policy_walk(matrix, criterion, estimator, start, seed=seed).expected_cost
+
+
+@dataclass(frozen=True)
+class DecisionTimes:
+    """CPU seconds of the decisions of the walks (:func:`decision_times`): each session's
+    first, and every later one (forks included)."""
+
+    first: tuple[float, ...]
+    later: tuple[float, ...]
+
+
+class _Clock(list[float]):
+    """The decision times of one walk, shared by its forks (a copy would lose theirs)."""
+
+    def __deepcopy__(self, memo: dict[int, object]) -> _Clock:
+        return self
+
+
+class _TimedSession(RecognitionSession):
+    """A session that records the CPU time of every decision it works out."""
+
+    clock: _Clock
+
+    def _decide(self) -> Decision:
+        began = time.process_time()
+        try:
+            return super()._decide()
+        finally:
+            self.clock.append(time.process_time() - began)
+
+
+def decision_times(matrix: DescriptionMatrix, criterion: Criterion, estimator: MoveCostEstimator, start: Position,
+                   *, seed: int = 0) -> DecisionTimes:
+    """The CPU time of every decision of :func:`policy_walk`'s walks, each description's
+    session deciding for itself (no decision shared between them, as a robot's session
+    for one object decides alone): what a criterion costs a robot per decision, and at
+    the first decision of a session, where a search shared by its later ones is paid."""
+    first: list[float] = []
+    later: list[float] = []
+    for row in range(len(matrix.descriptions)):
+        session = _TimedSession(matrix, criterion, estimator, start, seed=seed)
+        session.clock = _Clock()
+        _walk(session, row)
+        first.extend(session.clock[:1])
+        later.extend(session.clock[1:])
+    return DecisionTimes(tuple(first), tuple(later))
 
 
 def _walk(session: RecognitionSession, row: int, *, first: bool = True,

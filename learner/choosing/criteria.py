@@ -258,8 +258,8 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
         with_rollout(_CS_ID3),
         with_rollout(_IDX),
         _FAILURE_PRICED,
-        with_exact_search(_FAILURE_PRICED),
         with_leaf_every_row(with_walk_search(_FAILURE_PRICED)),
+        with_exact_search(_FAILURE_PRICED),
     )
 })
 """The criteria the product offers, by name, in the order help lists them: the paper's
