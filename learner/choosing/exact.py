@@ -171,9 +171,14 @@ class ExactSearch:
         # an action that alone costs the budget is left out: bounding its children would not save it
         found, some = self.actions(node, weights, at, free, taken, budget)
         for cost, children, target, now_free, now_taken in found:
-            bounds = [self._bound(child, child_weights, target, now_free) for child, _, child_weights in children]
-            actions.append((cost + sum(m * x for (_, m, _), x in zip(children, bounds)), cost, children, bounds,
-                            target, now_free, now_taken))
+            bound, bounds = cost, []
+            for child, mass, child_weights in children:
+                bounds.append(self._bound(child, child_weights, target, now_free))
+                bound += mass * bounds[-1]
+                if bound >= budget - _EPS:
+                    break  # it cannot come in under the budget: no need to bound the rest
+            else:
+                actions.append((bound, cost, children, bounds, target, now_free, now_taken))
         if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
         actions.sort(key=lambda a: a[0])
