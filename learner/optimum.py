@@ -45,7 +45,9 @@ own grasp is executed.
 The state of the search is what the future depends on: the candidate rows, their
 probabilities, the robot's position, which still-useful tests are free, and which were
 already taken. Only tests that can still split a subset of the rows matter, so the memo
-key keeps just those; everything else is the same state.
+key keeps just those; everything else is the same state. The search is
+``learner.choosing.exact``'s, which ``cs-id3-failure-exact`` also runs at a session's
+nodes (``learner.choosing.exact_choice``).
 """
 
 from __future__ import annotations

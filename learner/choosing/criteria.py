@@ -14,7 +14,9 @@ chance of failing (it is paid only then); ``cs-id3-failure-search-every-row`` ro
 rule out with an estimate that follows the session's walk, also rolls out every grasp
 test and every ``*`` fill the library uses, searches the best few a few nodes deep
 (learner/choosing/rollout_walk.py, docs/optimum.md), and makes a node a leaf only when
-every description at it, carried ones included, shares one grasp (``leaf_every_row``).
+every description at it, carried ones included, shares one grasp (``leaf_every_row``);
+``cs-id3-failure-exact`` chooses by the exact search where few descriptions remain
+(learner/choosing/exact_choice.py) and by the walk rollout elsewhere.
 The builders also make the forms only the experiments measure, as ablations (joint
 gain, a one-step lookahead, the walk rollout and search on their own; docs/optimum.md,
 "Which criteria the product offers").
@@ -263,9 +265,9 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     )
 })
 """The criteria the product offers, by name, in the order help lists them: the paper's
-baselines, the rollouts of CSL's rule and Norton's, the default, and the default's walk
-search with carried rows deciding leaves (docs/optimum.md, "Which criteria the product
-offers", says why these). Iterating it gives the names, so it also serves as argparse
+baselines, the rollouts of CSL's rule and Norton's, the default, the default's walk
+search with carried rows deciding leaves, and its exact search where few descriptions
+remain (docs/optimum.md, "Which criteria the product offers", says why these). Iterating it gives the names, so it also serves as argparse
 ``choices``. The other forms the builders above make are the experiments' to measure."""
 
 
