@@ -246,7 +246,10 @@ DEFAULT_CRITERION = "cs-id3-failure"
 """The executive's rule. Cheaper under noise than ``cs-id3`` (docs/optimum.md, "Under
 noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
-opt-in (docs/optimum.md, "The default stays")."""
+opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
+the optimum noise-free but searches the whole library at a session's first decision, not
+yet within the first decision's goal everywhere (docs/optimum.md, "Exact below, rollout
+above")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
@@ -267,8 +270,9 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
 """The criteria the product offers, by name, in the order help lists them: the paper's
 baselines, the rollouts of CSL's rule and Norton's, the default, the default's walk
 search with carried rows deciding leaves, and its exact search where few descriptions
-remain (docs/optimum.md, "Which criteria the product offers", says why these). Iterating it gives the names, so it also serves as argparse
-``choices``. The other forms the builders above make are the experiments' to measure."""
+remain (docs/optimum.md, "Which criteria the product offers", says why these).
+Iterating it gives the names, so it also serves as argparse ``choices``. The other forms
+the builders above make are the experiments' to measure."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:

@@ -67,8 +67,8 @@ class _NodeFacts:
     """What the search needs of a node to bound it, worked out with a few array
     operations: the grasps of its rows (any may be executed; one alone settles the
     node) and each row's, which tests split it (bitmask, and the columns), and which
-    could split some subset of it (bitmask). Its branchings (:meth:`ExactSearch.branchings`) are worked out only when the
-    node is expanded."""
+    could split some subset of it (bitmask). Its branchings
+    (:meth:`ExactSearch.branchings`) are worked out only when the node is expanded."""
 
     grasps: tuple[str, ...]
     splitting: int
@@ -448,7 +448,8 @@ class ExactSearch:
         found = self._offered.get(key)
         if found is None:
             grasp = self.is_grasp[column]
-            priced = ((self._move(at, t, sensing=not grasp) + self.price[column], t) for t in self._targets_for(column, at))
+            priced = ((self._move(at, t, sensing=not grasp) + self.price[column], t)
+                      for t in self._targets_for(column, at))
             found = self._offered[key] = tuple(sorted(o for o in priced if math.isfinite(o[0])))
         return found
 
