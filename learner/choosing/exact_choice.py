@@ -2,13 +2,15 @@
 
 The exact search (:mod:`learner.choosing.exact`) prices a test at a node at what it
 costs plus the least expected cost below each of its branches: the optimal choice, under
-docs/optimum.md's accounting. Its work grows steeply with the descriptions at the node,
-but below a root a test has split them: at a node of at most :data:`EXACT_ROWS`
-descriptions it takes milliseconds (bench/bench_optimum.py). So a criterion with the
-``exact_search`` trait (``cs-id3-failure-exact``) chooses there by the search, every
-test the one-step ranking offers priced exactly (a ``*`` test also at each other fill
-of its slots the library uses, ``rollout_walk.star_fills``), and above it by its walk
-rollout (learner/choosing/rollout_walk.py), whose estimate follows the session's walk.
+docs/optimum.md's accounting. Its work grows steeply with the descriptions at the node
+(the camera's appearance often leaves under ten, a test splits them further), and what
+it found serves the session's later decisions. So a criterion with the ``exact_search``
+trait (``cs-id3-failure-exact``) chooses by the search where it is cheap enough
+(:func:`exact_here`), every test the one-step ranking offers priced exactly (a ``*``
+test also at each other fill of its slots the library uses, ``rollout_walk.star_fills``),
+and elsewhere by its walk rollout (learner/choosing/rollout_walk.py), whose estimate
+follows the session's walk. A state an earlier decision searched to the end keeps its
+best action, which a later decision there takes at once.
 
 The search works from the session's state only: the node's rows and how likely each
 came this way (``Node.weights``), where the robot stands, which tests its measurements
