@@ -14,7 +14,9 @@ chance of failing (it is paid only then); ``cs-id3-failure-search-every-row`` ro
 rule out with an estimate that follows the session's walk, also rolls out every grasp
 test and every ``*`` fill the library uses, searches the best few a few nodes deep
 (learner/choosing/rollout_walk.py, docs/optimum.md), and makes a node a leaf only when
-every description at it, carried ones included, shares one grasp (``leaf_every_row``).
+every description at it, carried ones included, shares one grasp (``leaf_every_row``);
+``cs-id3-failure-exact`` chooses by the exact search where few descriptions remain
+(learner/choosing/exact_choice.py) and by the walk rollout elsewhere.
 The builders also make the forms only the experiments measure, as ablations (joint
 gain, a one-step lookahead, the walk rollout and search on their own; docs/optimum.md,
 "Which criteria the product offers").
@@ -68,6 +70,10 @@ class Traits:
     blind where a carried description of another grasp is still as likely as a measured
     one; with it the session tests on while a test still tells them apart
     (docs/optimum.md, "Carried rows decide the leaf").
+    ``exact_search``: at a node of few descriptions (``exact_choice.EXACT_ROWS``) every
+    test is priced exactly, its cost plus the optimal expected cost below each branch
+    (learner/choosing/exact.py); above it the walk rollout chooses
+    (learner/choosing/exact_choice.py, docs/optimum.md, "Exact below, rollout above").
     """
 
     cost_blind_choices: bool = False
@@ -78,6 +84,7 @@ class Traits:
     rollout_follows_walk: bool = False
     rollout_searches: bool = False
     leaf_every_row: bool = False
+    exact_search: bool = False
 
 
 @dataclass(frozen=True)
@@ -221,6 +228,16 @@ def with_leaf_every_row(searched: CriterionSpec) -> CriterionSpec:
                                help="walk searched, carried rows decide leaves too", leaf_every_row=True)
 
 
+def with_exact_search(priced: CriterionSpec) -> CriterionSpec:
+    """``priced`` (a failure-priced rule) choosing by the exact search at nodes of few
+    descriptions and by its walk rollout above (``exact_search``), a node a leaf only
+    when every row at it shares a grasp (``leaf_every_row``: where the search stops)."""
+    return dataclasses.replace(with_walk_rollout(priced), name=f"{priced.name}-exact",
+                               formula=f"{priced.formula}, exact search at small nodes",
+                               help="exact below a few descriptions, walk rollout above", leaf_every_row=True,
+                               exact_search=True)
+
+
 _CS_ID3 = CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3)
 _IDX = CriterionSpec("idx", "I / C", "Norton 1989", True, _idx)
 _FAILURE_PRICED = with_grasp_paid_on_failure(_CS_ID3)
@@ -229,7 +246,10 @@ DEFAULT_CRITERION = "cs-id3-failure"
 """The executive's rule. Cheaper under noise than ``cs-id3`` (docs/optimum.md, "Under
 noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
-opt-in (docs/optimum.md, "The default stays")."""
+opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
+the optimum noise-free but searches the whole library at a session's first decision, not
+yet within the first decision's goal everywhere (docs/optimum.md, "Exact below, rollout
+above")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
@@ -244,13 +264,15 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
         with_rollout(_IDX),
         _FAILURE_PRICED,
         with_leaf_every_row(with_walk_search(_FAILURE_PRICED)),
+        with_exact_search(_FAILURE_PRICED),
     )
 })
 """The criteria the product offers, by name, in the order help lists them: the paper's
-baselines, the rollouts of CSL's rule and Norton's, the default, and the default's walk
-search with carried rows deciding leaves (docs/optimum.md, "Which criteria the product
-offers", says why these). Iterating it gives the names, so it also serves as argparse
-``choices``. The other forms the builders above make are the experiments' to measure."""
+baselines, the rollouts of CSL's rule and Norton's, the default, the default's walk
+search with carried rows deciding leaves, and its exact search where few descriptions
+remain (docs/optimum.md, "Which criteria the product offers", says why these).
+Iterating it gives the names, so it also serves as argparse ``choices``. The other forms
+the builders above make are the experiments' to measure."""
 
 
 def criterion(name: str, *values: float, **given: float) -> Criterion:

@@ -88,16 +88,28 @@ class ScoredTest:
 Measurements = Mapping[tuple[str, Position], float]
 
 
+class Scratch(dict[str, object]):
+    """Work a chooser keeps from one decision to the next of the same context (the exact
+    search's memo: learner/choosing/exact_choice.py), valid while the context's library
+    and move costs are. A session forked by a copy (``optimum.policy_walk``) shares it:
+    what it holds depends on the state searched, never on the object at hand."""
+
+    def __deepcopy__(self, memo: dict[int, object]) -> Scratch:
+        return self
+
+
 @dataclass(frozen=True)
 class Context:
     """What scoring needs besides the node: the library, the criterion, the move costs,
-    and a seeded generator for the choices a criterion leaves to chance (a cost-blind
-    criterion breaks ties at random), so a run is repeatable from its seed."""
+    a seeded generator for the choices a criterion leaves to chance (a cost-blind
+    criterion breaks ties at random), so a run is repeatable from its seed, and the
+    :class:`Scratch` its choosers keep between decisions."""
 
     matrix: DescriptionMatrix
     criterion: Criterion
     estimator: MoveCostEstimator
     rng: np.random.Generator = field(default_factory=lambda: np.random.default_rng(0), compare=False)
+    scratch: Scratch = field(default_factory=Scratch, compare=False, repr=False)
 
     @property
     def knowledge(self) -> Knowledge:

@@ -40,7 +40,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from learner.choosing.leaf import grasp_options, leaf_at
 from learner.choosing.matrix import DescriptionMatrix, Test
@@ -97,11 +97,17 @@ def rolled_out(node: Node, ranked: list[ScoredTest], current: Position, ctx: Con
                exclude: frozenset[Test]) -> list[ScoredTest]:
     """``ranked`` with its best few rescored by the walk's expected total cost
     (:func:`learner.choosing.rollout.rescored`)."""
+    return shared((ctx.criterion, node, current, frozenset(measurements), exclude),
+                  lambda: _rolled_out(node, ranked, current, ctx, measurements, exclude))
+
+
+def shared(key: tuple[object, ...], decide: Callable[[], list[ScoredTest]]) -> list[ScoredTest]:
+    """``decide()``, answered from memory within :func:`shared_decisions` when a decision
+    with the same ``key`` (criterion, node, position, measured, excluded) was taken."""
     if not _shared:
-        return _rolled_out(node, ranked, current, ctx, measurements, exclude)
-    key = (ctx.criterion, node, current, frozenset(measurements), exclude)
+        return decide()
     if key not in _shared[-1]:
-        _shared[-1][key] = _rolled_out(node, ranked, current, ctx, measurements, exclude)
+        _shared[-1][key] = decide()
     return list(_shared[-1][key])
 
 

@@ -12,7 +12,7 @@ module above.
 
 from __future__ import annotations
 
-from learner.choosing import rollout, rollout_walk
+from learner.choosing import exact_choice, rollout, rollout_walk
 from learner.choosing.matrix import Test
 from learner.choosing.node import Context, Measurements, Node, ScoredTest
 from learner.choosing.scoring import rank_by_score
@@ -25,7 +25,9 @@ def rank(node: Node, current: Position, ctx: Context, measurements: Measurements
     (:func:`learner.choosing.scoring.rank_by_score`), and for a ``rollout`` criterion its
     best few then by expected cost to the end."""
     ranked = rank_by_score(node, current, ctx, measurements, exclude)
-    if ranked and ctx.criterion.rollout:
+    if ranked and ctx.criterion.exact_search:
+        ranked = exact_choice.searched(node, ranked, current, ctx, measurements, exclude)
+    elif ranked and ctx.criterion.rollout:
         rolled_out = rollout_walk.rolled_out if ctx.criterion.rollout_follows_walk else rollout.rolled_out
         ranked = rolled_out(node, ranked, current, ctx, measurements, exclude)
     return ranked

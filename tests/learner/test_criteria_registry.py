@@ -10,7 +10,7 @@ import pytest
 
 from learner.choosing.criteria import (CRITERIA, DEFAULT_CRITERION, CriterionSpec, Traits, criterion, with_joint_gain,
                                        with_grasp_paid_on_failure, with_leaf_every_row, with_lookahead, with_rollout,
-                                       with_walk_rollout, with_walk_search)
+                                       with_exact_search, with_walk_rollout, with_walk_search)
 
 # (name, gain in bits, cost in s, expected score), worked by hand from each formula.
 HAND_WORKED = [
@@ -28,10 +28,11 @@ HAND_WORKED = [
     # the failure-priced forms keep I^2 / C; what changes is the C a grasp test is given
     ("cs-id3-failure", 2.0, 8.0, 0.5),
     ("cs-id3-failure-search-every-row", 2.0, 8.0, 0.5),
+    ("cs-id3-failure-exact", 2.0, 8.0, 0.5),
 ]
 
 PRODUCT = ["cs-id3", "id3", "id3-cost-ties", "idx", "eg2", "cs-id3-rollout", "idx-rollout", "cs-id3-failure",
-           "cs-id3-failure-search-every-row"]
+           "cs-id3-failure-search-every-row", "cs-id3-failure-exact"]
 """The paper's baselines, the rollouts (cheapest robot time in the execution study), the
 default and its opt-in (docs/optimum.md, "Which criteria the product offers")."""
 
@@ -84,6 +85,9 @@ def test_how_each_entry_chooses_besides_its_formula() -> None:
         "cs-id3-failure": {"grasp_paid_on_failure"},
         "cs-id3-failure-search-every-row": {"grasp_paid_on_failure", "rollout", "rollout_follows_walk",
                                             "rollout_searches", "leaf_every_row"},
+        # exact below a few descriptions, the walk rollout above; it stops where the search does
+        "cs-id3-failure-exact": {"grasp_paid_on_failure", "rollout", "rollout_follows_walk", "leaf_every_row",
+                                 "exact_search"},
     }
 
 
@@ -99,6 +103,7 @@ def test_each_builder_adds_its_traits_and_no_other() -> None:
     assert (searched.name, _traits(searched)) == ("cs-id3-failure-search", _traits(walked) | {"rollout_searches"})
     # the product's opt-in is exactly these builders composed
     assert with_leaf_every_row(searched) == CRITERIA["cs-id3-failure-search-every-row"]
+    assert with_exact_search(priced) == CRITERIA["cs-id3-failure-exact"]
     assert with_grasp_paid_on_failure(base) == priced
     built = with_lookahead(CRITERIA["eg2"]).build(w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
@@ -143,7 +148,8 @@ def test_parameters_are_checked_by_name() -> None:
     with pytest.raises(ValueError, match="takes 1 parameter"):
         criterion("eg2", 1.0, 2.0)
     with pytest.raises(ValueError, match=r"unknown criterion 'c4.5' \(choose from: cs-id3, id3, id3-cost-ties, idx, eg2, "
-                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-search-every-row\)"):
+                       r"cs-id3-rollout, idx-rollout, cs-id3-failure, cs-id3-failure-search-every-row, "
+                       r"cs-id3-failure-exact\)"):
         criterion("c4.5")
     with pytest.raises(ValueError, match=r"unknown criterion 'cs-id3-joint' \(choose from: cs-id3, "):
         criterion("cs-id3-joint")  # an ablation: the experiments' (experiments/ablations.py), not the product's
