@@ -28,6 +28,7 @@ from hero_driver.zenoh_link.conformance import Procedures, run_checks
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.scan_check import ScanChecks, square_wall, toward
 from hero_driver.zenoh_link.verbs import BY_NAME
+from tests.hero_driver.test_zenoh_motion_checks import failed
 from robot_profile import SCANNER_DEFAULTS, ScannerSpec, load_profile
 from tests.hero_driver.test_sim_scan import world
 from zenoh_rpc.config import open_session
@@ -110,10 +111,6 @@ def scan_checks(driver: SimulatedHero, server: zenoh.Session, session: zenoh.Ses
         finally:
             probe.close()
     return results
-
-
-def failed(results: dict[str, CheckResult]) -> set[str]:
-    return {name for name, result in results.items() if not result.passed}
 
 
 # -- the round trip ----------------------------------------------------------------------
