@@ -46,9 +46,12 @@ MIN_RIM_POINTS = 3  # returns beyond the object's reach that say something else 
 # stands off the true outline by the range noise times the cosine of the beam's
 # incidence on it, so a circle's own returns have an RMS residual about that noise's
 # (the ratio is 1, with a standard error of 1/sqrt(2(n - 3)) for n returns); round when
-# the ratio is within ROUND_SIGMAS of those standard errors over 1, the circle is no
-# wider than MAX_ACROSS_IN, and the returns go round at least ROUND_MIN_ARC_DEG of it (a
-# can seen from one side shows almost 180°; a flat face a small circle fits, far less).
+# the ratio is within ROUND_SIGMAS of those standard errors over 1, the rectangle does
+# not fit better by more than that either (a box's corner seen from one side, two
+# faces, can pass for an arc within heavy noise; a rectangle fits it exactly), the
+# circle is no wider than MAX_ACROSS_IN, and the returns go round at least
+# ROUND_MIN_ARC_DEG of it (a can seen from one side shows almost 180°; a flat face a
+# small circle fits, far less).
 ROUND_SIGMAS = 3.0
 ROUND_MIN_ARC_DEG = 120.0
 ROUND_POLYGON_SIDES = 36
@@ -144,14 +147,14 @@ def survey_plan(centre: tuple[float, float], start: Pose | None = None, standoff
     return tuple(poses)
 
 
-def outline(views: Sequence[tuple[PlanarScan, Pose]], centre: tuple[float, float], range_sigma_in: float,
-            radius_in: float | None = None) -> Outline:
+def outline(views: Sequence[tuple[PlanarScan, Pose]], centre: tuple[float, float],
+            range_sigma_in: float) -> Outline:
     """The outline of the one object near ``centre`` from scans taken round it, each at
-    its corrected pose.
+    its corrected pose; ``range_sigma_in``: the range finder's noise there.
 
-    The returns within ``radius_in`` of the centre (default: how far a catalogue object's
-    returns reach, :data:`HALF_DIAGONAL_IN` plus four range sigmas, plus
-    :data:`CENTRE_SLACK_IN` for an approximate centre) are fitted; the returns are then
+    The returns within reach of the centre (how far a catalogue object's returns reach,
+    :data:`HALF_DIAGONAL_IN` plus four range sigmas, plus :data:`CENTRE_SLACK_IN` for an
+    approximate centre) are fitted; the returns are then
     gathered again round the fitted centre and fitted again. ValueError (one line) when
     there are too few returns, when returns lie in the rim beyond a catalogue object's
     reach (something else is there: a wall, another object, or something bigger), or
@@ -162,9 +165,7 @@ def outline(views: Sequence[tuple[PlanarScan, Pose]], centre: tuple[float, float
     if not all(math.isfinite(c) for c in centre):
         raise ValueError(f"outline: centre must be finite, got {centre}")
     reach = HALF_DIAGONAL_IN + NOISE_SIGMAS * range_sigma_in
-    radius = reach + CENTRE_SLACK_IN if radius_in is None else radius_in
-    if not (math.isfinite(radius) and radius > 0):
-        raise ValueError(f"outline: radius_in must be positive, got {radius_in}")
+    radius = reach + CENTRE_SLACK_IN
     points, origins, view = _world_returns(views)
     where = f"({centre[0]:.1f}, {centre[1]:.1f})"
 
@@ -179,7 +180,7 @@ def outline(views: Sequence[tuple[PlanarScan, Pose]], centre: tuple[float, float
         raise ValueError(f"outline: {np.count_nonzero(near)} returns within {radius:.1f} in of the fitted "
                          f"centre, too few to outline (at least {MIN_POINTS})")
     rim = np.count_nonzero(near & (distance > reach))
-    if rim >= MIN_RIM_POINTS and radius > reach:
+    if rim >= MIN_RIM_POINTS:
         raise ValueError(f"outline: {rim} returns lie {reach:.1f}-{radius:.1f} in from the object near {where}, "
                          f"beyond a {MAX_ACROSS_IN:g} in object's reach: it is not alone, or bigger")
     found = _fit(points[near], origins[near], range_sigma_in)
@@ -228,32 +229,34 @@ class _Fit:
 
 def _fit(points: np.ndarray, origins: np.ndarray, sigma: float) -> _Fit:
     """The rectangle, or the circle if the returns are round (:data:`ROUND_SIGMAS`)."""
+    rect = _Rectangle.fit(points, origins, sigma)
+    corners = rect.corners()
+    rect_rms = _rms(_boundary_distance(points, corners))
     circle = _fit_circle(points)
-    if circle is not None and len(points) > 3:
+    n = len(points)
+    if circle is not None and n > 3:
         (cx, cy), r = circle
         rel = points - (cx, cy)
         distance = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-9)
         beams = points - origins
         beams /= np.maximum(np.hypot(beams[:, 0], beams[:, 1]), 1e-9)[:, None]
         incidence_cos = np.abs(np.einsum("ij,ij->i", rel / distance[:, None], beams))
-        n = len(points)
         noise_rms = sigma * math.sqrt(float(np.mean(incidence_cos ** 2)) * (n - 3) / n)
         circle_rms = _rms(distance - r)
         angles = np.sort(np.arctan2(rel[:, 1], rel[:, 0]))
         widest_gap = math.degrees(float(np.diff(np.concatenate([angles, angles[:1] + 2.0 * math.pi])).max()))
-        if (circle_rms <= noise_rms * (1.0 + ROUND_SIGMAS / math.sqrt(2.0 * (n - 3)))
+        within = 1.0 + ROUND_SIGMAS / math.sqrt(2.0 * (n - 3))  # a ratio of RMS residuals the noise explains
+        if (circle_rms <= noise_rms * within and circle_rms <= rect_rms * within
                 and 2.0 * r <= MAX_ACROSS_IN + SIZE_TOLERANCE_IN and 360.0 - widest_gap >= ROUND_MIN_ARC_DEG):
             polygon = tuple((cx + r * math.cos(2.0 * math.pi * k / ROUND_POLYGON_SIDES),
                              cy + r * math.sin(2.0 * math.pi * k / ROUND_POLYGON_SIDES))
                             for k in range(ROUND_POLYGON_SIDES))
             return _Fit(polygon, True, n, circle_rms, (cx, cy), 0.0, math.nan, (),
                         widest_gap <= COMPLETE_ARC_GAP_DEG)
-    rect = _Rectangle.fit(points, origins, sigma)
-    corners = rect.corners()
     centre = corners.mean(axis=0)
-    return _Fit(tuple((float(x), float(y)) for x, y in corners), False, len(points),
-                _rms(_boundary_distance(points, corners)), (float(centre[0]), float(centre[1])), rect.axis_deg(),
-                math.degrees(rect.theta_sigma), rect.seen, all(rect.seen))
+    return _Fit(tuple((float(x), float(y)) for x, y in corners), False, n, rect_rms,
+                (float(centre[0]), float(centre[1])), rect.axis_deg(), math.degrees(rect.theta_sigma), rect.seen,
+                all(rect.seen))
 
 
 def _rms(values: np.ndarray) -> float:
@@ -446,14 +449,15 @@ class _Rectangle:
         return float(np.clip(solution[0], -MAX_TURN_STEP_RAD, MAX_TURN_STEP_RAD))
 
     def _fill_unseen(self, points: np.ndarray, side: np.ndarray, inlier: np.ndarray, fitted: np.ndarray) -> None:
-        """A side with too few returns ends where the returns of the sides beside it end;
-        with none there either, it lies on the side across (the depth was not seen)."""
+        """A side with too few returns ends where the returns of the sides beside it end
+        (grazing ones too: they are not fitted, but they show how far a face goes); with
+        none there either, it lies on the side across (the depth was not seen)."""
         normals = self.normals()
         flat = []
         for s in range(4):
             if fitted[s]:
                 continue
-            beside = inlier & fitted[side] & ((side == (s + 1) % 4) | (side == (s + 3) % 4))
+            beside = inlier & ((side == (s + 1) % 4) | (side == (s + 3) % 4))
             if beside.any():
                 self.offsets[s] = float(((points[beside] - self.centre) @ normals[s]).max())
             else:

@@ -157,7 +157,8 @@ def rectangle(cx: float, cy: float, length_in: float, width_in: float,
 def disc(cx: float, cy: float, radius_in: float, sides: int = 90) -> list[tuple[float, float, float, float]]:
     """A round footprint as a regular ``sides``-gon through the circle: 90 sides stand off
     the circle by ``r (1 - cos 2°)``, under 0.002 in for a 3.5 in can."""
-    points = [(cx + radius_in * math.cos(2.0 * math.pi * k / sides), cy + radius_in * math.sin(2.0 * math.pi * k / sides))
+    step = 2.0 * math.pi / sides
+    points = [(cx + radius_in * math.cos(step * k), cy + radius_in * math.sin(step * k))
               for k in range(sides)]
     return [(*points[k], *points[(k + 1) % sides]) for k in range(sides)]
 
