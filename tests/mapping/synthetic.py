@@ -138,3 +138,30 @@ def drifting_odometry(truth: list[tuple[float, float, float]], drift: Drift,
         step = (dx * scale, dy * scale, dtheta * (1.0 + drift.turn_scale_bias) + heading_error)
         reported.append(compose(reported[-1], step))
     return reported
+
+
+def polygon(corners: list[tuple[float, float]]) -> list[tuple[float, float, float, float]]:
+    """The sides of a closed polygon."""
+    return [(*a, *b) for a, b in zip(corners, corners[1:] + corners[:1])]
+
+
+def circle(x_in: float, y_in: float, radius_in: float, sides: int = 24) -> list[tuple[float, float, float, float]]:
+    """A round object's outline (a can, a cup) as a ``sides``-gon through its rim."""
+    return polygon([(x_in + radius_in * math.cos(2 * math.pi * k / sides),
+                     y_in + radius_in * math.sin(2 * math.pi * k / sides)) for k in range(sides)])
+
+
+def rect(x_in: float, y_in: float, length_in: float, width_in: float,
+         yaw_deg: float = 0.0) -> list[tuple[float, float, float, float]]:
+    """A rectangular footprint centred at (x, y): ``length_in`` along its heading ``yaw_deg``."""
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    a, b = length_in / 2, width_in / 2
+    return polygon([(x_in + c * u - s * v, y_in + s * u + c * v) for u, v in ((a, b), (-a, b), (-a, -b), (a, -b))])
+
+
+def table_legs(x_in: float, y_in: float, width_in: float, depth_in: float,
+               leg_in: float = 2.0) -> list[tuple[float, float, float, float]]:
+    """A table as a planar sensor sees it: four square legs flush with its top's corners
+    (as the simulator's tables, hero_driver/sim/home.py)."""
+    u, v = width_in / 2 - leg_in / 2, depth_in / 2 - leg_in / 2
+    return [side for a, b in ((u, v), (-u, v), (-u, -v), (u, -v)) for side in rect(x_in + a, y_in + b, leg_in, leg_in)]
