@@ -28,13 +28,14 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    structure and is dropped.
 4. **Tracks**: an observation within ``associate_in`` of a track's outline (or whose
    centroid is within ``associate_centroid_in`` of the track's, the two together no
-   wider than an object) is that track seen
-   again; otherwise it starts a new track with the next id. A track is reported as a
+   wider than an object) is that track seen again; otherwise it starts a new track with
+   the next id. A track is reported as a
    :class:`Candidate` once seen ``min_seen`` times, unless most of its outline lies
    on structure lines found since, or it is one of four small tracks standing at the
    corners of a rectangle of table size (a table's legs; a planar scan cannot see that a
-   leg is tall), or — when the occupancy grid is given — its cells are no longer
-   occupied (the object was moved) or no free space has been seen around it.
+   leg is tall), or — when the occupancy grid is given — none of its outline's cells is
+   occupied any more (the object was moved) or too little free space has been seen
+   around it.
 
 Pure numpy; stateful only in :class:`CandidateFinder`, which is fed the scans in order.
 """
@@ -82,7 +83,8 @@ class CandidateSettings:
     ring_free_share: float = 0.25  # ... of which at least this share is seen free
 
     def __post_init__(self) -> None:
-        positive = ("break_min_in", "break_spacings", "max_step_deg", "split_in", "structure_min_in", "band_min_in", "band_sigmas",
+        positive = ("break_min_in", "break_spacings", "max_step_deg", "split_in", "structure_min_in",
+                    "band_min_in", "band_sigmas",
                     "max_extent_in", "lone_near_in", "associate_in", "associate_centroid_in",
                     "outline_voxel_in", "leg_max_extent_in", "table_min_in", "table_max_in",
                     "table_tolerance_in")

@@ -16,7 +16,6 @@ import pytest
 
 from mapping import OccupancyGrid, PlanarScan, ScanMatcher
 from mapping.candidates import Candidate, CandidateFinder, CandidateSettings, split_and_merge, table_legs
-from planner.geometry import Pose
 from tests.mapping.synthetic import Drift, Lidar, box, circle, drifting_odometry, loop_poses, rect
 from tests.mapping.synthetic import table_legs as legs_of
 
