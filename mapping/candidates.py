@@ -15,9 +15,10 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    the return farthest from the chord while it is farther than ``split_in``). A piece
    at least ``structure_min_in`` long — longer than any face of any object in the
    catalogue — is a piece of wall or furniture: a *structure line*, kept for the rest of
-   the run. A return within a line's band (its fit's spread, at least ``band_min_in``)
+   the run. A return within a line's band (its returns' spread, at least ``band_min_in``)
    is structure, the lines of earlier scans included, so a piece of wall seen short
-   between two occluders is still known to be wall.
+   between two occluders is still known to be wall; a line is taken to go on
+   ``extend_in`` beyond its ends, over the stretch of wall an object against it hides.
 3. **Observations**: the returns left, in runs of consecutive returns, are an object
    seen once when the run is no wider than ``max_extent_in`` (the largest catalogue
    object's diagonal, with noise) and is not *attached* to structure: a run that
@@ -30,14 +31,18 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    centroid is within ``associate_centroid_in`` of the track's, the two together no
    wider than an object) is that track seen again; otherwise it starts a new track with
    the next id. A track is reported as a
-   :class:`Candidate` once seen ``min_seen`` times, unless most of its outline lies
-   on structure lines found since, or it is one of four small tracks standing at the
+   :class:`Candidate` once seen ``min_seen`` times, with the part of its outline off
+   the structure lines (those found since included), unless fewer than
+   ``min_outline_points`` are left of it, or it is one of four small tracks standing at the
    corners of a rectangle of table size (a table's legs; a planar scan cannot see that a
    leg is tall), or — when the occupancy grid is given — none of its outline's cells is
    occupied any more (the object was moved) or too little free space has been seen
    around it.
 
-Pure numpy; stateful only in :class:`CandidateFinder`, which is fed the scans in order.
+The distances that stand for range noise (``split_in``, ``band_min_in``,
+``lone_near_in``) are multiples of the range finder's noise, ``range_sigma_in``, which the
+caller sets for its sensor. Pure numpy; stateful only in :class:`CandidateFinder`, which
+is fed the scans in order.
 """
 
 from __future__ import annotations
@@ -57,24 +62,27 @@ from planner.geometry import Pose
 class CandidateSettings:
     """The rules' numbers (inches, degrees). docs/mapping.md says why each is what it is."""
 
+    range_sigma_in: float = 0.5  # the range finder's noise (standard deviation): a modern lidar at room ranges
+    split_sigmas: float = 3.0  # a return farther than this from its piece's chord splits the piece
+    band_sigmas: float = 3.0  # a structure line's band: this many times the larger of the noise and the
+    # robust spread of the line's returns; a line whose returns spread more than
+    fit_sigmas: float = 2.0  # this many times the noise is not straight (an object's side leans it)
+    lone_sigmas: float = 5.0  # a single return this close to structure is its noise
     break_min_in: float = 3.0  # gap always allowed between neighbouring returns (3 sigma of 1 in noise)
     break_spacings: float = 3.0  # ... plus this many beam spacings (a surface up to 70° from facing the robot)
     max_step_deg: float = 5.0  # returns farther apart in angle (dropouts, open space) are apart
-    split_in: float = 2.5  # a return farther than this from its piece's chord splits the piece
     structure_min_in: float = 15.0  # a straight piece this long is structure (longest object face: 11 in)
     structure_min_points: int = 5
-    band_min_in: float = 1.5  # a structure line's band: max(this, band_sigmas x its fit's spread)
-    band_sigmas: float = 3.0
+    extend_in: float = 6.0  # a structure line goes on this far beyond its ends (hidden behind an object)
     max_extent_in: float = 16.0  # an object seen once is at most this wide (11 x 9 in box: 14.2 in diagonal)
     front_min_in: float = 1.0  # a run touching a structure line stands in front of it by at least this
-    lone_near_in: float = 2.5  # a single return this close to structure is its noise (5 sigma of 0.5 in noise)
     associate_in: float = 3.0  # an observation this close to a track's outline is that track
     associate_centroid_in: float = 12.0  # ... or with its centroid this close to the track's (opposite
     # faces of the 11 in box), when the two together are no wider than max_extent_in
     outline_voxel_in: float = 1.0  # a track's outline: the mean of its returns in squares of this side
     min_seen: int = 2  # scans that must see a track before it is a candidate
-    structure_share: float = 0.5  # a track with more of its outline on structure lines is structure
-    leg_max_extent_in: float = 6.0  # a track no wider than this may be a table leg (2 in leg, noisy)
+    min_outline_points: int = 3  # a track with fewer outline points off the structure lines is structure
+    leg_max_extent_in: float = 10.0  # a track no wider than this may be a table leg (a 2 in leg, widened by noise)
     table_min_in: float = 12.0  # a table's legs stand between these apart (centre to centre)
     table_max_in: float = 96.0
     table_tolerance_in: float = 3.0  # sides and diagonals of a leg rectangle agree within this
@@ -83,17 +91,20 @@ class CandidateSettings:
     ring_free_share: float = 0.25  # ... of which at least this share is seen free
 
     def __post_init__(self) -> None:
-        positive = ("break_min_in", "break_spacings", "max_step_deg", "split_in", "structure_min_in",
-                    "band_min_in", "band_sigmas",
-                    "max_extent_in", "lone_near_in", "associate_in", "associate_centroid_in",
+        if not (math.isfinite(self.extend_in) and self.extend_in >= 0):
+            raise ValueError(f"candidate setting extend_in must be finite and not negative, got {self.extend_in}")
+        positive = ("range_sigma_in", "split_sigmas", "band_sigmas", "fit_sigmas", "lone_sigmas", "break_min_in",
+                    "break_spacings", "max_step_deg", "structure_min_in", "max_extent_in", "associate_in",
+                    "associate_centroid_in",
                     "outline_voxel_in", "leg_max_extent_in", "table_min_in", "table_max_in",
                     "table_tolerance_in")
         for name in positive:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"candidate setting {name} must be positive and finite, got {value}")
-        if self.min_seen < 1 or self.structure_min_points < 2:
-            raise ValueError("candidate settings min_seen must be >= 1 and structure_min_points >= 2")
+        if self.min_seen < 1 or self.structure_min_points < 2 or self.min_outline_points < 1:
+            raise ValueError("candidate settings min_seen and min_outline_points must be >= 1, "
+                             "structure_min_points >= 2")
         if not 0.0 <= self.ring_in[0] < self.ring_in[1]:
             raise ValueError(f"candidate setting ring_in must be (inner, outer) with 0 <= inner < outer, "
                              f"got {self.ring_in}")
@@ -101,6 +112,18 @@ class CandidateSettings:
             raise ValueError("candidate settings support_share and ring_free_share must be in [0, 1]")
         if not self.table_min_in < self.table_max_in:
             raise ValueError("candidate setting table_min_in must be below table_max_in")
+
+    @property
+    def split_in(self) -> float:
+        return self.split_sigmas * self.range_sigma_in
+
+    @property
+    def band_min_in(self) -> float:
+        return self.band_sigmas * self.range_sigma_in
+
+    @property
+    def lone_near_in(self) -> float:
+        return self.lone_sigmas * self.range_sigma_in
 
 
 @dataclass(frozen=True)
@@ -189,10 +212,13 @@ def split_and_merge(points: np.ndarray, split_in: float) -> list[tuple[int, int]
 
 
 class StructureLines:
-    """The straight pieces of wall and furniture seen so far: segments with a band."""
+    """The straight pieces of wall and furniture seen so far: segments with a band, each
+    taken to go on ``extend_in`` beyond its ends (the wall hidden behind an object
+    standing against it, whose returns would otherwise join the object's)."""
 
-    def __init__(self) -> None:
+    def __init__(self, extend_in: float = 0.0) -> None:
         self._segments = np.zeros((0, 5))  # x0, y0, x1, y1, band
+        self.extend_in = extend_in
 
     def __len__(self) -> int:
         return len(self._segments)
@@ -220,7 +246,8 @@ class StructureLines:
         p = points[:, None, :]
         ab = b - a
         length2 = np.maximum((ab ** 2).sum(axis=2), 1e-12)
-        t = np.clip(((p - a) * ab).sum(axis=2) / length2, 0.0, 1.0)
+        beyond = self.extend_in / np.sqrt(length2)
+        t = np.clip(((p - a) * ab).sum(axis=2) / length2, -beyond, 1.0 + beyond)
         nearest = a + t[..., None] * ab
         return np.sqrt(((p - nearest) ** 2).sum(axis=2))
 
@@ -244,16 +271,42 @@ def _breakpoints(points: np.ndarray, ranges: np.ndarray, angles: np.ndarray, s: 
     return (gap > allowed) | (step > math.radians(s.max_step_deg))
 
 
-def _line_fit(points: np.ndarray, s: CandidateSettings) -> np.ndarray:
-    """A piece's least-squares line as a segment (x0, y0, x1, y1, band): from its first to
-    its last point's projection; band from the spread of the points about it."""
-    centre = points.mean(axis=0)
-    _, _, vt = np.linalg.svd(points - centre, full_matrices=False)
-    direction, normal = vt[0], vt[1]
-    along = (points - centre) @ direction
-    spread = float(np.sqrt(np.mean(((points - centre) @ normal) ** 2)))
-    a, b = centre + along[0] * direction, centre + along[-1] * direction
-    return np.array([a[0], a[1], b[0], b[1], max(s.band_min_in, s.band_sigmas * spread)])
+def _line_fit(points: np.ndarray, s: CandidateSettings) -> np.ndarray | None:
+    """A piece's line as a segment (x0, y0, x1, y1, band), or None when it is not one.
+
+    Fitted first to the middle half of the returns, then (three rounds) to the returns
+    within the band of the fit before: the band is ``band_sigmas`` robust standard
+    deviations of the offsets (1.4826 times their median absolute value), at least
+    ``band_min_in``. A piece that ends on an object's side (split-and-merge cuts at the
+    chord, which leans towards the object) is so fitted to the wall and not to the
+    object. None when the robust deviation is more than ``fit_sigmas`` times the range
+    noise (not straight), or when the returns in the band are too few or span less than
+    ``structure_min_in``. The segment runs between the projections of the first and last
+    returns in the band."""
+    inliers = np.zeros(len(points), dtype=bool)
+    inliers[len(points) // 4:len(points) - len(points) // 4] = True  # the middle half: the ends are suspect
+    band = s.band_min_in
+    for _ in range(3):
+        centre = points[inliers].mean(axis=0)
+        _, _, vt = np.linalg.svd(points[inliers] - centre, full_matrices=False)
+        direction, normal = vt[0], vt[1]
+        offset = (points - centre) @ normal
+        spread = 1.4826 * float(np.median(np.abs(offset[inliers])))
+        if spread > s.fit_sigmas * s.range_sigma_in:
+            return None
+        band = max(s.band_min_in, s.band_sigmas * spread)
+        within = np.abs(offset) <= band
+        if within.sum() < s.structure_min_points:
+            return None
+        if (within == inliers).all():
+            break
+        inliers = within
+    ends = points[np.nonzero(inliers)[0][[0, -1]]]
+    along = (ends - centre) @ direction
+    a, b = centre + along[0] * direction, centre + along[1] * direction
+    if math.dist(a, b) < s.structure_min_in:
+        return None
+    return np.array([a[0], a[1], b[0], b[1], band])
 
 
 def _signed_offset(points: np.ndarray, segment: np.ndarray, towards: np.ndarray) -> np.ndarray:
@@ -271,7 +324,7 @@ class CandidateFinder:
 
     def __init__(self, settings: CandidateSettings = CandidateSettings()) -> None:
         self.settings = settings
-        self.structure = StructureLines()
+        self.structure = StructureLines(settings.extend_in)
         self._tracks: dict[int, _Track] = {}
         self._next_id = 1
 
@@ -310,7 +363,9 @@ class CandidateFinder:
             for lo, hi in split_and_merge(points[cluster], s.split_in):
                 piece = points[cluster[lo:hi + 1]]
                 if len(piece) >= s.structure_min_points and math.dist(piece[0], piece[-1]) >= s.structure_min_in:
-                    new_lines.append(_line_fit(piece, s))
+                    line = _line_fit(piece, s)
+                    if line is not None:
+                        new_lines.append(line)
         scan_lines = np.array(new_lines).reshape(-1, 5)
         self.structure.add(scan_lines)
         lines = self.structure.segments
@@ -376,30 +431,33 @@ class CandidateFinder:
 
     def tracks(self) -> tuple[Candidate, ...]:
         """Every track, whatever the rules say of it, by id."""
-        return tuple(_candidate(t) for t in sorted(self._tracks.values(), key=lambda t: t.id))
+        return tuple(_candidate(t.id, t.points, t) for t in sorted(self._tracks.values(), key=lambda t: t.id))
+
+    def _off_structure(self) -> list[Candidate]:
+        """The tracks seen ``min_seen`` times, each cut to the part of its outline off the
+        structure lines (returns of the wall beside an object join its track when they
+        fall just outside a band), left out when fewer than ``min_outline_points`` remain."""
+        kept = []
+        for track in sorted(self._tracks.values(), key=lambda t: t.id):
+            if track.seen < self.settings.min_seen:
+                continue
+            off = track.points[~self.structure.within(track.points)]
+            if len(off) >= self.settings.min_outline_points:
+                kept.append(_candidate(track.id, off, track))
+        return kept
 
     def table_legs(self) -> tuple[tuple[int, int, int, int], ...]:
         """Ids of the sets of four small tracks judged a table's legs."""
-        small = [c for c in self.tracks() if c.times_seen >= self.settings.min_seen
-                 and c.extent_in <= self.settings.leg_max_extent_in and not self._on_structure(c)]
+        small = [c for c in self._off_structure() if c.extent_in <= self.settings.leg_max_extent_in]
         return table_legs(small, self.settings)
 
-    def _on_structure(self, candidate: Candidate) -> bool:
-        outline = np.array(candidate.outline)
-        return bool(self.structure.within(outline).mean() > self.settings.structure_share)
-
     def candidates(self, grid: OccupancyGrid | None = None) -> tuple[Candidate, ...]:
-        """The tracks the rules keep, by id (module docstring)."""
-        s = self.settings
-        legs = {i for group in self.table_legs() for i in group}
-        kept = []
-        for c in self.tracks():
-            if c.times_seen < s.min_seen or c.id in legs or self._on_structure(c):
-                continue
-            if grid is not None and not grid_supports(grid, c, s):
-                continue
-            kept.append(c)
-        return tuple(kept)
+        """The tracks the rules keep, by id, each with the part of its outline off the
+        structure lines (module docstring)."""
+        off = self._off_structure()
+        small = [c for c in off if c.extent_in <= self.settings.leg_max_extent_in]
+        legs = {i for group in table_legs(small, self.settings) for i in group}
+        return tuple(c for c in off if c.id not in legs and (grid is None or grid_supports(grid, c, self.settings)))
 
 
 def _runs(cluster: np.ndarray, structural: np.ndarray) -> list[np.ndarray]:
@@ -417,10 +475,10 @@ def _runs(cluster: np.ndarray, structural: np.ndarray) -> list[np.ndarray]:
     return runs
 
 
-def _candidate(track: _Track) -> Candidate:
-    centre = track.points.mean(axis=0)
-    outline = tuple((float(x), float(y)) for x, y in track.points)
-    return Candidate(track.id, float(centre[0]), float(centre[1]), outline, _extent(track.points), track.seen,
+def _candidate(track_id: int, points: np.ndarray, track: _Track) -> Candidate:
+    centre = points.mean(axis=0)
+    outline = tuple((float(x), float(y)) for x, y in points)
+    return Candidate(track_id, float(centre[0]), float(centre[1]), outline, _extent(points), track.seen,
                      track.first_s, track.last_s)
 
 
