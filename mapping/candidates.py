@@ -15,11 +15,12 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    the return farthest from the chord while it is farther than ``split_in``). A piece
    at least ``structure_min_in`` long — longer than any face of any object in the
    catalogue — is a piece of wall or furniture: a *structure line*, kept for the rest of
-   the run. A return within a line's band (its returns' spread, at least ``band_min_in``)
+   the run. A return within a line's band (``band_min_in``)
    is structure, the lines of earlier scans included, so a piece of wall seen short
    between two occluders is still known to be wall; a line is taken to go on
    ``extend_in`` beyond its ends, over the stretch of wall an object against it hides.
-3. **Observations**: the returns left, in runs of consecutive returns, are an object
+3. **Observations**: the returns left, in runs of consecutive returns no more than
+   ``run_gap_in`` apart (a segment may join a table leg to a bottle beyond it), are an object
    seen once when the run is no wider than ``max_extent_in`` (the largest catalogue
    object's diagonal, with noise) and is not *attached* to structure: a run that
    touches a structure line and does not stand in front of it (towards the robot) by
@@ -33,7 +34,8 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    the next id. A track is reported as a
    :class:`Candidate` once seen ``min_seen`` times, with the part of its outline off
    the structure lines (those found since included), unless fewer than
-   ``min_outline_points`` are left of it, or it is one of four small tracks standing at the
+   ``min_outline_points`` are left of it, or it is wider than any object (``max_extent_in``
+   and ``widen_sigmas`` of noise), or it is one of four small tracks standing at the
    corners of a rectangle of table size (a table's legs; a planar scan cannot see that a
    leg is tall), or — when the occupancy grid is given — none of its outline's cells is
    occupied any more (the object was moved) or too little free space has been seen
@@ -64,9 +66,8 @@ class CandidateSettings:
 
     range_sigma_in: float = 0.5  # the range finder's noise (standard deviation): a modern lidar at room ranges
     split_sigmas: float = 3.0  # a return farther than this from its piece's chord splits the piece
-    band_sigmas: float = 3.0  # a structure line's band: this many times the larger of the noise and the
-    # robust spread of the line's returns; a line whose returns spread more than
-    fit_sigmas: float = 2.0  # this many times the noise is not straight (an object's side leans it)
+    band_sigmas: float = 3.0  # a structure line's band: returns this close to it are on it
+    line_share: float = 0.8  # a piece with fewer of its returns in the band of its fit is not straight
     lone_sigmas: float = 5.0  # a single return this close to structure is its noise
     break_min_in: float = 3.0  # gap always allowed between neighbouring returns (3 sigma of 1 in noise)
     break_spacings: float = 3.0  # ... plus this many beam spacings (a surface up to 70° from facing the robot)
@@ -74,11 +75,13 @@ class CandidateSettings:
     structure_min_in: float = 15.0  # a straight piece this long is structure (longest object face: 11 in)
     structure_min_points: int = 5
     extend_in: float = 6.0  # a structure line goes on this far beyond its ends (hidden behind an object)
+    run_gap_in: float = 6.0  # neighbouring returns of one object are no farther apart than this
     max_extent_in: float = 16.0  # an object seen once is at most this wide (11 x 9 in box: 14.2 in diagonal)
+    widen_sigmas: float = 6.0  # ... and a track, whose outline noise widens, this many sigma more
     front_min_in: float = 1.0  # a run touching a structure line stands in front of it by at least this
     associate_in: float = 3.0  # an observation this close to a track's outline is that track
-    associate_centroid_in: float = 12.0  # ... or with its centroid this close to the track's (opposite
-    # faces of the 11 in box), when the two together are no wider than max_extent_in
+    associate_centroid_in: float = 6.0  # ... or with its centroid this close to the track's, when the two
+    # together are no wider than max_extent_in
     outline_voxel_in: float = 1.0  # a track's outline: the mean of its returns in squares of this side
     min_seen: int = 2  # scans that must see a track before it is a candidate
     min_outline_points: int = 3  # a track with fewer outline points off the structure lines is structure
@@ -93,8 +96,9 @@ class CandidateSettings:
     def __post_init__(self) -> None:
         if not (math.isfinite(self.extend_in) and self.extend_in >= 0):
             raise ValueError(f"candidate setting extend_in must be finite and not negative, got {self.extend_in}")
-        positive = ("range_sigma_in", "split_sigmas", "band_sigmas", "fit_sigmas", "lone_sigmas", "break_min_in",
-                    "break_spacings", "max_step_deg", "structure_min_in", "max_extent_in", "associate_in",
+        positive = ("range_sigma_in", "split_sigmas", "band_sigmas", "lone_sigmas", "break_min_in",
+                    "break_spacings", "max_step_deg", "structure_min_in", "run_gap_in", "max_extent_in", "widen_sigmas",
+                    "associate_in",
                     "associate_centroid_in",
                     "outline_voxel_in", "leg_max_extent_in", "table_min_in", "table_max_in",
                     "table_tolerance_in")
@@ -108,8 +112,8 @@ class CandidateSettings:
         if not 0.0 <= self.ring_in[0] < self.ring_in[1]:
             raise ValueError(f"candidate setting ring_in must be (inner, outer) with 0 <= inner < outer, "
                              f"got {self.ring_in}")
-        if not (0.0 <= self.support_share <= 1.0 and 0.0 <= self.ring_free_share <= 1.0):
-            raise ValueError("candidate settings support_share and ring_free_share must be in [0, 1]")
+        if not all(0.0 <= v <= 1.0 for v in (self.support_share, self.ring_free_share, self.line_share)):
+            raise ValueError("candidate settings support_share, ring_free_share and line_share must be in [0, 1]")
         if not self.table_min_in < self.table_max_in:
             raise ValueError("candidate setting table_min_in must be below table_max_in")
 
@@ -275,32 +279,29 @@ def _line_fit(points: np.ndarray, s: CandidateSettings) -> np.ndarray | None:
     """A piece's line as a segment (x0, y0, x1, y1, band), or None when it is not one.
 
     Fitted first to the middle half of the returns, then (three rounds) to the returns
-    within the band of the fit before: the band is ``band_sigmas`` robust standard
-    deviations of the offsets (1.4826 times their median absolute value), at least
-    ``band_min_in``. A piece that ends on an object's side (split-and-merge cuts at the
-    chord, which leans towards the object) is so fitted to the wall and not to the
-    object. None when the robust deviation is more than ``fit_sigmas`` times the range
-    noise (not straight), or when the returns in the band are too few or span less than
-    ``structure_min_in``. The segment runs between the projections of the first and last
-    returns in the band."""
+    within ``band_min_in`` (3σ) of the fit before: a piece that ends on an object's side
+    (split-and-merge cuts at the chord, which leans towards the object) is so fitted to
+    the wall and not to the object. None when less than ``line_share`` of the returns
+    are in the band at the end (a step from an object's face to the wall behind it, cut
+    as one piece where the returns are sparse, is no line), or when the returns in the
+    band are too few or span less than ``structure_min_in``. The segment runs between
+    the projections of the first and last returns in the band."""
     inliers = np.zeros(len(points), dtype=bool)
     inliers[len(points) // 4:len(points) - len(points) // 4] = True  # the middle half: the ends are suspect
     band = s.band_min_in
     for _ in range(3):
         centre = points[inliers].mean(axis=0)
         _, _, vt = np.linalg.svd(points[inliers] - centre, full_matrices=False)
-        direction, normal = vt[0], vt[1]
-        offset = (points - centre) @ normal
-        spread = 1.4826 * float(np.median(np.abs(offset[inliers])))
-        if spread > s.fit_sigmas * s.range_sigma_in:
-            return None
-        band = max(s.band_min_in, s.band_sigmas * spread)
+        direction = vt[0]
+        offset = (points - centre) @ vt[1]
         within = np.abs(offset) <= band
         if within.sum() < s.structure_min_points:
             return None
         if (within == inliers).all():
             break
         inliers = within
+    if inliers.mean() < s.line_share:
+        return None
     ends = points[np.nonzero(inliers)[0][[0, -1]]]
     along = (ends - centre) @ direction
     a, b = centre + along[0] * direction, centre + along[1] * direction
@@ -377,7 +378,7 @@ class CandidateFinder:
 
         observations = []
         for cluster in clusters:
-            for run in _runs(cluster, structural):
+            for run in _runs(cluster, structural, points, s.run_gap_in):
                 run_points = points[run]
                 if _extent(run_points) > s.max_extent_in:
                     continue
@@ -404,28 +405,44 @@ class CandidateFinder:
                 return True
         return False
 
+    @property
+    def widest_in(self) -> float:
+        """The widest a track of one object grows: an object's size and its outline's noise."""
+        return self.settings.max_extent_in + self.settings.widen_sigmas * self.settings.range_sigma_in
+
     def _associate(self, observation: Observation) -> None:
+        """Join the observation to the tracks it meets (nearest first, as long as together
+        they stay no wider than an object), or start a track. An observation that meets
+        tracks but would widen the nearest beyond an object is dropped: it joins two
+        things that are apart (a table leg and a bottle 10 in beyond it, seen along one
+        line with a beam lost between them)."""
         s = self.settings
         matches = []
         for track in self._tracks.values():
-            gap = np.hypot(*(observation.points[:, None, :] - track.points[None, :, :]).transpose(2, 0, 1)).min()
+            gap = float(np.hypot(*(observation.points[:, None, :] - track.points[None, :, :]).transpose(2, 0, 1)).min())
             if gap <= s.associate_in or (
                     math.dist(observation.centroid, track.points.mean(axis=0)) <= s.associate_centroid_in
                     and _extent(np.vstack([track.points, observation.points])) <= s.max_extent_in):
-                matches.append(track)
+                matches.append((gap, track.id, track))
         if not matches:
             track = _Track(self._next_id, _thin(observation.points, s.outline_voxel_in), 1, observation.stamp_s,
                            observation.stamp_s)
             self._tracks[track.id] = track
             self._next_id += 1
             return
-        keep = min(matches, key=lambda t: t.id)
-        points = [t.points for t in matches] + [observation.points]
+        joined, points = [], [observation.points]
+        for _, _, track in sorted(matches, key=lambda m: m[:2]):
+            if _extent(np.vstack([*points, track.points])) <= self.widest_in:
+                joined.append(track)
+                points.append(track.points)
+        if not joined:
+            return
+        keep = min(joined, key=lambda t: t.id)
         keep.points = _thin(np.vstack(points), s.outline_voxel_in)
-        keep.seen = sum(t.seen for t in matches) + 1
-        keep.first_s = min(t.first_s for t in matches)
-        keep.last_s = max(observation.stamp_s, *(t.last_s for t in matches))
-        for t in matches:
+        keep.seen = sum(t.seen for t in joined) + 1
+        keep.first_s = min(t.first_s for t in joined)
+        keep.last_s = max(observation.stamp_s, *(t.last_s for t in joined))
+        for t in joined:
             if t is not keep:
                 del self._tracks[t.id]
 
@@ -457,18 +474,20 @@ class CandidateFinder:
         off = self._off_structure()
         small = [c for c in off if c.extent_in <= self.settings.leg_max_extent_in]
         legs = {i for group in table_legs(small, self.settings) for i in group}
-        return tuple(c for c in off if c.id not in legs and (grid is None or grid_supports(grid, c, self.settings)))
+        return tuple(c for c in off if c.id not in legs and c.extent_in <= self.widest_in
+                     and (grid is None or grid_supports(grid, c, self.settings)))
 
 
-def _runs(cluster: np.ndarray, structural: np.ndarray) -> list[np.ndarray]:
-    """The runs of consecutive non-structural returns of a cluster."""
+def _runs(cluster: np.ndarray, structural: np.ndarray, points: np.ndarray, gap_in: float) -> list[np.ndarray]:
+    """The runs of consecutive non-structural returns of a cluster, cut where two
+    neighbours are more than ``gap_in`` apart."""
     runs, current = [], []
     for index in cluster:
-        if structural[index]:
+        if structural[index] or (current and math.dist(points[current[-1]], points[index]) > gap_in):
             if current:
                 runs.append(np.array(current))
             current = []
-        else:
+        if not structural[index]:
             current.append(int(index))
     if current:
         runs.append(np.array(current))
