@@ -12,34 +12,35 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    turned up to about 70° from the robot stays whole) — or their beams are more than
    ``max_step_deg`` apart.
 2. **Structure**: each cluster is cut into straight pieces (split-and-merge: split at
-   the return farthest from the chord while it is farther than ``split_in``). A piece
-   at least ``structure_min_in`` long — longer than any face of any object in the
-   catalogue — is a piece of wall or furniture: a *structure line*, kept for the rest of
-   the run. A return within a line's band (``band_min_in``)
-   is structure, the lines of earlier scans included, so a piece of wall seen short
-   between two occluders is still known to be wall; a line is taken to go on
-   ``extend_in`` beyond its ends, over the stretch of wall an object against it hides.
+   the return farthest from the chord while it is farther than ``split_in``), and each
+   piece fitted with a line robustly (:func:`_line_fit`). A line at least
+   ``structure_min_in`` long — longer than any face of any object in the catalogue — is
+   a piece of wall or furniture: a *structure line*, kept for the rest of the run and
+   taken to go on ``extend_in`` beyond its ends (over the stretch of wall an object
+   against it hides). A return within a line's band (``band_min_in``) is structure, the
+   lines of earlier scans included, so a piece of wall seen short between two
+   occluders is still known to be wall.
 3. **Observations**: the returns left, in runs of consecutive returns no more than
-   ``run_gap_in`` apart (a segment may join a table leg to a bottle beyond it), are an object
-   seen once when the run is no wider than ``max_extent_in`` (the largest catalogue
-   object's diagonal, with noise) and is not *attached* to structure: a run that
-   touches a structure line and does not stand in front of it (towards the robot) by
-   ``front_min_in`` is the end face of a wall at a doorway or of a cabinet between its
-   front and the wall. An object against a wall stands in front of it and is kept. A
-   single return within ``lone_near_in`` of structure is the range noise of that
+   ``run_gap_in`` apart (a segment may join a table leg to a bottle beyond it), are an
+   object seen once when the run is no wider than ``max_extent_in`` (the largest
+   catalogue object's diagonal, with noise) and is not *attached* to structure: a run
+   that touches a structure line and does not stand in front of it (towards the robot)
+   by ``front_min_in`` is the end face of a wall at a doorway or of a cabinet between
+   its front and the wall. An object against a wall stands in front of it and is kept.
+   A single return within ``lone_near_in`` of structure is the range noise of that
    structure and is dropped.
 4. **Tracks**: an observation within ``associate_in`` of a track's outline (or whose
    centroid is within ``associate_centroid_in`` of the track's, the two together no
-   wider than an object) is that track seen again; otherwise it starts a new track with
-   the next id. A track is reported as a
-   :class:`Candidate` once seen ``min_seen`` times, with the part of its outline off
-   the structure lines (those found since included), unless fewer than
-   ``min_outline_points`` are left of it, or it is wider than any object (``max_extent_in``
-   and ``widen_sigmas`` of noise), or it is one of four small tracks standing at the
-   corners of a rectangle of table size (a table's legs; a planar scan cannot see that a
-   leg is tall), or — when the occupancy grid is given — none of its outline's cells is
-   occupied any more (the object was moved) or too little free space has been seen
-   around it.
+   wider than an object) is that track seen again, as long as it does not widen the
+   track beyond an object; otherwise it starts a new track with the next id. A track is
+   reported as a :class:`Candidate` once seen ``min_seen`` times, cut to the part of
+   its outline off the structure lines (those found since included), unless fewer than
+   ``min_outline_points`` are left of it, or it is wider than any object
+   (``max_extent_in`` and ``widen_sigmas`` of noise), or it is one of four small tracks
+   standing at the corners of a rectangle of table size (a table's legs; a planar scan
+   cannot see that a leg is tall), or — when the occupancy grid is given — none of its
+   outline's cells is occupied any more (the object was moved) or too little free space
+   has been seen around it.
 
 The distances that stand for range noise (``split_in``, ``band_min_in``,
 ``lone_near_in``) are multiples of the range finder's noise, ``range_sigma_in``, which the
@@ -135,11 +136,11 @@ class Candidate:
     """Something object-sized that is not the home's structure, seen ``times_seen`` times.
 
     ``id`` is stable for the run (a track keeps its id; two tracks found to be one keep
-    the older's). ``x_in``/``y_in`` is the centroid of the outline, the sides seen so far
-    (so it lies towards the robot's side of a round object until the far side is seen);
-    ``outline`` the returns thinned to one point per ``outline_voxel_in`` square; ``extent_in``
-    the largest distance between two outline points (the object's size, widened by range
-    noise).
+    the older's). ``outline`` is the returns thinned to one point per
+    ``outline_voxel_in`` square, those on structure lines left out; ``x_in``/``y_in`` its
+    centroid, the sides seen so far (so it lies towards the robot's side of a round
+    object until the far side is seen); ``extent_in`` the largest distance between two
+    outline points (the object's size, widened by range noise).
     """
 
     id: int
@@ -232,13 +233,14 @@ class StructureLines:
         return self._segments
 
     def add(self, segments: np.ndarray) -> None:
-        """Add (N, 5) segments, leaving out those already covered by a known one."""
+        """Add (N, 5) segments, leaving out those whose two ends both lie in the band of
+        one known segment (the same piece of wall seen again)."""
         if len(segments) == 0:
             return
         if len(self._segments):
             ends = np.vstack([segments[:, 0:2], segments[:, 2:4]])
-            covered = self.within(ends, slack_in=0.0).reshape(2, -1).all(axis=0)
-            segments = segments[~covered]
+            inside = (self.distances(ends) <= self._segments[None, :, 4]).reshape(2, len(segments), -1)
+            segments = segments[~(inside[0] & inside[1]).any(axis=1)]
         self._segments = np.vstack([self._segments, segments])
 
     def distances(self, points: np.ndarray, segments: np.ndarray | None = None) -> np.ndarray:
@@ -255,12 +257,11 @@ class StructureLines:
         nearest = a + t[..., None] * ab
         return np.sqrt(((p - nearest) ** 2).sum(axis=2))
 
-    def within(self, points: np.ndarray, slack_in: float = 0.0, segments: np.ndarray | None = None) -> np.ndarray:
-        """Which points lie in some segment's band (widened by ``slack_in``)."""
-        s = self._segments if segments is None else segments
-        if len(s) == 0 or len(points) == 0:
+    def within(self, points: np.ndarray) -> np.ndarray:
+        """Which points lie in some segment's band."""
+        if len(self._segments) == 0 or len(points) == 0:
             return np.zeros(len(points), dtype=bool)
-        return (self.distances(points, s) <= s[None, :, 4] + slack_in).any(axis=1)
+        return (self.distances(points) <= self._segments[None, :, 4]).any(axis=1)
 
 
 def _breakpoints(points: np.ndarray, ranges: np.ndarray, angles: np.ndarray, s: CandidateSettings) -> np.ndarray:
@@ -359,7 +360,7 @@ class CandidateFinder:
                                                   np.array([angles[-1], angles[0] + 2 * math.pi]), s)[0]:
             clusters = [np.concatenate([clusters[-1], clusters[0]]), *clusters[1:-1]]  # round the back
 
-        new_lines, line_of = [], np.full(len(points), -1)
+        new_lines = []
         for cluster in clusters:
             for lo, hi in split_and_merge(points[cluster], s.split_in):
                 piece = points[cluster[lo:hi + 1]]
@@ -373,8 +374,10 @@ class CandidateFinder:
         distances = self.structure.distances(points, lines)
         on_line = distances <= lines[None, :, 4]
         structural = on_line.any(axis=1)
-        line_of = np.where(structural, np.argmin(np.where(on_line, distances, np.inf), axis=1), -1)
-        near = (distances <= s.lone_near_in).any(axis=1) if len(lines) else np.zeros(len(points), dtype=bool)
+        line_of = np.full(len(points), -1)
+        if len(lines):
+            line_of[structural] = np.argmin(np.where(on_line, distances, np.inf)[structural], axis=1)
+        near = (distances <= s.lone_near_in).any(axis=1)
 
         observations = []
         for cluster in clusters:
