@@ -52,16 +52,18 @@ def straight_line(robot: Pose):
     return lambda pose: math.dist((robot.x_in, robot.y_in), (pose.x_in, pose.y_in)) / SPEED_IN_S
 
 
-@pytest.mark.parametrize(("robot", "doorway"), [(Pose(100.0, 60.0, 0.0), True), (Pose(20.0, 50.0, 90.0), False)])
-def test_the_goal_is_the_nearer_frontier(robot: Pose, doorway: bool) -> None:
-    """From (100, 60), beside the doorway, the doorway's viewing pose is some 10 in away and
-    the corner's over 60 in: the doorway. From (20, 50) the corner's is some 25 in away and the
-    doorway's about 80 in: the corner (the sizes, 20 and 30 cells, weigh less than the
-    distances: 0.5 power)."""
+@pytest.mark.parametrize(("robot", "doorway", "spot"), [(Pose(100.0, 60.0, 0.0), True, (109.0, 61.0)),
+                                                        (Pose(20.0, 50.0, 90.0), False, (41.0, 97.0))])
+def test_the_goal_is_the_nearer_frontier(robot: Pose, doorway: bool, spot: tuple[float, float]) -> None:
+    """From (100, 60), beside the doorway, the doorway's viewing pose (109, 61) is 9 in
+    away and the corner's (41, 97) 70 in: the doorway. From (20, 50) the corner's is 52 in
+    away and the doorway's 90 in: the corner. The sizes (20 and 30 cells) weigh less than
+    the distances: scores 5.2 s / √30 = 0.94 against 9.0 s / √20 = 2.0."""
     grid = two_rooms()
     goal = next_goal(grid, robot, (), straight_line(robot))
     assert goal is not None
     assert (goal.target_x_in > 100.0) is doorway
+    assert (goal.pose.x_in, goal.pose.y_in) == spot
     # the viewing pose is in explored space, clear of the walls and the unknown, facing the target
     row, col = grid.cell_of(goal.pose.x_in, goal.pose.y_in)
     assert grid.free[row, col]
