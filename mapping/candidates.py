@@ -511,15 +511,21 @@ def table_legs(small: list[Candidate], settings: CandidateSettings = CandidateSe
     ``table_tolerance_in``, the sides between ``table_min_in`` and ``table_max_in``. Each
     candidate is in at most one set (the first found, in id order)."""
     s = settings
+    by_id = sorted(small, key=lambda c: c.id)
+    reach = math.hypot(s.table_max_in, s.table_max_in) + s.table_tolerance_in  # the longest diagonal
+    centres = np.array([(c.x_in, c.y_in) for c in by_id]).reshape(-1, 2)
+    close = np.hypot(*(centres[:, None, :] - centres[None, :, :]).transpose(2, 0, 1)) <= reach
     used: set[int] = set()
     found = []
-    by_id = sorted(small, key=lambda c: c.id)
-    for four in itertools.combinations(by_id, 4):
-        if used & {c.id for c in four}:
-            continue
-        if _is_rectangle([(c.x_in, c.y_in) for c in four], s):
-            found.append(tuple(c.id for c in four))
-            used |= {c.id for c in four}
+    for i, first in enumerate(by_id):  # only sets whose legs are all within a table's reach of each other
+        later = [j for j in range(i + 1, len(by_id)) if close[i, j]]
+        for rest in itertools.combinations(later, 3):
+            four = (first, *(by_id[j] for j in rest))
+            if used & {c.id for c in four} or not all(close[a, b] for a, b in itertools.combinations(rest, 2)):
+                continue
+            if _is_rectangle([(c.x_in, c.y_in) for c in four], s):
+                found.append(tuple(c.id for c in four))
+                used |= {c.id for c in four}
     return tuple(found)  # type: ignore[return-value]
 
 
