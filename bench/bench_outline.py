@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT))
 from learner.training.stage import face_normals  # noqa: E402
 from mapping.outline import outline, survey_plan  # noqa: E402
 from mapping.scan import PlanarScan  # noqa: E402
-from tests.mapping.synthetic import Lidar, disc, rectangle, scene, square_room  # noqa: E402
+from tests.mapping.synthetic import Lidar, circle, rect, scene, square_room  # noqa: E402
 
 CENTRE = (60.0, 60.0)
 OBJECTS = {  # name: (kind, length, width) — catalogue footprints
@@ -46,7 +46,7 @@ def trial(kind: str, a: float, b: float, sigma: float, scans: int, views: int, s
     """(worst face error in degrees or NaN, complete, round); raises ValueError if refused."""
     rng = np.random.default_rng(seed)
     yaw = float(rng.uniform(0.0, 360.0))
-    shape = rectangle(*CENTRE, a, b, yaw) if kind == "rect" else disc(*CENTRE, a)
+    shape = rect(*CENTRE, a, b, yaw) if kind == "rect" else circle(*CENTRE, a, sides=90)
     world = scene([tuple(w) for w in square_room(120.0)], shape)
     lidar = Lidar(sigma_in=sigma, dropout=0.1)
     taken = []

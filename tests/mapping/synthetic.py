@@ -140,29 +140,35 @@ def drifting_odometry(truth: list[tuple[float, float, float]], drift: Drift,
     return reported
 
 
-# -- Objects on the floor, for the outline's tests and bench (mapping/outline.py) -------------
-def rectangle(cx: float, cy: float, length_in: float, width_in: float,
-              yaw_deg: float) -> list[tuple[float, float, float, float]]:
-    """The four sides of a ``length_in`` x ``width_in`` footprint centred on (cx, cy), its
-    length along ``yaw_deg``, counter-clockwise from the side whose outward normal is
-    ``yaw_deg - 90``."""
-    a = math.radians(yaw_deg)
-    u, v = (math.cos(a), math.sin(a)), (-math.sin(a), math.cos(a))
-    corners = [(cx + su * length_in / 2 * u[0] + sv * width_in / 2 * v[0],
-                cy + su * length_in / 2 * u[1] + sv * width_in / 2 * v[1])
-               for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
-    return [(*corners[i], *corners[(i + 1) % 4]) for i in range(4)]
-
-
-def disc(cx: float, cy: float, radius_in: float, sides: int = 90) -> list[tuple[float, float, float, float]]:
-    """A round footprint as a regular ``sides``-gon through the circle: 90 sides stand off
-    the circle by ``r (1 - cos 2°)``, under 0.002 in for a 3.5 in can."""
-    step = 2.0 * math.pi / sides
-    points = [(cx + radius_in * math.cos(step * k), cy + radius_in * math.sin(step * k))
-              for k in range(sides)]
-    return [(*points[k], *points[(k + 1) % sides]) for k in range(sides)]
-
-
+# -- Objects on the floor (mapping/outline.py, mapping/candidates.py) --------------------------
 def scene(*parts: list[tuple[float, float, float, float]]) -> Segments:
     """Wall segments and objects' sides together, as the ray caster takes them."""
     return np.array([segment for part in parts for segment in part], dtype=float)
+
+
+def polygon(corners: list[tuple[float, float]]) -> list[tuple[float, float, float, float]]:
+    """The sides of a closed polygon."""
+    return [(*a, *b) for a, b in zip(corners, corners[1:] + corners[:1])]
+
+
+def circle(x_in: float, y_in: float, radius_in: float, sides: int = 24) -> list[tuple[float, float, float, float]]:
+    """A round object's outline (a can, a cup) as a ``sides``-gon through its rim (90
+    sides stand off the circle by ``r (1 - cos 2°)``, under 0.002 in for a 3.5 in can)."""
+    return polygon([(x_in + radius_in * math.cos(2 * math.pi * k / sides),
+                     y_in + radius_in * math.sin(2 * math.pi * k / sides)) for k in range(sides)])
+
+
+def rect(x_in: float, y_in: float, length_in: float, width_in: float,
+         yaw_deg: float = 0.0) -> list[tuple[float, float, float, float]]:
+    """A rectangular footprint centred at (x, y): ``length_in`` along its heading ``yaw_deg``."""
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    a, b = length_in / 2, width_in / 2
+    return polygon([(x_in + c * u - s * v, y_in + s * u + c * v) for u, v in ((a, b), (-a, b), (-a, -b), (a, -b))])
+
+
+def table_legs(x_in: float, y_in: float, width_in: float, depth_in: float,
+               leg_in: float = 2.0) -> list[tuple[float, float, float, float]]:
+    """A table as a planar sensor sees it: four square legs flush with its top's corners
+    (as the simulator's tables, hero_driver/sim/home.py)."""
+    u, v = width_in / 2 - leg_in / 2, depth_in / 2 - leg_in / 2
+    return [side for a, b in ((u, v), (-u, v), (-u, -v), (u, -v)) for side in rect(x_in + a, y_in + b, leg_in, leg_in)]

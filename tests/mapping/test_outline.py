@@ -30,7 +30,7 @@ from learner.training.stage import face_normals, training_orientations
 from mapping.outline import Outline, outline, survey_plan
 from mapping.scan import PlanarScan
 from planner.geometry import Pose
-from tests.mapping.synthetic import Lidar, disc, rectangle, scene, square_room
+from tests.mapping.synthetic import Lidar, circle, rect, scene, square_room
 
 CENTRE = (60.0, 60.0)  # in a 120 in room: its walls 60 in away, outside the outline's reach
 SIGMA_IN = 0.5
@@ -67,7 +67,7 @@ def training(polygon: tuple[tuple[float, float], ...], round_: bool = False) -> 
 
 
 def box_outline(yaw_deg: float, seed: int) -> Outline:
-    return outline(scans_from(room_with(rectangle(*CENTRE, 9.0, 4.0, yaw_deg)), survey_plan(CENTRE), seed),
+    return outline(scans_from(room_with(rect(*CENTRE, 9.0, 4.0, yaw_deg)), survey_plan(CENTRE), seed),
                    CENTRE, SIGMA_IN)
 
 
@@ -106,7 +106,7 @@ def test_a_box_at_30_degrees_gives_its_four_faces() -> None:
     assert not found.round and found.complete and found.seen == (True,) * 4
     normals = sorted(direction for direction, _ in face_normals(found.polygon))
     assert all(off(n, truth) <= TOLERANCE_DEG for n, truth in zip(normals, (30.0, 120.0, 210.0, 300.0)))
-    truth = training(tuple((x0, y0) for x0, y0, _, _ in rectangle(*CENTRE, 9.0, 4.0, 30.0)))
+    truth = training(tuple((x0, y0) for x0, y0, _, _ in rect(*CENTRE, 9.0, 4.0, 30.0)))
     assert truth == [30, 120, 210, 300]
     got = training(found.polygon)
     assert len(got) == 4 and all(off(g, t) <= TOLERANCE_DEG for g, t in zip(got, truth))
@@ -140,7 +140,7 @@ def test_a_box_seen_square_on_from_one_side_is_that_face_alone() -> None:
     30 and 210, so the outline is not complete."""
     bearing = math.radians(120.0)
     pose = Pose(CENTRE[0] + 24.0 * math.cos(bearing), CENTRE[1] + 24.0 * math.sin(bearing), 300.0)
-    found = outline(scans_from(room_with(rectangle(*CENTRE, 9.0, 4.0, 30.0)), [pose], seed=3), CENTRE, SIGMA_IN)
+    found = outline(scans_from(room_with(rect(*CENTRE, 9.0, 4.0, 30.0)), [pose], seed=3), CENTRE, SIGMA_IN)
     assert not found.round and not found.complete
     assert sum(found.seen) == 1
     assert len(found.seen_normals_deg()) == 1 and off(found.seen_normals_deg()[0], 120.0) <= TOLERANCE_DEG
@@ -157,7 +157,7 @@ def test_a_box_seen_from_one_corner_is_inferred_whole() -> None:
     all four orientations, though only two faces were seen."""
     bearing = math.radians(75.0)
     pose = Pose(CENTRE[0] + 24.0 * math.cos(bearing), CENTRE[1] + 24.0 * math.sin(bearing), 255.0)
-    found = outline(scans_from(room_with(rectangle(*CENTRE, 9.0, 4.0, 30.0)), [pose], seed=4), CENTRE, SIGMA_IN)
+    found = outline(scans_from(room_with(rect(*CENTRE, 9.0, 4.0, 30.0)), [pose], seed=4), CENTRE, SIGMA_IN)
     assert not found.complete and sum(found.seen) == 2
     assert sorted(round(n) for n in found.seen_normals_deg()) == pytest.approx([30, 120], abs=TOLERANCE_DEG)
     got = training(found.polygon)
@@ -169,7 +169,7 @@ def test_a_can_is_round() -> None:
     """A 3.5 in can: its returns fit a circle of radius 1.75 within the range noise; a
     circle's centre and radius from ~240 returns are good to a few hundredths of an inch.
     Round footprints give no orientation of their own."""
-    found = outline(scans_from(room_with(disc(*CENTRE, 1.75)), survey_plan(CENTRE), seed=5), CENTRE, SIGMA_IN)
+    found = outline(scans_from(room_with(circle(*CENTRE, 1.75, sides=90)), survey_plan(CENTRE), seed=5), CENTRE, SIGMA_IN)
     assert found.round and found.complete and found.seen == ()
     assert math.dist(found.centre, CENTRE) < 0.25
     assert max(math.dist(p, found.centre) for p in found.polygon) == pytest.approx(1.75, abs=0.25)
@@ -179,7 +179,7 @@ def test_a_can_is_round() -> None:
 def test_a_can_seen_from_one_side_is_round_but_not_complete() -> None:
     """One view shows just under half the can (2 acos(1.75 / 24) = 172°): more than the
     120° a circle needs to be told from a flat face, less than all round."""
-    found = outline(scans_from(room_with(disc(*CENTRE, 1.75)), survey_plan(CENTRE)[:1], seed=6), CENTRE, SIGMA_IN)
+    found = outline(scans_from(room_with(circle(*CENTRE, 1.75, sides=90)), survey_plan(CENTRE)[:1], seed=6), CENTRE, SIGMA_IN)
     assert found.round and not found.complete
 
 
@@ -191,7 +191,7 @@ def test_a_box_is_not_round() -> None:
 # -- The catalogue's limit and what stands near ------------------------------------------------------
 def test_the_largest_catalogue_object_is_outlined() -> None:
     """The 11 x 9 in closed box (half-diagonal 7.1 in, within the 12 in square's 8.5)."""
-    world = room_with(rectangle(*CENTRE, 11.0, 9.0, 20.0))
+    world = room_with(rect(*CENTRE, 11.0, 9.0, 20.0))
     found = outline(scans_from(world, survey_plan(CENTRE), seed=8), CENTRE, SIGMA_IN)
     corners = np.asarray(found.polygon)
     assert sorted(math.dist(corners[i], corners[(i + 1) % 4]) for i in range(4)) == pytest.approx(
@@ -201,7 +201,7 @@ def test_the_largest_catalogue_object_is_outlined() -> None:
 def test_an_object_longer_than_12_in_is_refused() -> None:
     """16 x 4 in: its returns reach 8.2 in from its centre, within the gathering circle,
     but its outline is 16 in long."""
-    world = room_with(rectangle(*CENTRE, 16.0, 4.0, 20.0))
+    world = room_with(rect(*CENTRE, 16.0, 4.0, 20.0))
     with pytest.raises(ValueError, match=r"16\.\d in across, more than the catalogue's 12 in"):
         outline(scans_from(world, survey_plan(CENTRE), seed=9), CENTRE, SIGMA_IN)
 
@@ -209,7 +209,7 @@ def test_an_object_longer_than_12_in_is_refused() -> None:
 def test_a_wall_near_the_object_is_refused() -> None:
     """A wall 12 in from the centre: returns between the farthest a 12 in object's can
     reach (8.5 + 4 x 0.5 = 10.5 in) and the gathering circle (14.5 in)."""
-    world = room_with(rectangle(*CENTRE, 9.0, 4.0, 20.0), [(CENTRE[0] + 12.0, 0.0, CENTRE[0] + 12.0, 120.0)])
+    world = room_with(rect(*CENTRE, 9.0, 4.0, 20.0), [(CENTRE[0] + 12.0, 0.0, CENTRE[0] + 12.0, 120.0)])
     with pytest.raises(ValueError, match=r"returns lie 10\.5-14\.5 in from the object near \(60\.0, 60\.0\), "
                                          r"beyond a 12 in object's reach: it is not alone, or bigger"):
         outline(scans_from(world, survey_plan(CENTRE), seed=10, scans=1), CENTRE, SIGMA_IN)
