@@ -87,12 +87,11 @@ def survey_route(home: WorldSpec, truth: TruthMap, start: tuple[float, float], r
     clearance = ndimage.distance_transform_edt(~blocked)
     goals = []
     for room in home.home.rooms:
-        inside = np.zeros_like(blocked)
-        rows, cols = blocked.shape
-        for r in range(rows):
-            for c in range(cols):
-                if not blocked[r, c] and room.contains(*truth.centre(r, c)):
-                    inside[r, c] = True
+        drawn = np.zeros(blocked.shape, dtype=np.uint8)  # the room on the grid: (col, row) of each corner
+        corners = [((x - truth.x0_in) / truth.resolution_in - 0.5, (y - truth.y0_in) / truth.resolution_in - 0.5)
+                   for x, y in room.outline]
+        cv2.fillPoly(drawn, [np.round(np.asarray(corners)).astype(np.int32)], 1)
+        inside = drawn.astype(bool) & ~blocked
         if inside.any():
             best = np.unravel_index(np.argmax(np.where(inside, clearance, -1.0)), blocked.shape)
             goals.append((int(best[0]), int(best[1])))
@@ -173,8 +172,9 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
     def look() -> tuple[PlannerPose, Pose]:
         scan = sim.scan()
         began = time.perf_counter()
-        correction = matcher.update(planar(scan))
-        grid.integrate(planar(scan), correction.pose)
+        seen = planar(scan)
+        correction = matcher.update(seen)
+        grid.integrate(seen, correction.pose)
         took.append(time.perf_counter() - began)
         corrected_poses.append(correction.pose)
         true_poses.append(PlannerPose(sim.pose.x_in, sim.pose.y_in, sim.pose.heading_deg))

@@ -21,6 +21,7 @@ seen face alone, flat (docs/mapping.md, "Training orientations from scans").
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -192,8 +193,7 @@ def outline(views: Sequence[tuple[PlanarScan, Pose]], centre: tuple[float, float
     if across > MAX_ACROSS_IN + SIZE_TOLERANCE_IN:
         raise ValueError(f"outline: the object near {where} is {across:.1f} in across, more than the "
                          f"catalogue's {MAX_ACROSS_IN:g} in")
-    return Outline(found.polygon, found.round, found.points, found.residual_in, found.centre, found.axis_deg,
-                   found.axis_sigma_deg, found.seen, len(np.unique(view[near])), found.complete)
+    return dataclasses.replace(found, scans=len(np.unique(view[near])))
 
 
 # -- Returns ------------------------------------------------------------------------------
@@ -214,21 +214,9 @@ def _world_returns(views: Sequence[tuple[PlanarScan, Pose]]) -> tuple[np.ndarray
 
 
 # -- Fitting ------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Fit:
-    polygon: tuple[tuple[float, float], ...]
-    round: bool
-    points: int
-    residual_in: float
-    centre: tuple[float, float]
-    axis_deg: float
-    axis_sigma_deg: float
-    seen: tuple[bool, ...]
-    complete: bool
-
-
-def _fit(points: np.ndarray, origins: np.ndarray, sigma: float) -> _Fit:
-    """The rectangle, or the circle if the returns are round (:data:`ROUND_SIGMAS`)."""
+def _fit(points: np.ndarray, origins: np.ndarray, sigma: float) -> Outline:
+    """The rectangle, or the circle if the returns are round (:data:`ROUND_SIGMAS`); its
+    ``scans`` are the caller's to say."""
     rect = _Rectangle.fit(points, origins, sigma)
     corners = rect.corners()
     rect_rms = _rms(_boundary_distance(points, corners))
@@ -251,12 +239,12 @@ def _fit(points: np.ndarray, origins: np.ndarray, sigma: float) -> _Fit:
             polygon = tuple((cx + r * math.cos(2.0 * math.pi * k / ROUND_POLYGON_SIDES),
                              cy + r * math.sin(2.0 * math.pi * k / ROUND_POLYGON_SIDES))
                             for k in range(ROUND_POLYGON_SIDES))
-            return _Fit(polygon, True, n, circle_rms, (cx, cy), 0.0, math.nan, (),
-                        widest_gap <= COMPLETE_ARC_GAP_DEG)
+            return Outline(polygon, True, n, circle_rms, (cx, cy), 0.0, math.nan, (), 0,
+                           widest_gap <= COMPLETE_ARC_GAP_DEG)
     centre = corners.mean(axis=0)
-    return _Fit(tuple((float(x), float(y)) for x, y in corners), False, n, rect_rms,
-                (float(centre[0]), float(centre[1])), rect.axis_deg(), math.degrees(rect.theta_sigma), rect.seen,
-                all(rect.seen))
+    return Outline(tuple((float(x), float(y)) for x, y in corners), False, n, rect_rms,
+                   (float(centre[0]), float(centre[1])), rect.axis_deg(), math.degrees(rect.theta_sigma), rect.seen,
+                   0, all(rect.seen))
 
 
 def _rms(values: np.ndarray) -> float:

@@ -13,6 +13,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import cv2
+import numpy as np
+
 from hero_driver.sim.catalogue import FieldReader
 
 DOORWAY_MARGIN_IN = 6.0
@@ -101,13 +104,8 @@ class NamedRoom:
     outline: tuple[tuple[float, float], ...]
 
     def contains(self, x: float, y: float) -> bool:
-        """Whether (x, y) lies inside the outline (even-odd rule; on an edge may go either way)."""
-        inside = False
-        pts = self.outline
-        for (x1, y1), (x2, y2) in zip(pts, pts[1:] + pts[:1]):
-            if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
-                inside = not inside
-        return inside
+        """Whether (x, y) lies inside the outline or on its edge (OpenCV's point-in-polygon test)."""
+        return cv2.pointPolygonTest(np.asarray(self.outline, dtype=np.float32), (float(x), float(y)), False) >= 0
 
 
 @dataclass(frozen=True)

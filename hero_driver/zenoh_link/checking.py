@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,6 +37,15 @@ class CheckResult:
 
 class CheckFailed(Exception):
     """A check's expectation was not met; the text says what was seen instead."""
+
+
+def run_check(name: str, check: Callable[[], str]) -> CheckResult:
+    """``check()``'s result as ``name``'s: passed with what it saw, or failed with
+    what :class:`CheckFailed` said."""
+    try:
+        return CheckResult(name, True, check())
+    except CheckFailed as exc:
+        return CheckResult(name, False, str(exc))
 
 
 class Probe:

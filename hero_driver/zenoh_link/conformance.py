@@ -50,7 +50,7 @@ from hero_driver.zenoh_link.camera_check import (MappingError, PlacedObject, Sig
                                                  check_objects_seen, check_robot_drawn, check_robot_seen, undistorted)
 from hero_driver.zenoh_link.checking import (POSE_TOLERANCE, CheckFailed, CheckResult, Probe, Timed, decoded, describe,
                                               error_of, message, outcome_text, pose_json, pose_text, same_pose,
-                                              valid_states)
+                                              run_check, valid_states)
 from hero_driver.zenoh_link.keys import robot_keys
 from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
 from hero_driver.zenoh_link.reference_check import NOT_CHECKED, Reference, reference_checks
@@ -599,13 +599,8 @@ def run_checks(robot: str, connect: Sequence[str], *, timeout_s: float = 30.0,
         mismatch = _named_profile_mismatch(probe, profile)
         if mismatch:
             return [CheckResult("profile", False, mismatch)]
-        results = []
         suite = _Suite(probe, chosen, profile, vision, timing)
-        for name, check in suite.checks():
-            try:
-                results.append(CheckResult(name, True, check()))
-            except CheckFailed as exc:
-                results.append(CheckResult(name, False, str(exc)))
+        results = [run_check(name, check) for name, check in suite.checks()]
         return results + _reference_results(probe, reference, suite.lab_refused)
     finally:
         probe.close()

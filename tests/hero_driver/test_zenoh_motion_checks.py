@@ -22,7 +22,7 @@ import zenoh
 from hero_driver.interface import MoveResult, Pose, RobotState, SenseResult
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
-from hero_driver.zenoh_link.checking import CheckFailed, CheckResult, Probe
+from hero_driver.zenoh_link.checking import CheckResult, Probe, run_check
 from hero_driver.zenoh_link.conformance import Procedures
 from hero_driver.zenoh_link.motion_check import MotionChecks, Timing
 from hero_driver.zenoh_link.node import DriverNode, _Action
@@ -161,13 +161,7 @@ def run_motion_checks(driver: SimulatedHero, server: zenoh.Session, endpoint: st
         try:
             assert probe.rpc.wait_alive(5.0)
             checks = MotionChecks(probe, Timing.from_profile(), Procedures.from_profile().sense)
-            for name, check in checks.checks():
-                if name not in names:
-                    continue
-                try:
-                    results[name] = CheckResult(name, True, check())
-                except CheckFailed as exc:
-                    results[name] = CheckResult(name, False, str(exc))
+            results.update((name, run_check(name, check)) for name, check in checks.checks() if name in names)
         finally:
             probe.close()
     return results

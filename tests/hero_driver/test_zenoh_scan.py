@@ -21,7 +21,7 @@ from jsonschema import Draft202012Validator
 from hero_driver.interface import UNKNOWN_VERB, DriverError, Pose, RangeScan
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim_driver import SimulatedHero
-from hero_driver.zenoh_link.checking import CheckFailed, CheckResult, Probe, message
+from hero_driver.zenoh_link.checking import CheckResult, Probe, message, run_check
 from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.codec import CodecError
 from hero_driver.zenoh_link.conformance import Procedures, run_checks
@@ -103,11 +103,7 @@ def scan_checks(driver: SimulatedHero, server: zenoh.Session, session: zenoh.Ses
         try:
             assert probe.rpc.wait_alive(5.0)
             checks = ScanChecks(probe, lambda: ("scan",) if driver.scan is not None else ())
-            for name, check in checks.checks():
-                try:
-                    results[name] = CheckResult(name, True, check())
-                except CheckFailed as exc:
-                    results[name] = CheckResult(name, False, str(exc))
+            results.update((name, run_check(name, check)) for name, check in checks.checks())
         finally:
             probe.close()
     return results

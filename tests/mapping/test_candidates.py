@@ -205,22 +205,30 @@ def three_room_home() -> np.ndarray:
     return np.array(walls + [side for _, shape, args in HOME_OBJECTS for side in shape(*args)], dtype=float)
 
 
+def drive(walls: np.ndarray, route: tuple[tuple[float, float], ...],
+          grid: OccupancyGrid) -> tuple[CandidateFinder, tuple[Candidate, ...]]:
+    """Scans every 6 in along ``route`` (seed 0), odometry drifting by Drift's defaults,
+    each pose corrected by the ScanMatcher and the grid built at it; the finder and the
+    candidates the grid keeps."""
+    rng = np.random.default_rng(0)
+    truth = loop_poses(route, step_in=6.0)
+    odometry = drifting_odometry(truth, Drift(), rng)
+    matcher, finder = ScanMatcher(), CandidateFinder()
+    for k, (t, o) in enumerate(zip(truth, odometry)):
+        scan = scan_from(walls, t, rng, float(k), reported=o)
+        pose = matcher.update(scan).pose
+        grid.integrate(scan, pose)
+        finder.update(scan, pose)
+    return finder, finder.candidates(grid)
+
+
 @pytest.mark.slow
 def test_a_drive_through_a_three_room_home_finds_every_object() -> None:
     """272 scans along a scripted route, odometry drifting (Drift's defaults), poses
     corrected by the ScanMatcher, the grid built at them: every object is a candidate
     within 3 in of its centre, the table is found as a table, and there is no false
     candidate on this seed (0.5 in noise; docs/mapping.md has five seeds and 1 in noise)."""
-    walls, rng = three_room_home(), np.random.default_rng(0)
-    truth = loop_poses(HOME_ROUTE, step_in=6.0)
-    odometry = drifting_odometry(truth, Drift(), rng)
-    matcher, finder, grid = ScanMatcher(), CandidateFinder(), OccupancyGrid(-12.0, -12.0, 372.0, 212.0, 2.0)
-    for k, (t, o) in enumerate(zip(truth, odometry)):
-        scan = scan_from(walls, t, rng, float(k), reported=o)
-        pose = matcher.update(scan).pose
-        grid.integrate(scan, pose)
-        finder.update(scan, pose)
-    found = finder.candidates(grid)
+    finder, found = drive(three_room_home(), HOME_ROUTE, OccupancyGrid(-12.0, -12.0, 372.0, 212.0, 2.0))
     missed = [name for name, _, args in HOME_OBJECTS if len(near(found, args[0], args[1])) != 1]
     assert missed == []
     false = [(round(c.x_in), round(c.y_in)) for c in found
@@ -281,16 +289,7 @@ def test_a_drive_through_the_apartment_finds_its_objects() -> None:
     (the end of the wardrobe, at a grazing angle through the bedroom door);
     docs/mapping.md has five seeds."""
     walls, objects = apartment_world()
-    rng = np.random.default_rng(0)
-    truth = loop_poses(APARTMENT_ROUTE, step_in=6.0)
-    odometry = drifting_odometry(truth, Drift(), rng)
-    matcher, finder, grid = ScanMatcher(), CandidateFinder(), OccupancyGrid(-12.0, -12.0, 612.0, 412.0, 2.0)
-    for k, (t, o) in enumerate(zip(truth, odometry)):
-        scan = scan_from(walls, t, rng, float(k), reported=o)
-        pose = matcher.update(scan).pose
-        grid.integrate(scan, pose)
-        finder.update(scan, pose)
-    found = finder.candidates(grid)
+    finder, found = drive(walls, APARTMENT_ROUTE, OccupancyGrid(-12.0, -12.0, 612.0, 412.0, 2.0))
     assert [name for name, x, y in objects if len(near(found, x, y, 4.0)) != 1] == []
     false = [c for c in found if not any(math.dist((c.x_in, c.y_in), (x, y)) <= 4.0 for _, x, y in objects)]
     assert [(round(c.x_in), round(c.y_in)) for c in false] == [(376, 388)]
