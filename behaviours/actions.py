@@ -9,36 +9,34 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+from typing import Any
 from dataclasses import dataclass, replace
 
 from py_trees.common import Access, Status
 
-from behaviours.base import DriverAction
+from behaviours.base import DriverAction, LookAction
 from behaviours.bridge import to_driver_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
-from camera_model.image import CameraImage
 from hero_driver.interface import DriverError, GraspResult, MoveResult, Obstacle, RobotState, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.position import Position
 from planner import PlanResult
 
 
-class LocateObjects(DriverAction):
+class LocateObjects(LookAction):
     """Take an overhead image and queue every object region, nearest first."""
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
-
-    VERB = "camera"
 
     def __init__(self, robot: str, name: str = "LocateObjects") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)
 
-    def start(self) -> Future[CameraImage]:
-        return self.services.driver.camera()
+    def start(self) -> Future[Any]:
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         scene = self.look(result)
         robot = self.robot_pose()
         regions = sorted(scene.regions, key=lambda r: (math.hypot(r.centroid[0] - robot.x_in,

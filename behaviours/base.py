@@ -22,7 +22,6 @@ from behaviours.events import Event
 from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb, ObjectRecord, Refusal, Step
 from behaviours.resume import Reconnecting
 from behaviours.services import Services, namespace
-from camera_model.image import CameraImage
 from hero_driver.interface import INTERNAL, OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError
 from planner import Pose as PlannerPose, Scene
 
@@ -88,21 +87,27 @@ class CslBehaviour(py_trees.behaviour.Behaviour):
         finally:
             self.obj.ledger.computing_s += clock() - start
 
-    def look(self, image: CameraImage) -> Scene:
-        """Observe a new overhead image (plans are made on it from now on) and let it
-        correct the driver's dead reckoning (:mod:`behaviours.localisation`): when the
-        image places the robot away from where its pose says, the pose on the blackboard
-        becomes the corrected one. Only a behaviour with write access to the pose looks."""
+    def look(self, observation: Any) -> Scene:
+        """Read a new look (an overhead image, or an onboard scan: :mod:`behaviours.perception`;
+        plans are made on it from now on) and let it correct the driver's dead reckoning
+        (:mod:`behaviours.localisation`): when the look places the robot away from where
+        its pose says, the pose on the blackboard becomes the corrected one. Only a
+        behaviour with write access to the pose looks."""
         services = self.services
+        perception = services.perception
         working = self.object_at_hand() is not None  # else nothing to charge it to
-        scene = self.timed(lambda: services.navigator.observe(image)) if working else services.navigator.observe(image)
+        scene = self.timed(lambda: perception.scene(observation)) if working else perception.scene(observation)
         localise = getattr(services.driver, "localise", None)
-        if scene.robot is not None and localise is not None and localise(scene.robot.x_in, scene.robot.y_in):
+        seen = scene.robot
+        if seen is not None and localise is not None and localise(
+                seen.x_in, seen.y_in, *((seen.heading_deg,) if perception.corrects_heading else ())):
             was = self.bb.pose
             self.bb.pose = services.driver.state().pose
-            self.note(Event.LOCALISED, seen=[round(scene.robot.x_in, 1), round(scene.robot.y_in, 1)],
+            turn = getattr(services.driver, "turn_deg", 0.0)
+            self.note(Event.LOCALISED, seen=[round(seen.x_in, 1), round(seen.y_in, 1)],
                       was=None if was is None else [round(was.x_in, 1), round(was.y_in, 1)],
-                      offset=[round(v, 2) for v in services.driver.offset])
+                      offset=[round(v, 2) for v in services.driver.offset],
+                      **({"turn_deg": round(turn, 2)} if turn else {}))
         return scene
 
     def robot_pose(self) -> PlannerPose:
@@ -245,3 +250,15 @@ class DriverAction(CslBehaviour):
             return Status.RUNNING if self._skip is None else self._skip
         self.feedback_message = "driver back, objects located again: the step starts over"
         return Status.FAILURE
+
+
+class LookAction(DriverAction):
+    """A driver action whose verb is a look of the executive's perception: the overhead
+    camera's image, or the onboard scan (:mod:`behaviours.perception`)."""
+
+    def verb(self) -> str:
+        return self.services.perception.verb
+
+    def take_look(self) -> Future[Any]:
+        """Start one look."""
+        return self.services.perception.look()

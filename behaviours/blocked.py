@@ -34,10 +34,9 @@ from py_trees.common import Access, Status
 from py_trees.composites import Selector, Sequence
 
 from behaviours.actions import BLOCKED, Blockage, MoveTo
-from behaviours.base import CslBehaviour, DriverAction
+from behaviours.base import CslBehaviour, DriverAction, LookAction
 from behaviours.events import Event
 from behaviours.services import namespace
-from camera_model.image import CameraImage
 from hero_driver.interface import BlockedMoves, Driver, RobotState
 
 AVOID_MARGIN_IN = 3.0
@@ -98,22 +97,20 @@ class Blocked(CslBehaviour):
         return Status.FAILURE
 
 
-class LookAgain(DriverAction):
+class LookAgain(LookAction):
     """A new overhead image, with the obstacle the move met drawn into the planner's map
     (a disc ``AVOID_MARGIN_IN`` wider than it reaches, kept clear of the robot)."""
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
-    VERB = "camera"
-
     def __init__(self, robot: str, name: str = "LookAgain") -> None:
         super().__init__(name, robot)
         self.bb.register_key(BLOCKED, access=Access.READ)
 
-    def start(self) -> Future[CameraImage] | Status:
-        return self.services.driver.camera()
+    def start(self) -> Future[Any] | Status:
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         navigator = self.services.navigator
         blockage: Blockage | None = self.bb.get(BLOCKED)
         self.look(result)

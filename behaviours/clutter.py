@@ -26,13 +26,13 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+from typing import Any
 
 from py_trees.common import Access, Status
 
-from behaviours.base import CslBehaviour, DriverAction
+from behaviours.base import CslBehaviour, LookAction
 from behaviours.events import Event
 from behaviours.sameness import PUSHED_IN
-from camera_model.image import CameraImage
 from planner import Region
 from planner.merging import within_push
 from planner.positions import beam_blockers, neighbours
@@ -78,7 +78,7 @@ class BeamClear(CslBehaviour):
         return neighbours(self.obj.region, self.services.navigator.scene.regions, PUSHED_IN)
 
 
-class LookForTheRest(DriverAction):
+class LookForTheRest(LookAction):
     """``LookForTheRest``: after a grasp held one object of a cluster and it was put
     away, look again and queue, next, what is left of the cluster.
 
@@ -92,20 +92,18 @@ class LookForTheRest(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
-    VERB = "camera"
-
     def __init__(self, robot: str, name: str = "LookForTheRest") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.WRITE)
 
-    def start(self) -> Future[CameraImage] | Status:
+    def start(self) -> Future[Any] | Status:
         obj = self.obj
         if not obj.clustered or obj.outcome != "grasped":
             self.feedback_message = "not a cluster grasped"
             return Status.SUCCESS
-        return self.services.driver.camera()
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         scene = self.look(result)
         queued = list(self.bb.objects)
         near = PUSHED_IN

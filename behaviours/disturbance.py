@@ -33,17 +33,17 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+from typing import Any
 from dataclasses import dataclass
 
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviours.base import CslBehaviour, DriverAction
+from behaviours.base import CslBehaviour, LookAction
 from behaviours.events import Event
 from behaviours.loop import open_session
 from behaviours.records import ObjectRecord
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN, SEARCH_IN
-from camera_model.image import CameraImage
 from planner import Region
 from planner.merging import within_push
 
@@ -108,7 +108,7 @@ def judge(expected: Region, pixels: float, regions: list[Region], others: list[t
     return None
 
 
-class Disturbed(DriverAction):
+class Disturbed(LookAction):
     """Condition ``Disturbed?``: before ``what`` (a sensing or a grasp), one overhead image
     says whether the object is still in place; succeeds when it is not (moved, changed,
     gone: the finding goes on the blackboard for the recoveries). A test whose value is
@@ -116,8 +116,6 @@ class Disturbed(DriverAction):
     check is off (``Params.check_in_place``)."""
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
-
-    VERB = "camera"
 
     def __init__(self, robot: str, what: str, name: str = "Disturbed?") -> None:
         super().__init__(name, robot)
@@ -128,7 +126,7 @@ class Disturbed(DriverAction):
         self.bb.register_key("objects", access=Access.READ)
         self.bb.register_key("results", access=Access.READ)
 
-    def start(self) -> Future[CameraImage] | Status:
+    def start(self) -> Future[Any] | Status:
         self.bb.set(FINDING, None)
         if not self.services.params.check_in_place:
             self.feedback_message = "check off"
@@ -137,9 +135,9 @@ class Disturbed(DriverAction):
         if self.what == "test" and (test is None or (test.cost == 0 and not test.test.is_grasp)):
             self.feedback_message = "nothing to measure: no look needed"
             return Status.FAILURE
-        return self.services.driver.camera()
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         obj = self.obj
         scene = self.look(result)
         others = [r.centroid for r in self.bb.objects] + [

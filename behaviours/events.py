@@ -26,7 +26,14 @@ class Event(str, Enum):
     def __str__(self) -> str:
         return self.value
 
-    LOCATED = "located", "the overhead camera's object regions (centroid, pixels, orientation), nearest first"
+    LOCATED = "located", ("the object regions a look found (centroid, pixels, orientation), nearest first: the "
+                          "overhead camera's, or the candidates the onboard scans tracked")
+    VIEW = "view", ("exploring without a ceiling camera: a scan taken where the robot stands (pose, candidates so "
+                    "far) and the next view to look from, or none when the home is mapped")
+    EXPLORE_MOVE = "explore_move", ("exploring: the robot drove to the next view (seconds, whether it collided, "
+                                    "the pose it ended at); or `unreachable` and why")
+    MAPPED = "mapped", ("exploration ended (views, robot seconds, candidates found); `reason` says why: the home "
+                        "is mapped, or the views' bound was spent")
     OBJECT = "object", ("work starts on an object: where it lies and where the robot stands relative to it "
                         "(`cluster: true` when vision saw touching objects as one region)")
     CHOOSE = "choose", "a test chosen (how: best, reselect or backtrack), its position, gain, move and sensing seconds"
@@ -64,8 +71,9 @@ class Event(str, Enum):
     BEAM_BLOCKED = "beam_blocked", "a test's sonar beam would meet another object (neighbours' centroids): unusable there", True
     OTHER_END = "other_end", "a grasp position with no path approached from the object's other end", True
     CHARGE = "charge", "the battery ran low: the robot drove to its dock and charged (levels, seconds), then resumed"
-    LOCALISED = "localised", ("the overhead camera saw the robot away from where its dead reckoning said (seen, "
-                              "was): its poses corrected by the offset from now on")
+    LOCALISED = "localised", ("the overhead camera (or the onboard scan matcher) placed the robot away from where "
+                              "its dead reckoning said (seen, was): its poses corrected by the offset (and turn) "
+                              "from now on")
     DISTURBANCE = "disturbance", "the camera check before a sensing or grasp: the object moved, changed or gone"
     RELOCATE = "relocate", "the object was moved: followed to its new place, every value measured kept", True
     START_AFRESH = "start_afresh", "another object where ours was: started over on it, nothing kept", True

@@ -28,6 +28,7 @@ episode with one line, as a lost driver does without the wait.
 
 from __future__ import annotations
 
+from typing import Any
 from concurrent.futures import Future
 
 import py_trees
@@ -38,7 +39,6 @@ from behaviours.base import CslBehaviour
 from behaviours.guard import KeepPlace
 from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb
 from behaviours.resume import Reconnecting, relocate, same_robot
-from camera_model.image import CameraImage
 from hero_driver.interface import UNAVAILABLE, DriverError
 
 
@@ -109,11 +109,11 @@ class LocateAgain(CslBehaviour):
         self.bb.register_key(DRIVER_LOST, access=Access.READ)
         self.bb.register_key(DRIVER_BACK, access=Access.WRITE)
         self._robot, self._waiting = robot, waiting
-        self._image: Future[CameraImage] | None = None
+        self._image: Future[Any] | None = None
 
     def initialise(self) -> None:
         located = self.object_at_hand() is not None
-        self._image = self.services.driver.camera() if located else None
+        self._image = self.services.perception.look() if located else None
 
     def update(self) -> Status:
         services, robot = self.services, self._robot
@@ -126,7 +126,7 @@ class LocateAgain(CslBehaviour):
                 if exc.code == UNAVAILABLE:
                     self.feedback_message = f"driver for {robot} gone again before it answered"
                     return Status.FAILURE  # "until back" waits again
-                raise DriverError(UNAVAILABLE, f"driver for robot {robot} came back, but its camera failed: "
+                raise DriverError(UNAVAILABLE, f"driver for robot {robot} came back, but its {services.perception.verb} failed: "
                                   f"{exc}") from None
             waited = services.clock() - self._waiting.since
             relocate(services, robot, image, f"driver for {robot} came back after {waited:.1f} s")

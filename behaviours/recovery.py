@@ -14,19 +14,19 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+from typing import Any
 from dataclasses import replace
 
 from py_trees.common import Access, Status
 
 from behaviours.actions import MoveTo, pose_json
 from behaviours.appearance import appearance_of
-from behaviours.base import CslBehaviour, DriverAction
+from behaviours.base import CslBehaviour, DriverAction, LookAction
 from behaviours.bridge import other_end, to_driver_pose
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
-from camera_model.image import CameraImage
 from hero_driver.interface import DriverError, MoveResult, SenseResult
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.choosing.leaf import AmbiguousLeaf
@@ -168,7 +168,7 @@ class OtherEnd(MoveTo):
         return self.drive(plan)
 
 
-class CheckSideEffects(DriverAction):
+class CheckSideEffects(LookAction):
     """After a failed grasp, look again: was the object pushed, or changed (knocked over)?
 
     The pixel count tells them apart (docs/method.md §5): about the same area means the
@@ -179,15 +179,13 @@ class CheckSideEffects(DriverAction):
 
     POSE_ACCESS = Access.WRITE  # an image may correct where the robot stands (CslBehaviour.look)
 
-    VERB = "camera"
-
     def __init__(self, robot: str, name: str = "SideEffects?") -> None:
         super().__init__(name, robot)
 
-    def start(self) -> Future[CameraImage]:
-        return self.services.driver.camera()
+    def start(self) -> Future[Any]:
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         obj, step = self.obj, self.step
         scene = self.look(result)
         old = obj.region

@@ -13,7 +13,7 @@ first. Where the robot stands is asked of the driver afresh.
 from __future__ import annotations
 
 import math
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import py_trees
 from py_trees.common import Access
@@ -22,7 +22,6 @@ from behaviours.bridge import to_planner_pose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from behaviours.services import Services, namespace
-from camera_model.image import CameraImage
 from hero_driver.interface import UNAVAILABLE, DriverError
 from planner import Pose as PlannerPose, Region
 from robot_profile import ProfileStamp
@@ -54,14 +53,14 @@ def same_robot(services: Services, robot: str) -> None:
                           f"(sha256 {before.sha256[:12]})")
 
 
-def relocate(services: Services, robot: str, image: CameraImage, reason: str) -> list[Region]:
-    """Rebuild the object queue from ``image`` (the module docstring says how); the
+def relocate(services: Services, robot: str, observation: Any, reason: str) -> list[Region]:
+    """Rebuild the object queue from a look (``observation``: the module docstring says how); the
     regions queued, nearest first. Logs a ``located`` event with ``again`` = ``reason``."""
     board = py_trees.blackboard.Client(name="relocate", namespace=namespace(robot))
     for key in ("objects", "object", "step", "pose"):
         board.register_key(key, access=Access.WRITE)
     board.register_key("results", access=Access.READ)
-    scene = services.navigator.observe(image)
+    scene = services.perception.scene(observation)
     board.pose = None  # where the robot stands: the driver says, not the end of our last move
     here = to_planner_pose(services.driver.state().pose)
     seen = list(scene.regions)

@@ -15,6 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from behaviours.perception import CeilingCamera, Perception
 from hero_driver.interface import Driver
 from learner.choosing.criteria import Criterion
 from learner.choosing.matrix import DescriptionMatrix
@@ -54,6 +55,7 @@ class Params:
     blocked_wait_s: float = 20.0  # and before a retry, the robot waits this long for the obstacle to pass
     reapproach_tries: int = 2  # a procedure refused as out of range: re-approached and tried again this
     #   often per object, then the refusal counts as the verb failing; 0: at once (behaviours.reapproach)
+    max_views: int = 200  # exploring without a ceiling camera: rounds (look, go to the next view) at most
     verify_grasps: bool = True  # a grasp reported held: one camera look that it left the floor
     #   (behaviours.verified_grasp); off: the driver's word, and no image taken
 
@@ -132,3 +134,8 @@ class Services:
     clock: Callable[[], float] = field(default=time.perf_counter)
     given_up: GivenUp = field(default_factory=GivenUp)
     served: ProfileStamp | None = None  # the robot profile the driver said it served at the start (None: unsaid)
+    perception: Perception = None  # type: ignore[assignment]  # how looks are taken; None: the ceiling camera
+
+    def __post_init__(self) -> None:
+        if self.perception is None:
+            object.__setattr__(self, "perception", CeilingCamera(self.driver, self.navigator))

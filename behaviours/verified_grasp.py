@@ -31,17 +31,17 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+from typing import Any
 
 import py_trees
 from py_trees.common import Access, Status
 from py_trees.composites import Selector
 
-from behaviours.base import DriverAction
+from behaviours.base import DriverAction, LookAction
 from behaviours.events import Event
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
-from camera_model.image import CameraImage
 from hero_driver.interface import RobotState
-from planner import Region, look
+from planner import Region
 from planner.geometry import Pose
 
 
@@ -70,19 +70,17 @@ def still_on_floor(lay: Region, regions: tuple[Region, ...] | list[Region], othe
     return None
 
 
-class GraspVerified(DriverAction):
+class GraspVerified(LookAction):
     """Condition ``GraspVerified?``: for an object reported grasped, one overhead image
     must show it gone from the floor; else ``grasp_unverified`` and the object fails
     (module docstring). Succeeds at once for an object left or not grasped."""
-
-    VERB = "camera"
 
     def __init__(self, robot: str, name: str = "GraspVerified?") -> None:
         super().__init__(name, robot)
         self.bb.register_key("objects", access=Access.READ)
         self.bb.register_key("results", access=Access.READ)
 
-    def start(self) -> Future[CameraImage] | Status:
+    def start(self) -> Future[Any] | Status:
         if self.obj.outcome != "grasped":
             self.feedback_message = "no grasp to verify"
             return Status.SUCCESS
@@ -90,11 +88,11 @@ class GraspVerified(DriverAction):
             self.obj.verified = True
             self.feedback_message = "check off: the driver's word"
             return Status.SUCCESS
-        return self.services.driver.camera()
+        return self.take_look()
 
-    def finish(self, result: CameraImage) -> Status:
+    def finish(self, result: Any) -> Status:
         obj, navigator = self.obj, self.services.navigator
-        scene = self.timed(lambda: look(result, navigator.camera))
+        scene = self.timed(lambda: self.services.perception.glance(result))
         others = [r.centroid for r in self.bb.objects] + [
             r.region.centroid for r in self.bb.results if r is not obj and r.outcome not in ("grasped", "gone")]
         robot = scene.robot or self.robot_pose()

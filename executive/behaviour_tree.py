@@ -11,7 +11,9 @@ afresh or reports it gone (``behaviours.disturbance``). Above it all, the low-ba
 guard ("battery check", ``behaviours.battery``) sends the robot to its dock and lets the
 work resume where it was; above that, gated by ``DriverLost?``, the lost-driver guard
 ("driver check", ``behaviours.reconnect``) waits for a driver that went away to come
-back and has the objects located again. Each move to a test or grasp position can be
+back and has the objects located again. Without a ceiling camera, "explore the home"
+comes first: look, go to the next view, until the home is mapped
+(``behaviours.exploration``); every look is then a scan. Each move to a test or grasp position can be
 blocked by a moving obstacle: "until past" looks again, re-plans around it or waits,
 and gives the object up after a bound (``behaviours.blocked``). Between a test's choice
 and the move to it, ``BeamClear?`` makes a test whose sonar beam another object would
@@ -34,6 +36,7 @@ from behaviours.blocked import around_movers
 from behaviours.choosing import BestTest, ChooseGrasp, FollowBranch
 from behaviours.clutter import BeamClear, LookForTheRest
 from behaviours.disturbance import look_before
+from behaviours.exploration import explore as explore_home
 from behaviours.loop import ForEachObject, StartObject, UntilHandled
 from behaviours.plausible import Plausible
 from behaviours.reapproach import reapproached
@@ -43,9 +46,10 @@ from behaviours.recovery import (AmbiguousGrasp, Backtrack, CheckSideEffects, Di
                                  GraspFailed, NearestNeighbour, OtherEnd, Reselect, StartOver, ValueUnreliable)
 
 
-def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
+def build_tree(robot: str = "r1", explore: bool = False) -> py_trees.behaviour.Behaviour:
     """The executive's tree for one episode of robot ``robot``: locate, then approach and
-    recognize each object."""
+    recognize each object; with ``explore`` (a robot without a ceiling camera), explore
+    the home first (``behaviours.exploration``)."""
     choose = Selector("choose a test", memory=True, children=[
         BestTest(robot),
         Sequence("reselect", memory=True, children=[ValueUnreliable(robot), Reselect(robot)]),
@@ -73,6 +77,7 @@ def build_tree(robot: str = "r1") -> py_trees.behaviour.Behaviour:
         LookForTheRest(robot),
     ])
     return reconnecting(guarded(Sequence("retrieve objects", memory=True, children=[
+        *([explore_home(robot)] if explore else []),
         LocateObjects(robot),
         ForEachObject(per_object, robot, name="each object"),
     ]), robot), robot)

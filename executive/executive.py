@@ -24,14 +24,24 @@ from executive.battery_cost import navigator_for
 from executive.episode_log import EpisodeLog
 from executive.grasp_attempts import LearnedGraspCosts
 from executive.narration import tell_outcome
+from executive.onboard import OnboardPerception
 from executive.verb_log import VerbLog
 from executive.behaviour_tree import build_tree
-from hero_driver.interface import Driver
+from hero_driver.interface import Driver, Scanner
 from learner.choosing.criteria import CRITERIA, DEFAULT_CRITERION, Criterion
 from learner.service.interface import KeepsGraspCosts, LearnerService
 from planner.calibration import MarkerBoard
 from planner.segmentation import Camera
 from robot_profile import ProfileStamp, RobotProfile, load_profile
+
+CEILING, ONBOARD = "ceiling", "onboard"
+PERCEPTIONS = (CEILING, ONBOARD)
+"""How the robot sees its floor: the overhead camera, or its own range scans."""
+
+ONBOARD_PLAN_S = 2.0
+"""Seconds a path may take to plan on the onboard map: a home's doorways are narrow
+passages for a sampling planner (a lab's quarter second finds few of them), and one
+move between rooms takes the robot minutes."""
 
 OVERDUE_WAIT_S = 900.0
 """After a verb went unanswered, how long the executive waits for the robot to take
@@ -57,13 +67,22 @@ class Executive:
     def __init__(self, driver: Driver, learner: LearnerService, *, profile: RobotProfile | None = None,
                  params: Params = Params(), criterion: Criterion | None = None, log: EpisodeLog | None = None,
                  on_tick: Callable[[int, py_trees.behaviour.Behaviour], None] | None = None,
-                 camera: Camera | None = None, board: MarkerBoard | None = None) -> None:
+                 camera: Camera | None = None, board: MarkerBoard | None = None,
+                 perception: str = CEILING) -> None:
         """``profile``: the robot (default: the shipped HERO 2000); the planner plans for
         its ``[robot]`` table and the learner knows its procedures, both from this one
         reading. ``on_tick(tick, root)`` sees the tree after every tick (a recording
         of its status). ``camera``: the calibrated overhead camera when the driver's
         images are real ones, or ``board`` to calibrate it from the first image
-        (docs/camera.md); neither for band images."""
+        (docs/camera.md); neither for band images. ``perception``: ``ceiling`` (the
+        overhead camera, the paper's) or ``onboard`` (the robot's own scans, for a
+        driver with the ``scan`` feature and no ceiling camera: ``executive.onboard``)."""
+        if perception not in PERCEPTIONS:
+            raise ValueError(f"perception must be one of {', '.join(PERCEPTIONS)}, got {perception!r}")
+        onboard = perception == ONBOARD
+        if onboard and not isinstance(driver, Scanner):
+            raise ValueError(f"perception onboard: the driver for robot {driver.robot} offers no scans "
+                             f"(the `scan` feature, docs/driver-protocol.md)")
         self.log = log or EpisodeLog()
         self.on_tick = on_tick
         profile = profile or load_profile()
@@ -72,9 +91,13 @@ class Executive:
         # a verb refused busy after a timeout is sent again (behaviours.overdue); poses are
         # the overhead camera's, the driver's dead reckoning corrected (behaviours.localisation)
         localised = CameraLocalised(driver) if params.localise else driver
+        navigator = navigator_for(profile.robot, localised, knowledge, params, camera=camera, board=board,
+                                  **({"time_limit_s": ONBOARD_PLAN_S} if onboard else {}))
+        self.perception = OnboardPerception(driver, navigator) if onboard else None  # scans in the driver's frame
         self.services = Services(
             driver=OverdueRobot(localised, OVERDUE_WAIT_S),
-            navigator=navigator_for(profile.robot, localised, knowledge, params, camera=camera, board=board),
+            navigator=navigator,
+            perception=self.perception,  # type: ignore[arg-type]  # None: the ceiling camera
             learner=learner,
             knowledge=knowledge,
             criterion=criterion or CRITERIA[DEFAULT_CRITERION].build(), params=params, log=self.log,
@@ -83,7 +106,7 @@ class Executive:
             LearnedGraspCosts(learner, knowledge, self.services.library, self.log.events, self.log, driver.robot)
             if params.learned_grasp_costs and isinstance(learner, KeepsGraspCosts) else None)
         self.namespace = namespace(driver.robot)
-        self.root = build_tree(driver.robot)
+        self.root = build_tree(driver.robot, explore=onboard)
         self.tree = py_trees.trees.BehaviourTree(self.root)
         self.tree.setup(services=self.services)
         self._snapshot = py_trees.visitors.SnapshotVisitor()

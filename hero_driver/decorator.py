@@ -14,6 +14,7 @@ wrapper without editing any of them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Future
 from dataclasses import replace
@@ -58,37 +59,47 @@ def argument(verb: DriverVerb, args: Sequence[Any], kwargs: Mapping[str, Any], n
 
 
 def poses_in(verb: DriverVerb, args: tuple[Any, ...], kwargs: dict[str, Any],
-             dx: float, dy: float) -> tuple[tuple[Any, ...], dict[str, Any]]:
-    """The call's arguments with every pose the table names moved by (``dx``, ``dy``)."""
+             dx: float, dy: float, turn_deg: float = 0.0) -> tuple[tuple[Any, ...], dict[str, Any]]:
+    """The call's arguments with every pose the table names moved (:func:`translated`)."""
     named = verb.args
-    moved = tuple(translated(a, dx, dy) if i < len(named) and named[i] in verb.poses_in else a
+    moved = tuple(translated(a, dx, dy, turn_deg) if i < len(named) and named[i] in verb.poses_in else a
                   for i, a in enumerate(args))
-    return moved, {k: translated(v, dx, dy) if k in verb.poses_in else v for k, v in kwargs.items()}
+    return moved, {k: translated(v, dx, dy, turn_deg) if k in verb.poses_in else v for k, v in kwargs.items()}
 
 
-def poses_out(verb: DriverVerb, result: Any, dx: float, dy: float) -> Any:
-    """``result`` with every pose the table names moved by (``dx``, ``dy``)."""
+def poses_out(verb: DriverVerb, result: Any, dx: float, dy: float, turn_deg: float = 0.0) -> Any:
+    """``result`` with every pose the table names moved (:func:`translated`)."""
     if result is None:
         return None
     if "" in verb.poses_out:
-        return translated(result, dx, dy)
-    fields = {f: translated(getattr(result, f), dx, dy) for f in verb.poses_out}
+        return translated(result, dx, dy, turn_deg)
+    fields = {f: translated(getattr(result, f), dx, dy, turn_deg) for f in verb.poses_out}
     return replace(result, **fields) if fields else result
 
 
-def translated(value: Any, dx: float, dy: float) -> Any:
-    """A world position moved by (``dx``, ``dy``): a :class:`Pose` (heading kept), an
-    :class:`Obstacle` (reach kept), an ``(x, y)`` point, a sequence of them, or None."""
+def translated(value: Any, dx: float, dy: float, turn_deg: float = 0.0) -> Any:
+    """A world position turned by ``turn_deg`` about the origin, then moved by (``dx``,
+    ``dy``): a :class:`Pose` (its heading turned too), an :class:`Obstacle` (reach kept),
+    an ``(x, y)`` point, a sequence of them, or None. With no turn, a shift alone (the
+    overhead camera's correction: it leaves the heading to the driver)."""
     if value is None:
         return None
+    if turn_deg:
+        c, s = math.cos(math.radians(turn_deg)), math.sin(math.radians(turn_deg))
+
+        def moved(x: float, y: float) -> tuple[float, float]:
+            return c * x - s * y + dx, s * x + c * y + dy
+    else:
+        def moved(x: float, y: float) -> tuple[float, float]:
+            return x + dx, y + dy
     if isinstance(value, Pose):
-        return Pose(value.x_in + dx, value.y_in + dy, value.heading_deg)
+        return Pose(*moved(value.x_in, value.y_in), value.heading_deg + turn_deg if turn_deg else value.heading_deg)
     if isinstance(value, Obstacle):
-        return Obstacle(value.x_in + dx, value.y_in + dy, value.radius_in)
+        return Obstacle(*moved(value.x_in, value.y_in), value.radius_in)
     if isinstance(value, tuple) and len(value) == 2 and all(isinstance(v, (int, float)) for v in value):
-        return (value[0] + dx, value[1] + dy)
+        return moved(value[0], value[1])
     if isinstance(value, (list, tuple)):
-        return type(value)(translated(v, dx, dy) for v in value)
+        return type(value)(translated(v, dx, dy, turn_deg) for v in value)
     raise TypeError(f"not a world position: {value!r}")
 
 

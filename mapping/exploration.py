@@ -108,23 +108,33 @@ def standing_room(grid: OccupancyGrid, candidates: Sequence[Candidate] = (),
     return room
 
 
-def _sees(grid: OccupancyGrid, start: tuple[float, float], end: tuple[float, float]) -> bool:
-    """No occupied cell on the segment between two world points (sampled at quarter cells)."""
+def _sees(grid: OccupancyGrid, start: tuple[float, float], end: tuple[float, float],
+          occupied: np.ndarray | None = None) -> bool:
+    """No occupied cell on the segment between two world points (sampled at quarter cells);
+    ``occupied``: the grid's, when the caller has it already."""
     steps = max(1, math.ceil(math.dist(start, end) / (0.25 * grid.inches_per_cell)))
     t = np.linspace(0.0, 1.0, steps + 1)
     xs, ys = start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1])
     rows, cols = (np.floor(v).astype(int) for v in grid.grid.to_cell(xs, ys))
     height, width = grid.shape
     inside = (rows >= 0) & (rows < height) & (cols >= 0) & (cols < width)
-    return not grid.occupied[rows[inside], cols[inside]].any()
+    occupied = grid.occupied if occupied is None else occupied
+    return not occupied[rows[inside], cols[inside]].any()
 
 
 def viewing_pose(grid: OccupancyGrid, frontier: Frontier, room: np.ndarray,
-                 settings: ExplorationSettings = ExplorationSettings()) -> Pose | None:
+                 settings: ExplorationSettings = ExplorationSettings(), *,
+                 occupied: np.ndarray | None = None) -> Pose | None:
     """The cell of ``room`` nearest the frontier's middle, within ``view_range_in`` and
-    seeing it, as a pose facing it; None when there is none."""
+    seeing it, as a pose facing it; None when there is none. ``occupied``: the grid's,
+    when the caller has it already (it is computed once per question, not per cell)."""
     middle = grid.grid.to_world(*frontier_middle(grid, frontier))[0]
-    rows, cols = np.nonzero(room)
+    occupied = grid.occupied if occupied is None else occupied
+    reach = math.ceil(settings.view_range_in / grid.inches_per_cell) + 1
+    (row0, col0), = np.floor(np.array([grid.grid.to_cell(float(middle[0]), float(middle[1]))])).astype(int)
+    r0, c0 = max(row0 - reach, 0), max(col0 - reach, 0)
+    rows, cols = np.nonzero(room[r0:row0 + reach + 1, c0:col0 + reach + 1])  # the cells within range only
+    rows, cols = rows + r0, cols + c0
     if len(rows) == 0:
         return None
     centres = grid.grid.to_world(rows, cols)
@@ -133,7 +143,7 @@ def viewing_pose(grid: OccupancyGrid, frontier: Frontier, room: np.ndarray,
         if distance[k] > settings.view_range_in:
             return None
         x, y = float(centres[k, 0]), float(centres[k, 1])
-        if _sees(grid, (x, y), (float(middle[0]), float(middle[1]))):
+        if _sees(grid, (x, y), (float(middle[0]), float(middle[1])), occupied):
             return Pose(x, y, math.degrees(math.atan2(middle[1] - y, middle[0] - x)))
     return None
 
@@ -142,9 +152,10 @@ def exploration_goals(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Can
                       settings: ExplorationSettings = ExplorationSettings()) -> list[ExplorationGoal]:
     """Every frontier region worth a trip with a reachable viewing pose, best first."""
     room = standing_room(grid, candidates, settings)
+    occupied = grid.occupied
     goals = []
     for frontier in frontiers(grid, settings.min_cells(grid.inches_per_cell)):
-        pose = viewing_pose(grid, frontier, room, settings)
+        pose = viewing_pose(grid, frontier, room, settings, occupied=occupied)
         if pose is None or math.dist((pose.x_in, pose.y_in), (robot.x_in, robot.y_in)) <= settings.arrived_in:
             continue
         cost = float(move_cost(pose))

@@ -41,9 +41,14 @@ def frontiers(grid: OccupancyGrid, min_cells: int = 1) -> list[Frontier]:
     by the top-left cell, so the order is the same run to run)."""
     cells = frontier_cells(grid.free, grid.unknown)
     count, labels = cv2.connectedComponents(cells.astype(np.uint8), connectivity=8)
+    all_rows, all_cols = np.nonzero(labels)  # row-major: each region's cells come in row order
+    label_of = labels[all_rows, all_cols]
+    order = np.argsort(label_of, kind="stable")
+    bounds = np.searchsorted(label_of[order], np.arange(1, count + 1))
     found = []
     for label in range(1, count):
-        rows, cols = np.nonzero(labels == label)
+        members = order[bounds[label - 1]:bounds[label]]
+        rows, cols = all_rows[members], all_cols[members]
         if len(rows) < min_cells:
             continue
         centre = grid.grid.to_world(rows, cols).mean(axis=0)

@@ -86,6 +86,14 @@ class Navigator:
         self._rebuild()
         return scene
 
+    def observe_scene(self, scene: Scene) -> Scene:
+        """Take a scene another source made as the latest look; later calls plan on it.
+        The onboard map's (``mapping.scene``): its regions are the candidates the scans
+        tracked, each with the id of its track, so no merge is inferred here."""
+        self._scene, self._avoided = scene, ()
+        self._rebuild()
+        return scene
+
     def avoid(self, discs: tuple[Disc, ...]) -> None:
         """Plan around ``discs`` (x, y, radius in inches: moving obstacles a driver
         reported) on the latest image's map as well, until the next image or until

@@ -1,0 +1,185 @@
+"""Onboard perception: the robot's own range scans instead of the ceiling camera.
+
+The paper's closing step ("if the robot could determine sensing positions through an
+onboard sensor, then CSL could eliminate the ceiling camera"), as one
+:class:`~behaviours.perception.Perception` among two. Each look is a ``scan`` (the
+driver's ``scan`` feature: a lidar, or HERO's sonar swept in place), and reading it:
+
+1. the scan matcher aligns it to the map of the scans before it
+   (:class:`mapping.ScanMatcher`): the corrected pose, heading and all, which the
+   localisation decorator then takes for where the robot stands
+   (:class:`behaviours.localisation.CameraLocalised`, given a heading);
+2. the occupancy grid integrates it at that pose (:class:`mapping.OccupancyGrid`);
+3. the candidate finder tracks object-sized returns that are not the home's structure
+   (:class:`mapping.CandidateFinder`); each candidate kept is a region, outlined from
+   the scans near it (:func:`mapping.scene.candidate_region`);
+4. the scene (regions, the corrected pose, the grid as obstacle masks with unknown
+   space blocked: :func:`mapping.scene.map_scene`) becomes the planner's map
+   (:meth:`planner.Navigator.observe_scene`): the OMPL planner plans on it as on the
+   vision map.
+
+Where to look from next is the exploration rule's goal (:func:`mapping.next_goal`:
+the frontier whose viewing pose is cheapest to reach for its size), priced by the
+planner's move-cost estimate on the current map; a view the robot failed to reach is
+not offered again. The map's frame is the odometry's at the first scan.
+
+The matcher must see each scan in the driver's own frame (it applies the odometry's
+step between scans to its last corrected pose), so the perception scans through the
+driver *below* the localisation decorator.
+"""
+
+from __future__ import annotations
+
+import math
+from concurrent.futures import Future
+from dataclasses import dataclass
+
+import numpy as np
+
+from hero_driver.interface import RangeScan, Scanner
+from mapping import CandidateFinder, CandidateSettings, ExplorationSettings, OccupancyGrid, ScanMatcher, next_goal
+from mapping.candidates import Candidate
+from mapping.scan import PlanarScan
+from mapping.scene import bridged, candidate_region, map_scene, seen_through
+from planner import Navigator, Pose, Region, Scene
+
+
+@dataclass(frozen=True)
+class OnboardSettings:
+    """The onboard map's extent and resolution (inches), and how far a refused view reaches."""
+
+    half_extent_in: float = 720.0  # the map reaches this far from the first scan each way (a 120 ft square)
+    inches_per_cell: float = 1.0
+    outline_reach_in: float = 60.0  # scans taken farther than this from a candidate do not outline it
+    outline_views: int = 12  # the latest views that saw a candidate, for its outline
+    refused_within_in: float = 12.0  # a view this close to one the robot failed to reach is not offered
+    candidate_range_in: float = 72.0  # returns farther than this find no candidates (a range's noise grows with it)
+
+    def __post_init__(self) -> None:
+        for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in",
+                     "candidate_range_in"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"onboard setting {name} must be positive, got {value}")
+        if self.outline_views < 1:
+            raise ValueError(f"onboard setting outline_views must be at least 1, got {self.outline_views}")
+
+
+def planar_scan(scan: RangeScan) -> PlanarScan:
+    """The driver's scan as the mapping takes it (angles in radians, no echo as ``inf``)."""
+    ranges = np.array([math.inf if r is None else r for r in scan.ranges_in], dtype=float)
+    return PlanarScan(np.radians(np.asarray(scan.angles_deg, dtype=float)), ranges, scan.pose.x_in,
+                      scan.pose.y_in, scan.pose.heading_deg, scan.clock_s, scan.range_max_in)
+
+
+@dataclass(frozen=True, eq=False)
+class _View:
+    scan: PlanarScan
+    pose: Pose
+    returns: np.ndarray  # world inches, Nx2
+
+
+class OnboardPerception:
+    """Looks are scans; the scene is the map they built (the module docstring)."""
+
+    verb = "scan"
+    corrects_heading = True
+
+    def __init__(self, scanner: Scanner, navigator: Navigator, settings: OnboardSettings | None = None,
+                 candidates: CandidateSettings = CandidateSettings(),
+                 exploration: ExplorationSettings = ExplorationSettings()) -> None:
+        """``scanner``: the driver in its own frame (below the localisation decorator)."""
+        self._scanner, self._navigator = scanner, navigator
+        self.settings, self.exploration = settings or OnboardSettings(), exploration
+        self.matcher = ScanMatcher()
+        self.finder = CandidateFinder(candidates)
+        self.grid: OccupancyGrid | None = None
+        self._bridged: OccupancyGrid | None = None  # the grid with the gaps between beams closed
+        self.poses: list[tuple[float, Pose, Pose]] = []  # (clock, reported, corrected) of each scan
+        self._views: list[_View] = []
+        self._regions: dict[int, tuple[int, Region]] = {}  # candidate id -> (times seen, its region)
+        self._refused: list[Pose] = []
+        self._scene: Scene | None = None
+
+    def look(self) -> Future[RangeScan]:
+        return self._scanner.scan()
+
+    def scene(self, observation: RangeScan) -> Scene:
+        scene = self._read(observation)
+        self._navigator.observe_scene(scene)
+        return scene
+
+    def glance(self, observation: RangeScan) -> Scene:
+        return self._read(observation)  # the map takes every scan: what the planner plans on is unchanged
+
+    @property
+    def latest(self) -> Scene | None:
+        """The scene of the latest scan read (None before any)."""
+        return self._scene
+
+    def next_view(self, robot: Pose) -> Pose | None:
+        if self._bridged is None:
+            return None
+        s = self.settings
+
+        def cost(pose: Pose) -> float:
+            if any(math.hypot(pose.x_in - r.x_in, pose.y_in - r.y_in) <= s.refused_within_in for r in self._refused):
+                return math.inf
+            return self._navigator.move_cost(robot, pose).seconds
+
+        goal = next_goal(self._bridged, robot, self.finder.candidates(self.grid), cost, self.exploration)
+        return None if goal is None else goal.pose
+
+    def unreachable(self, view: Pose) -> None:
+        self._refused.append(view)
+
+    def _read(self, observation: RangeScan) -> Scene:
+        scan = planar_scan(observation)
+        correction = self.matcher.update(scan)
+        pose = correction.pose
+        reported = Pose(scan.x_in, scan.y_in, scan.heading_deg)
+        self.poses.append((scan.stamp_s, reported, pose))
+        if self.grid is None:
+            e = self.settings.half_extent_in
+            self.grid = OccupancyGrid(pose.x_in - e, pose.y_in - e, pose.x_in + e, pose.y_in + e,
+                                      self.settings.inches_per_cell)
+        self.grid.integrate(scan, pose)
+        self.finder.update(_within(scan, self.settings.candidate_range_in), pose)
+        self._views.append(_View(scan, pose, _world_returns(scan, pose)))
+        regions = tuple(region for region in (self._region(c) for c in self.finder.candidates(self.grid))
+                        if not seen_through(region, scan, pose))  # the map is slow to forget: not there now
+        self._bridged = bridged(self.grid)
+        self._scene = map_scene(self._bridged, regions, pose)
+        return self._scene
+
+    def _region(self, candidate: Candidate) -> Region:
+        """The candidate's region, outlined again only when it was seen again."""
+        kept = self._regions.get(candidate.id)
+        if kept is not None and kept[0] == candidate.times_seen:
+            return kept[1]
+        s = self.settings
+        centre = np.array([candidate.x_in, candidate.y_in])
+        near = [v for v in self._views
+                if math.hypot(v.pose.x_in - centre[0], v.pose.y_in - centre[1]) <= s.outline_reach_in
+                and len(v.returns) and float(np.min(np.hypot(*(v.returns - centre).T))) <= 12.0]
+        views = [(v.scan, v.pose) for v in near[-s.outline_views:]]
+        region = candidate_region(candidate, views, self.finder.settings.range_sigma_in)
+        self._regions[candidate.id] = (candidate.times_seen, region)
+        return region
+
+
+def _within(scan: PlanarScan, range_in: float) -> PlanarScan:
+    """``scan`` with the returns beyond ``range_in`` taken as no return: a range finder's
+    error grows with the range (a share of it), and far off a wall's returns scatter into
+    object-sized runs; the robot finds objects from nearer."""
+    ranges = np.where(scan.ranges_in <= range_in, scan.ranges_in, math.inf)
+    return PlanarScan(scan.angles_rad, ranges, scan.x_in, scan.y_in, scan.heading_deg, scan.stamp_s,
+                      scan.max_range_in)
+
+
+def _world_returns(scan: PlanarScan, pose: Pose) -> np.ndarray:
+    local = scan.points()
+    h = math.radians(pose.heading_deg)
+    c, s = math.cos(h), math.sin(h)
+    return np.column_stack([pose.x_in + c * local[:, 0] - s * local[:, 1],
+                            pose.y_in + s * local[:, 0] + c * local[:, 1]])
