@@ -23,10 +23,10 @@ whose wall the map knows only from the other side, the room's face is matched to
 face, a wall's thickness off (docs/mapping.md, "Refining on the floor"). So the VGICP
 result is refined on the floor (:func:`_refine`): each return is matched to the nearest
 map return *seen from the same side* (their surface normals, each turned towards the
-sensor that saw it, agree), point to line, with a Huber kernel, weighted by the range
-sensor's noise, and with the odometry's step as a prior: where the scan leaves a
-direction unconstrained (along a bare corridor) the odometry holds it; elsewhere the
-returns outweigh it.
+sensor that saw it, agree), point to line, with a Huber kernel. The refined pose and the
+odometry's prediction are then weighed by their information (:func:`_with_odometry`):
+where the scan leaves a direction unconstrained (along a bare corridor) the odometry
+holds it; elsewhere the returns outweigh it.
 
 An alignment the matcher cannot vouch for — too few returns, too few of them matched to
 the map, or a correction larger than the odometry could have drifted in one step — is not
@@ -83,13 +83,13 @@ class MatcherSettings:
     max_iterations: int = 100  # a turn of 15° or so takes about 40
     layers_z_in: tuple[float, ...] = (2.0, 4.0, 6.0)  # copies of the scan, all within one voxel layer
     min_points: int = 20  # fewer returns than this: not matched
-    min_inlier_share: float = 0.3  # of the scan's (thinned) returns matched to the map
+    min_inlier_share: float = 0.3  # of the scan's returns paired with the map in the refinement's last stage
     max_step_correction_in: float = 12.0  # a correction beyond these is a mismatch
     max_step_correction_deg: float = 15.0
     # The refinement on the floor (:func:`_refine`):
-    refine_correspondence_in: tuple[float, ...] = (6.0, 3.0)  # farther than this from a map return: not a match (stage by stage)
-    refine_iterations: int = 15  # per stage; a step of 0.001 in and 0.0006° ends a stage sooner
-    normal_neighbours: int = 6  # returns of one scan whose line gives a return's surface normal
+    refine_correspondence_in: tuple[float, ...] = (6.0, 3.0)  # stage by stage: farther from a map return, no match
+    refine_iterations: int = 15  # per stage; a step under 0.001 in and 0.0006° ends a stage sooner
+    normal_neighbours: int = 6  # returns whose line gives a return's normal; map returns searched per return
     same_side_cos: float = 0.5  # normals less alike than 60° are different surfaces (or the far face of a wall)
     huber_in: float = 1.0  # residuals beyond this count linearly, not squared
     range_sigma_in: float = 0.5  # the range sensor's noise, which weighs the returns against the odometry
@@ -108,12 +108,15 @@ class MatcherSettings:
             raise ValueError(f"matcher layers_z_in must be heights in [0, voxel_in={self.voxel_in}), "
                              f"got {self.layers_z_in}")
         if not self.refine_correspondence_in or not all(d > 0 for d in self.refine_correspondence_in):
-            raise ValueError(f"matcher refine_correspondence_in must be distances > 0, got {self.refine_correspondence_in}")
+            raise ValueError(f"matcher refine_correspondence_in must be distances > 0, "
+                             f"got {self.refine_correspondence_in}")
         if self.normal_neighbours < 2 or self.refine_iterations < 1:
             raise ValueError(f"matcher normal_neighbours must be >= 2 and refine_iterations >= 1, got "
                              f"{self.normal_neighbours} and {self.refine_iterations}")
-        if not (self.huber_in > 0 and self.range_sigma_in > 0 and self.odometry_sigma_in > 0 and self.odometry_sigma_deg > 0):
-            raise ValueError("matcher huber_in, range_sigma_in, odometry_sigma_in and odometry_sigma_deg must be positive")
+        if not (self.huber_in > 0 and self.range_sigma_in > 0 and self.odometry_sigma_in > 0
+                and self.odometry_sigma_deg > 0):
+            raise ValueError("matcher huber_in, range_sigma_in, odometry_sigma_in and odometry_sigma_deg "
+                             "must be positive")
 
 
 def _transform(x_in: float, y_in: float, heading_rad: float) -> np.ndarray:
@@ -122,10 +125,6 @@ def _transform(x_in: float, y_in: float, heading_rad: float) -> np.ndarray:
     t[:2, :2] = [[c, -s], [s, c]]
     t[:2, 3] = (x_in, y_in)
     return t
-
-
-def _of_pose(pose: Pose) -> np.ndarray:
-    return _transform(pose.x_in, pose.y_in, math.radians(pose.heading_deg))
 
 
 def _floor(t: np.ndarray) -> tuple[float, float, float]:
@@ -179,8 +178,8 @@ class _FloorMap:
         side = np.floor((np.arctan2(normals[:, 1], normals[:, 0]) + math.pi) / (2 * math.pi) * self.SIDES)
         keys = (cells[:, 0] * 2 ** 21 + cells[:, 1]) * self.SIDES + np.clip(side, 0, self.SIDES - 1).astype(np.int64)
         keys, at = np.unique(np.concatenate([self._keys, keys]), return_inverse=True)
-        sums = np.zeros((len(keys), 4))
-        np.add.at(sums, at, np.vstack([self._sums, np.column_stack([points, normals])]))
+        values = np.vstack([self._sums, np.column_stack([points, normals])])
+        sums = np.column_stack([np.bincount(at, weights=values[:, i], minlength=len(keys)) for i in range(4)])
         counts = np.bincount(at, weights=np.concatenate([self._counts, np.ones(len(points))]), minlength=len(keys))
         self._keys, self._sums, self._counts = keys, sums, counts
         self.points = sums[:, :2] / counts[:, None]
@@ -200,7 +199,7 @@ def _refine(floor_map: _FloorMap, points: np.ndarray, normals: np.ndarray, start
     (turned by the pose) — never the far face of a wall — and its residual is its
     distance from that return's line. Weights: 1/sigma² of the range sensor, times a Huber
     kernel (all returns alike: weighing far returns down by a range-proportional noise
-    made the synthetic apartment's loop worse, docs/mapping.md)."""
+    made the candidate tests' drive through the apartment worse, docs/mapping.md)."""
     sensor_weight = 1.0 / s.range_sigma_in ** 2
     pose = np.array(start, dtype=float)
     information = np.zeros((3, 3))
@@ -224,7 +223,8 @@ def _refine(floor_map: _FloorMap, points: np.ndarray, normals: np.ndarray, start
             normal = floor_map.normals[partner]
             residual = np.einsum("ni,ni->n", at[paired] - floor_map.points[partner], normal)
             arm = at[paired] - pose[:2]
-            jacobian = np.column_stack([normal[:, 0], normal[:, 1], normal[:, 1] * arm[:, 0] - normal[:, 0] * arm[:, 1]])
+            turning = normal[:, 1] * arm[:, 0] - normal[:, 0] * arm[:, 1]  # d residual / d heading
+            jacobian = np.column_stack([normal[:, 0], normal[:, 1], turning])
             size = np.abs(residual) / s.huber_in
             weight = sensor_weight * np.where(size <= 1.0, 1.0, 1.0 / np.maximum(size, 1e-12))
             information = jacobian.T @ (jacobian * weight[:, None])
@@ -325,4 +325,5 @@ class ScanMatcher:
         """Whether ``pose`` (x, y, heading rad) is a correction the odometry could need in one step."""
         s = self.settings
         return bool(math.hypot(pose[0] - predicted[0], pose[1] - predicted[1]) <= s.max_step_correction_in
-                    and abs(math.degrees(math.remainder(pose[2] - predicted[2], 2 * math.pi))) <= s.max_step_correction_deg)
+                    and abs(math.degrees(math.remainder(pose[2] - predicted[2], 2 * math.pi)))
+                    <= s.max_step_correction_deg)
