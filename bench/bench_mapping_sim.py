@@ -21,6 +21,12 @@ Reported per home and noise preset:
 - the share of the truly free floor the grid knows to be free (coverage);
 - wall time per scan (matching and integrating).
 
+Then issue 35's goals for the map, checked per home, one line each and a non-zero exit
+when one is missed: under ``clean`` (exact odometry) the matcher's largest error is
+within :data:`CLEAN_TOLERANCE_IN` of the odometry's on every seed (it must not move a
+pose the odometry had right), and under ``paper`` the median surface IoU is at least
+:data:`PAPER_SURFACE_IOU`.
+
 Writes ``map-<home>-<preset>.png`` (built map beside the truth) under ``--out``.
 
     python bench/bench_mapping_sim.py [--homes apartment,apartment-2] [--presets clean,paper,harsh]
@@ -56,6 +62,8 @@ from mapping.planning import map_image  # noqa: E402
 from planner.geometry import Pose as PlannerPose  # noqa: E402
 
 MARGIN_IN = 4.0  # clearance kept beyond the base's radius on the survey route
+CLEAN_TOLERANCE_IN = 0.25  # under clean, the matcher's largest error beyond the exact odometry's
+PAPER_SURFACE_IOU = 0.9  # issue 35's goal for the map under paper
 
 
 @dataclass(frozen=True)
@@ -65,6 +73,7 @@ class Outcome:
     max_in: float
     final_deg: float
     odometry_final_in: float
+    odometry_max_in: float
     iou: float
     surface_iou: float
     coverage: float
@@ -188,7 +197,7 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
         corrected, reported = look()
     errors = [math.hypot(c.x_in - t.x_in, c.y_in - t.y_in) for c, t in zip(corrected_poses, true_poses)]
     heading = abs(math.remainder(corrected_poses[-1].heading_deg - true_poses[-1].heading_deg, 360.0))
-    odometry = math.hypot(reported_poses[-1].x_in - true_poses[-1].x_in, reported_poses[-1].y_in - true_poses[-1].y_in)
+    drifts = [math.hypot(r.x_in - t.x_in, r.y_in - t.y_in) for r, t in zip(reported_poses, true_poses)]
     built = grid.occupied[::-1]  # the grid's row 0 is its high-y edge, the truth's its low-y edge
     truly_free = ~footprint.occupied & ~truth.occupied
     reachable = ndimage.label(truly_free)[0]
@@ -200,7 +209,7 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
         drawn = map_image(grid).pixels
         truth_drawn = np.where(truth.occupied[::-1], 0, 254).astype(np.uint8)
         cv2.imwrite(str(out / f"map-{home_name}-{preset}-{seed}.png"), np.hstack([drawn, truth_drawn]))
-    return Outcome(errors[-1], statistics.fmean(errors), max(errors), heading, odometry,
+    return Outcome(errors[-1], statistics.fmean(errors), max(errors), heading, drifts[-1], max(drifts),
                    float(inter / union) if union else 1.0, surface_iou(built, truth.occupied, home_free),
                    coverage, 1000 * statistics.median(took))
 
@@ -217,6 +226,7 @@ def main(argv: list[str] | None = None) -> int:
     print("| home | preset | seeds | final in (odometry) | mean in | max in | final deg | IoU | surface IoU | "
           "free floor known | ms/scan |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
+    goals: list[tuple[bool, str]] = []
     for home in args.homes.split(","):
         for preset in args.presets.split(","):
             runs = [run(home, preset, seed, args.step, args.resolution, args.out) for seed in range(args.seeds)]
@@ -226,7 +236,19 @@ def main(argv: list[str] | None = None) -> int:
             print(f"| {home} | {preset} | {len(runs)} | {med('final_in'):.1f} ({med('odometry_final_in'):.1f}) | "
                   f"{med('mean_in'):.1f} | {med('max_in'):.1f} | {med('final_deg'):.2f} | {med('iou'):.2f} | "
                   f"{med('surface_iou'):.2f} | {med('coverage'):.0%} | {med('ms_per_scan'):.1f} |", flush=True)
-    return 0
+            if preset == "clean":
+                beyond = max(r.max_in - r.odometry_max_in for r in runs)
+                goals.append((beyond <= CLEAN_TOLERANCE_IN,
+                              f"{home} clean: the matcher's largest error is {beyond:.2f} in beyond the exact "
+                              f"odometry's (at most {CLEAN_TOLERANCE_IN} in)"))
+            if preset == "paper":
+                surface = med("surface_iou")
+                goals.append((surface >= PAPER_SURFACE_IOU,
+                              f"{home} paper: surface IoU {surface:.3f} (at least {PAPER_SURFACE_IOU})"))
+    print()
+    for met, line in goals:
+        print(f"goal {'met' if met else 'MISSED'}: {line}")
+    return 0 if all(met for met, _ in goals) else 1
 
 
 if __name__ == "__main__":

@@ -15,11 +15,24 @@ layer of voxels (:attr:`MatcherSettings.layers_z_in`): a wall becomes a strip of
 its normal is horizontal, and each voxel holds a piece of that plane. The 6-D result is
 cut back to the floor (x, y, heading); docs/mapping.md has the measurements.
 
-An alignment the matcher cannot vouch for — too few returns, no convergence, too few
-of the returns matched to the map, or a correction larger than the odometry could have
-drifted in one step — is not used: the pose is the odometry's step from the last
-corrected pose, and the correction says so (``matched`` False). The scan is then not
-added to the map either, so a bad pose does not spoil it.
+VGICP's 8 in voxels make it robust to the odometry's heading error (a few degrees per
+step, feet at the far wall) but not exact: a voxel holding a wall's end, a table leg or
+an object beside a wall has its Gaussian off the surface, and each scan's bias stays in
+the map. And no point-based matcher tells the two faces of a wall apart: entering a room
+whose wall the map knows only from the other side, the room's face is matched to the far
+face, a wall's thickness off (docs/mapping.md, "Refining on the floor"). So the VGICP
+result is refined on the floor (:func:`_refine`): each return is matched to the nearest
+map return *seen from the same side* (their surface normals, each turned towards the
+sensor that saw it, agree), point to line, with a Huber kernel. The refined pose and the
+odometry's prediction are then weighed by their information (:func:`_with_odometry`):
+where the scan leaves a direction unconstrained (along a bare corridor) the odometry
+holds it; elsewhere the returns outweigh it.
+
+An alignment the matcher cannot vouch for — too few returns, too few of them matched to
+the map, or a correction larger than the odometry could have drifted in one step — is not
+used: the pose is the odometry's step from the last corrected pose, and the correction
+says so (``matched`` False). The scan is then not added to the map either, so a bad pose
+does not spoil it.
 """
 
 from __future__ import annotations
@@ -29,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import small_gicp
+from scipy.spatial import cKDTree
 
 from mapping.scan import PlanarScan
 from planner.geometry import Pose
@@ -69,9 +83,23 @@ class MatcherSettings:
     max_iterations: int = 100  # a turn of 15° or so takes about 40
     layers_z_in: tuple[float, ...] = (2.0, 4.0, 6.0)  # copies of the scan, all within one voxel layer
     min_points: int = 20  # fewer returns than this: not matched
-    min_inlier_share: float = 0.3  # of the scan's (thinned) returns matched to the map
+    min_inlier_share: float = 0.3  # of the scan's returns paired with the map in the refinement's last stage
     max_step_correction_in: float = 12.0  # a correction beyond these is a mismatch
     max_step_correction_deg: float = 15.0
+    # The refinement on the floor (:func:`_refine`):
+    refine_correspondence_in: tuple[float, ...] = (6.0, 3.0)  # stage by stage: farther from a map return, no match
+    refine_iterations: int = 15  # per stage; a step under 0.001 in and 0.0006° ends a stage sooner
+    normal_neighbours: int = 6  # returns whose line gives a return's normal; map returns searched per return
+    same_side_cos: float = 0.5  # normals less alike than 60° are different surfaces (or the far face of a wall)
+    huber_in: float = 1.0  # residuals beyond this count linearly, not squared
+    range_sigma_in: float = 0.5  # the range sensor's noise, which weighs the returns against the odometry
+    # The odometry's step as a prior: sigma of its position error, in + share of the distance
+    # driven, and of its heading error, degrees + share of the turn + degrees per inch driven.
+    odometry_sigma_in: float = 0.1
+    odometry_sigma_frac: float = 0.01
+    odometry_sigma_deg: float = 0.5
+    odometry_sigma_turn_frac: float = 0.05
+    odometry_sigma_deg_per_in: float = 0.01
 
     def __post_init__(self) -> None:
         if not (self.voxel_in > 0 and self.downsample_in > 0 and self.max_correspondence_in > 0):
@@ -79,6 +107,16 @@ class MatcherSettings:
         if not self.layers_z_in or not all(0.0 <= z < self.voxel_in for z in self.layers_z_in):
             raise ValueError(f"matcher layers_z_in must be heights in [0, voxel_in={self.voxel_in}), "
                              f"got {self.layers_z_in}")
+        if not self.refine_correspondence_in or not all(d > 0 for d in self.refine_correspondence_in):
+            raise ValueError(f"matcher refine_correspondence_in must be distances > 0, "
+                             f"got {self.refine_correspondence_in}")
+        if self.normal_neighbours < 2 or self.refine_iterations < 1:
+            raise ValueError(f"matcher normal_neighbours must be >= 2 and refine_iterations >= 1, got "
+                             f"{self.normal_neighbours} and {self.refine_iterations}")
+        if not (self.huber_in > 0 and self.range_sigma_in > 0 and self.odometry_sigma_in > 0
+                and self.odometry_sigma_deg > 0):
+            raise ValueError("matcher huber_in, range_sigma_in, odometry_sigma_in and odometry_sigma_deg "
+                             "must be positive")
 
 
 def _transform(x_in: float, y_in: float, heading_rad: float) -> np.ndarray:
@@ -87,10 +125,6 @@ def _transform(x_in: float, y_in: float, heading_rad: float) -> np.ndarray:
     t[:2, :2] = [[c, -s], [s, c]]
     t[:2, 3] = (x_in, y_in)
     return t
-
-
-def _of_pose(pose: Pose) -> np.ndarray:
-    return _transform(pose.x_in, pose.y_in, math.radians(pose.heading_deg))
 
 
 def _floor(t: np.ndarray) -> tuple[float, float, float]:
@@ -102,6 +136,116 @@ def _wrap_deg(angle: float) -> float:
     return -math.remainder(-angle, 360.0)  # in (-180, 180]
 
 
+def surface_normals(points: np.ndarray, neighbours: int) -> np.ndarray:
+    """Each return's surface normal (unit, Nx2), turned towards the sensor at the origin:
+    the direction across the line through it and its nearest ``neighbours`` returns of the
+    same scan (their covariance's least axis). The side a surface was seen from is what
+    tells a wall's two faces apart."""
+    k = min(neighbours, len(points))
+    _, nearest = cKDTree(points).query(points, k=k)
+    around = points[nearest.reshape(len(points), k)]
+    spread = around - around.mean(axis=1, keepdims=True)
+    covariance = np.einsum("nki,nkj->nij", spread, spread)
+    normals = np.linalg.eigh(covariance)[1][:, :, 0]  # eigenvalues ascending: the least spread's axis
+    away = np.einsum("ni,ni->n", normals, points) > 0  # pointing away from the sensor
+    normals[away] *= -1.0
+    return normals
+
+
+def _rotation(heading_rad: float) -> np.ndarray:
+    c, s = math.cos(heading_rad), math.sin(heading_rad)
+    return np.array([[c, -s], [s, c]])
+
+
+class _FloorMap:
+    """The map's returns on the floor (world inches) with their normals, for the refinement:
+    the returns of every matched scan, averaged per ``cell_in`` square and per eighth of a
+    turn of normal (so a thin wall's two faces stay apart), which keeps the map the size of
+    the home's surfaces however often they are seen, and averages their range noise."""
+
+    SIDES = 8
+
+    def __init__(self, cell_in: float) -> None:
+        self.cell_in = cell_in
+        self._keys = np.zeros(0, dtype=np.int64)
+        self._sums = np.zeros((0, 4))  # x, y, normal x, normal y summed over the cell's returns
+        self._counts = np.zeros(0)
+        self.points, self.normals = np.zeros((0, 2)), np.zeros((0, 2))
+        self.tree = cKDTree(self.points)
+
+    def add(self, points: np.ndarray, normals: np.ndarray) -> None:
+        cells = np.floor(points / self.cell_in).astype(np.int64) + 2 ** 20  # non-negative for any home
+        side = np.floor((np.arctan2(normals[:, 1], normals[:, 0]) + math.pi) / (2 * math.pi) * self.SIDES)
+        keys = (cells[:, 0] * 2 ** 21 + cells[:, 1]) * self.SIDES + np.clip(side, 0, self.SIDES - 1).astype(np.int64)
+        keys, at = np.unique(np.concatenate([self._keys, keys]), return_inverse=True)
+        values = np.vstack([self._sums, np.column_stack([points, normals])])
+        sums = np.column_stack([np.bincount(at, weights=values[:, i], minlength=len(keys)) for i in range(4)])
+        counts = np.bincount(at, weights=np.concatenate([self._counts, np.ones(len(points))]), minlength=len(keys))
+        self._keys, self._sums, self._counts = keys, sums, counts
+        self.points = sums[:, :2] / counts[:, None]
+        normal = sums[:, 2:]
+        self.normals = normal / np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
+        self.tree = cKDTree(self.points)
+
+
+def _refine(floor_map: _FloorMap, points: np.ndarray, normals: np.ndarray, start: tuple[float, float, float],
+            s: MatcherSettings) -> tuple[np.ndarray, np.ndarray, int]:
+    """The pose (x, y, heading rad) that best lays the scan's returns on the map's, from
+    ``start``; its information (3x3, the Gauss-Newton Hessian at that pose); and how many
+    returns were matched at the last stage.
+
+    Gauss-Newton on the floor: each return, at the pose, is paired with the nearest map
+    return within the stage's distance whose normal is within ``same_side_cos`` of its own
+    (turned by the pose) — never the far face of a wall — and its residual is its
+    distance from that return's line. Weights: 1/sigma² of the range sensor, times a Huber
+    kernel (all returns alike: weighing far returns down by a range-proportional noise
+    made the candidate tests' drive through the apartment worse, docs/mapping.md)."""
+    sensor_weight = 1.0 / s.range_sigma_in ** 2
+    pose = np.array(start, dtype=float)
+    information = np.zeros((3, 3))
+    none = len(floor_map.points)
+    matched = 0
+    for reach in s.refine_correspondence_in:
+        for _ in range(s.refine_iterations):
+            rotation = _rotation(pose[2])
+            at = points @ rotation.T + pose[:2]
+            facing = normals @ rotation.T
+            _, candidates = floor_map.tree.query(at, k=s.normal_neighbours, distance_upper_bound=reach)
+            candidates = candidates.reshape(len(at), -1)
+            found = candidates < none
+            safe = np.where(found, candidates, 0)
+            alike = found & (np.einsum("nkj,nj->nk", floor_map.normals[safe], facing) >= s.same_side_cos)
+            paired = alike.any(axis=1)
+            matched = int(paired.sum())
+            if matched < 3:
+                return pose, np.zeros((3, 3)), matched
+            partner = safe[paired, np.argmax(alike[paired], axis=1)]  # the nearest of those alike
+            normal = floor_map.normals[partner]
+            residual = np.einsum("ni,ni->n", at[paired] - floor_map.points[partner], normal)
+            arm = at[paired] - pose[:2]
+            turning = normal[:, 1] * arm[:, 0] - normal[:, 0] * arm[:, 1]  # d residual / d heading
+            jacobian = np.column_stack([normal[:, 0], normal[:, 1], turning])
+            size = np.abs(residual) / s.huber_in
+            weight = sensor_weight * np.where(size <= 1.0, 1.0, 1.0 / np.maximum(size, 1e-12))
+            information = jacobian.T @ (jacobian * weight[:, None])
+            # least squares: a direction the returns do not constrain (a bare corridor) is not moved
+            step = -np.linalg.lstsq(information, jacobian.T @ (weight * residual), rcond=1e-9)[0]
+            pose += step
+            if math.hypot(step[0], step[1]) < 1e-3 and abs(step[2]) < 1e-5:
+                break
+    return pose, information, matched
+
+
+def _with_odometry(matched: np.ndarray, information: np.ndarray, predicted: np.ndarray,
+                   prior_information: np.ndarray) -> np.ndarray:
+    """The match (x, y, heading rad) and the odometry's prediction, each weighed by its
+    information: a direction the scan pins down keeps the match; one it leaves loose
+    (along a bare corridor) follows the odometry."""
+    towards = predicted - matched
+    towards[2] = math.remainder(towards[2], 2 * math.pi)
+    return matched + np.linalg.solve(information + prior_information, prior_information @ towards)
+
+
 class ScanMatcher:
     """Corrects the robot's reported poses, one scan at a time, in the order taken."""
 
@@ -109,6 +253,7 @@ class ScanMatcher:
         self.settings = settings
         self._map = small_gicp.GaussianVoxelMap(settings.voxel_in)
         self._map.set_lru(horizon=NEVER_FORGET, clear_cycle=NEVER_FORGET)  # the whole home, not a local map
+        self._floor = _FloorMap(settings.downsample_in)
         self._last: tuple[np.ndarray, np.ndarray] | None = None  # (reported, corrected) at the last scan
 
     def update(self, scan: PlanarScan) -> Correction:
@@ -125,36 +270,60 @@ class ScanMatcher:
             cloud, _ = small_gicp.preprocess_points(np.vstack(layers),
                                                     downsampling_resolution=self.settings.downsample_in,
                                                     num_neighbors=self.settings.neighbours)
-        guess = reported
+        guess, step = reported, np.eye(4)
         if self._last is not None:
             previous_reported, previous_corrected = self._last
-            guess = previous_corrected @ np.linalg.inv(previous_reported) @ reported
+            step = np.linalg.inv(previous_reported) @ reported
+            guess = previous_corrected @ step
+        normals = None
         if cloud is None:
             corrected, matched, inliers = guess, False, 0
-        elif self._map.size() == 0:
-            corrected, matched, inliers = guess, True, 0  # the first scan with returns starts the map
         else:
-            corrected, matched, inliers = self._align(guess, cloud)
-        if matched:
+            normals = surface_normals(points, self.settings.normal_neighbours)
+            if self._map.size() == 0:
+                corrected, matched, inliers = guess, True, 0  # the first scan with returns starts the map
+            else:
+                corrected, matched, inliers = self._align(guess, step, cloud, points, normals)
+        if matched and cloud is not None and normals is not None:
             self._map.insert(cloud, corrected)
+            self._floor.add(points @ corrected[:2, :2].T + corrected[:2, 3], normals @ corrected[:2, :2].T)
         self._last = (reported, corrected)
         x, y, heading = _floor(corrected)
         pose = Pose(x, y, math.degrees(heading))
         return Correction(pose, scan.x_in - x, scan.y_in - y, _wrap_deg(scan.heading_deg - pose.heading_deg),
                           matched, inliers, scan.stamp_s)
 
-    def _align(self, guess: np.ndarray, cloud: small_gicp.PointCloud) -> tuple[np.ndarray, bool, int]:
-        """The aligned pose (on the floor), whether it is to be trusted, and its inliers;
-        the guess itself when it is not."""
+    def _prior_information(self, step: np.ndarray) -> np.ndarray:
+        """The inverse covariance (x, y, heading rad) of the odometry's ``step``."""
+        s = self.settings
+        dx, dy, turn = _floor(step)
+        driven = math.hypot(dx, dy)
+        sigma_in = s.odometry_sigma_in + s.odometry_sigma_frac * driven
+        sigma_deg = (s.odometry_sigma_deg + s.odometry_sigma_turn_frac * abs(math.degrees(turn))
+                     + s.odometry_sigma_deg_per_in * driven)
+        return np.diag([sigma_in ** -2, sigma_in ** -2, math.radians(sigma_deg) ** -2])
+
+    def _align(self, guess: np.ndarray, step: np.ndarray, cloud: small_gicp.PointCloud, points: np.ndarray,
+               normals: np.ndarray) -> tuple[np.ndarray, bool, int]:
+        """The aligned pose (on the floor), whether it is to be trusted, and its inliers
+        (returns matched on the floor); the guess itself when it is not trusted."""
         s = self.settings
         result = small_gicp.align(self._map, cloud, init_T_target_source=guess,
                                   max_correspondence_distance=s.max_correspondence_in,
                                   max_iterations=s.max_iterations)
-        x, y, heading = _floor(result.T_target_source)
-        gx, gy, gheading = _floor(guess)
-        plausible = (result.num_inliers >= s.min_inlier_share * cloud.size()
-                     and math.hypot(x - gx, y - gy) <= s.max_step_correction_in
-                     and abs(math.degrees(math.remainder(heading - gheading, 2 * math.pi))) <= s.max_step_correction_deg)
-        if not plausible:
-            return guess, False, int(result.num_inliers)
-        return _transform(x, y, heading), True, int(result.num_inliers)
+        predicted = np.array(_floor(guess))
+        coarse = np.array(_floor(result.T_target_source))
+        if not self._within_a_step(coarse, predicted):
+            coarse = predicted  # VGICP slid (along a corridor, say): refine from the odometry's prediction
+        refined, information, inliers = _refine(self._floor, points, normals, tuple(coarse), s)
+        x, y, heading = _with_odometry(refined, information, predicted, self._prior_information(step))
+        if inliers < s.min_inlier_share * len(points) or not self._within_a_step(np.array([x, y, heading]), predicted):
+            return guess, False, inliers
+        return _transform(x, y, heading), True, inliers
+
+    def _within_a_step(self, pose: np.ndarray, predicted: np.ndarray) -> bool:
+        """Whether ``pose`` (x, y, heading rad) is a correction the odometry could need in one step."""
+        s = self.settings
+        return bool(math.hypot(pose[0] - predicted[0], pose[1] - predicted[1]) <= s.max_step_correction_in
+                    and abs(math.degrees(math.remainder(pose[2] - predicted[2], 2 * math.pi)))
+                    <= s.max_step_correction_deg)
