@@ -18,11 +18,11 @@ alone. The survey's robot time (four moves and scans an object) is not counted i
 training figures, as the camera's look is not.
 
 The scans must come from a thin-beamed scanner (a lidar). HERO's sonar swept in place
-answers each 30° wide beam with the nearest echo anywhere across it, 12 in wide at the
-survey's 24 in, wider than a training object: its returns outline the beams, not the
-object (a cup comes out a 12 in square), so such a scanner is refused before any
-survey, in one line naming the profile. An outline the fit refuses (too few returns,
-something else near, too big) is one line naming the object and the scanner.
+answers each wide beam with the nearest echo anywhere across it, and at the survey's
+standoff a beam is wider than a training object: its returns outline the beams, not the
+object, so a wide-beamed scanner is refused before any survey, in one line naming the
+profile. An outline the fit refuses (too few returns, something else near, too big) is
+one line naming the object and the scanner.
 """
 
 from __future__ import annotations
@@ -56,8 +56,9 @@ def outline_objects(object_set: str = "training", profile: RobotProfile | None =
 
     As with the camera, the footprint, its reference axis (along the outline's longer
     sides) and whether it is round are the perception's, not the catalogue's; only the
-    grasp label is the teacher's. No appearance. ValueError, one line naming the object,
-    when an outline cannot be fitted.
+    grasp label is the teacher's. No appearance. ValueError in one line: naming the
+    profile when its scanner's beams are wide, naming the object when its outline
+    cannot be fitted.
     """
     loaded, _ = profile_and_catalogue(profile)
     spec = scanner_of(loaded)
@@ -68,7 +69,7 @@ def outline_objects(object_set: str = "training", profile: RobotProfile | None =
     return seen_objects(object_set, lambda object_id: _outline_sighting(object_id, profile, seed, noise))
 
 
-def survey(sim: SimWorld, centre: tuple[float, float]) -> list[tuple[PlanarScan, Pose]]:
+def _survey(sim: SimWorld, centre: tuple[float, float]) -> list[tuple[PlanarScan, Pose]]:
     """One scan from each pose of the survey round ``centre`` (:func:`survey_plan`), the
     robot staged there; each with the pose the driver reported it was taken from."""
     views = []
@@ -85,7 +86,7 @@ def planar_scan(scan: RangeScan) -> PlanarScan:
                       scan.pose.x_in, scan.pose.y_in, scan.pose.heading_deg, scan.clock_s, scan.range_max_in)
 
 
-def range_sigma_in(sim: SimWorld) -> float:
+def _range_sigma_in(sim: SimWorld) -> float:
     """The scanner's range noise on a surveyed object: the simulator's error grows with the
     range, and every face of an object lies nearer than the survey's standoff."""
     sigma = sim.noise.scan_range_frac * SURVEY_STANDOFF_IN
@@ -97,7 +98,7 @@ def _outline_sighting(object_id: str, profile: RobotProfile | None, seed: int, n
     staged = sim.spec.objects[0]  # where the team put it (at yaw 0: the catalogue's axis is world +x)
     centre = (staged.x_in, staged.y_in)
     try:
-        found = outline(survey(sim, centre), centre, range_sigma_in(sim))
+        found = outline(_survey(sim, centre), centre, _range_sigma_in(sim))
     except ValueError as exc:
         spec = sim.scanner
         raise ValueError(f"onboard perception: {object_id!r}: {exc} (the scanner: {spec.model}, {spec.beams} "

@@ -62,8 +62,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="replay file of recorded measurements (docs/training-format.md)")
     t.add_argument("--sim", action="store_true",
                    help="measure in the simulator instead: the catalogue's Table 3 training objects, each "
-                        "alone, its footprint as the overhead camera sees it, with the robot staged at every "
-                        "training position; also checks the library against the simulator's exact values")
+                        "alone, its footprint as the overhead camera sees it (or the robot's scans: --perception), "
+                        "with the robot staged at every training position; also checks the library against the "
+                        "simulator's exact values")
     t.add_argument("--no-teacher", action="store_true",
                    help="with --sim: find each object's grasp by trying grasps on it (most likely to hold per "
                         "expected second first, learning from each outcome) instead of taking the catalogue's; "

@@ -155,4 +155,5 @@ def test_csl_train_sim_onboard_writes_a_library_from_the_outlines(tmp_path, caps
 def test_perception_goes_with_sim(tmp_path, capsys) -> None:  # noqa: ANN001
     assert main(["train", "--perception", "onboard", "--objects", "o.json", "--measurements", "m.json",
                  "--out", str(tmp_path / "lib.json")]) != 0
-    assert "--perception chooses how the simulator sees the training objects: it goes with --sim" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--perception chooses how the simulator sees the training objects: it goes with --sim" in err
