@@ -1,7 +1,8 @@
 """Training in the simulated lab, as ``csl train --sim`` and an experiment run it.
 
-The objects come from the overhead camera (their footprints as vision sees them), the
-measurements from the simulator staged at each training position; the result is the
+The objects come from the overhead camera (their footprints as vision sees them) or,
+without it, from the robot's own scans (their outlines, ``executive/outline_objects.py``);
+the measurements from the simulator staged at each training position; the result is the
 learned library with the paper's training figures (:class:`TrainingSummary`). The
 library can then be held against the simulator's ground truth: every value, at every
 training position it stands for, against the exact (noise-free) value there.
@@ -9,9 +10,10 @@ training position it stands for, against the exact (noise-free) value there.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
+from executive.outline_objects import outline_objects
 from executive.training_sources import RecordingSource, SeenObjects, SimulatorGrasps, SimulatorSource, camera_objects
 from learner.costs import ModelMoveCost
 from learner.description import ObjectDescription
@@ -22,10 +24,16 @@ from learner.training.stage import TrainingResult, train
 from learner.training.summary import TrainingSummary, summarise
 from robot_profile import RobotProfile
 
+PERCEPTIONS: Mapping[str, Callable[[str, RobotProfile | None, int, bool], SeenObjects]] = {
+    "camera": camera_objects,  # the overhead camera's regions, as in the paper
+    "onboard": outline_objects,  # the robot's own scans: each object's outline from a survey round it
+}
+"""Where the training objects' footprints come from (``csl train --perception``)."""
+
 
 @dataclass(frozen=True)
 class SimTraining:
-    """One training run in the simulator: what the camera saw, what was learned, its
+    """One training run in the simulator: what perception saw, what was learned, its
     figures, and every measurement made (for a replay file)."""
 
     seen: SeenObjects
@@ -42,13 +50,15 @@ class SimTraining:
 
 
 def train_in_simulator(knowledge: Knowledge, profile: RobotProfile | None = None, seed: int = 0,
-                       noise: bool = False, teacher: bool = True) -> SimTraining:
+                       noise: bool = False, teacher: bool = True, perception: str = "camera") -> SimTraining:
     """Train on the catalogue's training objects (Table 3) as the robot of ``profile`` sees
     and senses it; moves are priced with the knowledge's move model. Without a
     ``teacher`` the catalogue's grasp labels are not used: each object's grasp is found
     by trying grasps on it first (``learner.training.grasps``), and training goes on with
-    the grasps found."""
-    seen = camera_objects("training", profile, seed, noise)
+    the grasps found. ``perception`` names how the objects are seen (:data:`PERCEPTIONS`)."""
+    if perception not in PERCEPTIONS:
+        raise ValueError(f"perception must be one of {', '.join(PERCEPTIONS)}, got {perception!r}")
+    seen = PERCEPTIONS[perception]("training", profile, seed, noise)
     for o in seen.objects:
         if not knowledge.has_grasp(o.grasp):
             raise ValueError(f"simulator catalogue: object {o.object_id!r}: grasp {o.grasp!r} is not in "

@@ -5,13 +5,15 @@ HERO to it (one object alone, the robot placed at the training position, as a te
 would stage it on the lab floor) and records what any source answered into a replay
 file, so a training run can be repeated without the robot. The training objects
 themselves come from what the overhead camera sees of each (:func:`camera_objects`),
-as in the paper, or from the catalogue's true footprints (:func:`catalogue_objects`).
+as in the paper, from the robot's own scans of each (``executive/outline_objects.py``;
+both through :func:`seen_objects`), or from the catalogue's true footprints
+(:func:`catalogue_objects`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from behaviours.appearance import appearance_of
@@ -19,6 +21,7 @@ from hero_driver.interface import DriverError
 from hero_driver.sim.probe import approach_pose, probe, probe_world
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.world import SimWorld
+from learner.appearance import Appearance
 from learner.position import Position
 from learner.training.grasps import GraspOutcome
 from learner.training.inputs import MeasurementSource, TrainingObject
@@ -35,8 +38,8 @@ class SimulatorSource:
 
     Orientations are relative to each object's reference axis. The simulator stages the
     robot from the catalogue's axis; ``axis_offsets_deg[object]`` is where the axis the
-    training positions were chosen from (the camera's, see :func:`camera_objects`) lies
-    relative to it, so the robot stands where the training position means.
+    training positions were chosen from (the perceived one, see :func:`seen_objects`)
+    lies relative to it, so the robot stands where the training position means.
 
     Each noisy measurement is made in a fresh one-object world, so its noise is drawn
     from ``seed`` alone and does not depend on what was measured before. Without noise a
@@ -137,12 +140,46 @@ def catalogue_objects(object_set: str = "training") -> list[TrainingObject]:
 
 @dataclass(frozen=True)
 class SeenObjects:
-    """Training objects as the overhead camera sees them, and for each the angle of the
-    camera's reference axis from the catalogue's (what :class:`SimulatorSource` needs to
-    stage the robot at the training positions chosen on the camera's polygons)."""
+    """Training objects as a perception sees them (the overhead camera, or the robot's
+    own scans), and for each the angle of the perceived reference axis from the
+    catalogue's (what :class:`SimulatorSource` needs to stage the robot at the training
+    positions chosen on the perceived polygons)."""
 
     objects: tuple[TrainingObject, ...]
     axis_offsets_deg: Mapping[str, float]
+
+
+@dataclass(frozen=True)
+class Sighting:
+    """What one way of perceiving makes of a training object staged alone, aligned with
+    the room: its reference axis in world degrees (the object lies at yaw 0, so this is
+    also the axis's angle from the catalogue's), its footprint in its own frame (+x
+    along that axis; empty when round), whether it is round, and its appearance (None:
+    this perception gives none)."""
+
+    axis_deg: float
+    polygon: tuple[tuple[float, float], ...]
+    round: bool
+    appearance: Appearance | None
+
+
+def seen_objects(object_set: str, sight: Callable[[str], Sighting]) -> SeenObjects:
+    """The catalogue's objects of one set as ``sight`` perceives each: footprint, axis,
+    roundness and appearance are the perception's; the grasp label is the teacher's
+    (:func:`catalogue_objects`), its approach orientation turned onto the perceived axis
+    so that it still means the same side of the object."""
+    labelled = {o.object_id: o for o in catalogue_objects(object_set)}
+    objects, offsets = [], {}
+    for object_id, labels in labelled.items():
+        seen = sight(object_id)
+        offsets[object_id] = seen.axis_deg
+        grasp_orientation = labels.grasp_position.orientation_deg
+        if grasp_orientation is not None:
+            grasp_orientation = float(round(grasp_orientation - seen.axis_deg) % 360)
+        objects.append(TrainingObject(object_id, labels.grasp, Position(labels.grasp_position.distance_in,
+                                                                        grasp_orientation),
+                                      seen.polygon, seen.round, seen.appearance))
+    return SeenObjects(tuple(objects), offsets)
 
 
 def camera_objects(object_set: str = "training", profile: RobotProfile | None = None, seed: int = 0,
@@ -158,27 +195,16 @@ def camera_objects(object_set: str = "training", profile: RobotProfile | None = 
     taken from the catalogue as :func:`catalogue_objects` does. Each object's appearance
     (area, elongation, round) is recorded as the camera saw it here, for its description.
     """
-    labelled = {o.object_id: o for o in catalogue_objects(object_set)}
-    objects, offsets = [], {}
-    for object_id, labels in labelled.items():
-        region = _seen(object_id, profile, seed, noise)
-        offset = region.reference_axis_deg  # the object lies at yaw 0: the catalogue's axis is world +x
-        offsets[object_id] = offset
-        grasp_orientation = labels.grasp_position.orientation_deg
-        if grasp_orientation is not None:
-            grasp_orientation = float(round(grasp_orientation - offset) % 360)
-        objects.append(TrainingObject(object_id, labels.grasp, Position(labels.grasp_position.distance_in,
-                                                                        grasp_orientation),
-                                      () if region.round else _object_frame(region), region.round,
-                                      appearance_of(region)))
-    return SeenObjects(tuple(objects), offsets)
+    return seen_objects(object_set, lambda object_id: _camera_sighting(object_id, profile, seed, noise))
 
 
-def _seen(object_id: str, profile: RobotProfile | None, seed: int, noise: bool) -> Region:
+def _camera_sighting(object_id: str, profile: RobotProfile | None, seed: int, noise: bool) -> Sighting:
     regions = look(probe_world(object_id, seed, noise, profile).camera()).regions
     if len(regions) != 1:
         raise ValueError(f"camera: {object_id!r} alone on the floor shows {len(regions)} regions, not 1")
-    return regions[0]
+    region = regions[0]
+    return Sighting(region.reference_axis_deg, () if region.round else _object_frame(region), region.round,
+                    appearance_of(region))
 
 
 def _object_frame(region: Region) -> tuple[tuple[float, float], ...]:

@@ -62,12 +62,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="replay file of recorded measurements (docs/training-format.md)")
     t.add_argument("--sim", action="store_true",
                    help="measure in the simulator instead: the catalogue's Table 3 training objects, each "
-                        "alone, its footprint as the overhead camera sees it, with the robot staged at every "
-                        "training position; also checks the library against the simulator's exact values")
+                        "alone, its footprint as the overhead camera sees it (or the robot's scans: --perception), "
+                        "with the robot staged at every training position; also checks the library against the "
+                        "simulator's exact values")
     t.add_argument("--no-teacher", action="store_true",
                    help="with --sim: find each object's grasp by trying grasps on it (most likely to hold per "
                         "expected second first, learning from each outcome) instead of taking the catalogue's; "
                         "the attempts count in the training cost")
+    t.add_argument("--perception", choices=("camera", "onboard"), default=None,
+                   help="with --sim: see the training objects with the overhead camera (camera, the default) or "
+                        "outline each from the robot's own lidar scans, four views round it (onboard: no ceiling "
+                        "camera, no appearance)")
     t.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (with --sim)")
     t.add_argument("--noise", action="store_true", help="simulated sonar noise on (with --sim; default: exact)")
     t.add_argument("--record", type=Path, metavar="FILE",
@@ -142,12 +147,15 @@ def run_train(args: argparse.Namespace) -> int:
             raise ValueError("--sim measures in the simulator: leave out --objects and --measurements")
         from executive.sim_training import train_in_simulator
 
-        sim = train_in_simulator(knowledge, profile, args.seed, args.noise, teacher=not args.no_teacher)
+        sim = train_in_simulator(knowledge, profile, args.seed, args.noise, teacher=not args.no_teacher,
+                                 perception=args.perception or "camera")
         objects = list(sim.seen.objects if sim.grasp_search is None else sim.grasp_search.objects)
         result, summary = sim.result, sim.summary
     else:
         if args.no_teacher:
             raise ValueError("--no-teacher tries grasps in the simulator: it goes with --sim")
+        if args.perception:
+            raise ValueError("--perception chooses how the simulator sees the training objects: it goes with --sim")
         if not (args.objects and args.measurements):
             raise ValueError("train needs --objects and --measurements (or --sim)")
         if args.record:
