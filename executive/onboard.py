@@ -20,8 +20,10 @@ driver's ``scan`` feature: a lidar, or HERO's sonar swept in place), and reading
 
 Where to look from next is the exploration rule's goal (:func:`mapping.next_goal`:
 the frontier whose viewing pose is cheapest to reach for its size), priced by the
-planner's move-cost estimate on the current map; a view the robot failed to reach is
-not offered again. The map's frame is the odometry's at the first scan.
+planner's move-cost estimate on the current map; the robot drives to it in legs with a
+look after each (``behaviours.exploration``), keeping it while the rule still offers a
+view near it (else it would turn round after every leg as the costs shift); a view
+the robot failed to reach is not offered again. The map's frame is the odometry's at the first scan.
 
 The matcher must see each scan in the driver's own frame (it applies the odometry's
 step between scans to its last corrected pose), so the perception scans through the
@@ -37,7 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from hero_driver.interface import RangeScan, Scanner
-from mapping import CandidateFinder, CandidateSettings, ExplorationSettings, OccupancyGrid, ScanMatcher, next_goal
+from mapping import CandidateFinder, CandidateSettings, ExplorationSettings, OccupancyGrid, ScanMatcher
+from mapping.exploration import exploration_goals
 from mapping.candidates import Candidate
 from mapping.scan import PlanarScan
 from mapping.scene import bridged, candidate_region, map_scene, seen_through
@@ -53,11 +56,12 @@ class OnboardSettings:
     outline_reach_in: float = 60.0  # scans taken farther than this from a candidate do not outline it
     outline_views: int = 12  # the latest views that saw a candidate, for its outline
     refused_within_in: float = 12.0  # a view this close to one the robot failed to reach is not offered
-    candidate_range_in: float = 72.0  # returns farther than this find no candidates (a range's noise grows with it)
+    candidate_range_in: float = 480.0  # returns farther than this find no candidates (a range's noise grows with it)
+    keep_goal_in: float = 24.0  # the view driven to is kept while the exploration still offers one this near it
 
     def __post_init__(self) -> None:
         for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in",
-                     "candidate_range_in"):
+                     "candidate_range_in", "keep_goal_in"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"onboard setting {name} must be positive, got {value}")
@@ -99,6 +103,7 @@ class OnboardPerception:
         self._views: list[_View] = []
         self._regions: dict[int, tuple[int, Region]] = {}  # candidate id -> (times seen, its region)
         self._refused: list[Pose] = []
+        self._goal: Pose | None = None  # the view being driven to
         self._scene: Scene | None = None
 
     def look(self) -> Future[RangeScan]:
@@ -127,11 +132,17 @@ class OnboardPerception:
                 return math.inf
             return self._navigator.move_cost(robot, pose).seconds
 
-        goal = next_goal(self._bridged, robot, self.finder.candidates(self.grid), cost, self.exploration)
-        return None if goal is None else goal.pose
+        goals = exploration_goals(self._bridged, robot, self.finder.candidates(self.grid), cost, self.exploration)
+        kept = self._goal
+        if kept is not None and any(math.hypot(g.pose.x_in - kept.x_in, g.pose.y_in - kept.y_in) <= s.keep_goal_in
+                                    for g in goals):
+            return kept  # still worth it: on toward it (a view is reached in legs, a look after each)
+        self._goal = goals[0].pose if goals else None
+        return self._goal
 
     def unreachable(self, view: Pose) -> None:
         self._refused.append(view)
+        self._goal = None
 
     def _read(self, observation: RangeScan) -> Scene:
         scan = planar_scan(observation)

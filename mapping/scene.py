@@ -63,6 +63,8 @@ def candidate_region(candidate: Candidate, views: Sequence[tuple[PlanarScan, Pos
         fitted = outline(views, centre, range_sigma_in)
     except ValueError:
         fitted = None
+    if fitted is not None and not np.isfinite(np.asarray(fitted.polygon, dtype=float)).all():
+        fitted = None  # a degenerate fit: the candidate's own returns stand in
     if fitted is not None:
         polygon = np.asarray(fitted.polygon, dtype=float)
         centroid = np.asarray(fitted.centre, dtype=float)
