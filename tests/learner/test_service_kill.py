@@ -100,7 +100,7 @@ def test_killing_the_service_during_episodes_loses_and_duplicates_nothing(tmp_pa
         service.close()
 
     events = [e for log in logs for e in learned(log)]
-    assert len(events) >= 2 * (DISTURBED + 1)  # the episodes grasped and learned (most of the lab's 7 objects each)
+    assert len(events) >= 2 * (DISTURBED + 1)  # the episodes grasped and learned, twice an episode or more
     assert queued >= 1  # the kills did land while the robot was learning
     with closing(sqlite3.connect(db)) as library, closing(sqlite3.connect(outbox)) as box:
         rows = library.execute("SELECT d.grasp, count(o.feature), d.learn_key FROM descriptions d "
