@@ -172,6 +172,20 @@ class _Track:
     seen: int
     first_s: float
     last_s: float
+    # The outline's mean and bounding box, kept with it: association asks them of every
+    # track for every observation, and only a new outline changes them.
+    centre: np.ndarray = field(init=False, repr=False)
+    low: np.ndarray = field(init=False, repr=False)
+    high: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self.reshape(self.points)
+
+    def reshape(self, points: np.ndarray) -> None:
+        """Give the track a new outline."""
+        self.points = points
+        self.centre = points.mean(axis=0)
+        self.low, self.high = points.min(axis=0), points.max(axis=0)
 
 
 def _extent(points: np.ndarray) -> float:
@@ -420,11 +434,12 @@ class CandidateFinder:
         things that are apart (a table leg and a bottle 10 in beyond it, seen along one
         line with a beam lost between them)."""
         s = self.settings
+        centroid = observation.centroid
         matches = []
-        for track in self._tracks.values():
+        for track in self._within_reach(observation.points, centroid):
             gap = float(np.hypot(*(observation.points[:, None, :] - track.points[None, :, :]).transpose(2, 0, 1)).min())
             if gap <= s.associate_in or (
-                    math.dist(observation.centroid, track.points.mean(axis=0)) <= s.associate_centroid_in
+                    math.dist(centroid, track.centre) <= s.associate_centroid_in
                     and _extent(np.vstack([track.points, observation.points])) <= s.max_extent_in):
                 matches.append((gap, track.id, track))
         if not matches:
@@ -441,13 +456,31 @@ class CandidateFinder:
         if not joined:
             return
         keep = min(joined, key=lambda t: t.id)
-        keep.points = _thin(np.vstack(points), s.outline_voxel_in)
+        keep.reshape(_thin(np.vstack(points), s.outline_voxel_in))
         keep.seen = sum(t.seen for t in joined) + 1
         keep.first_s = min(t.first_s for t in joined)
         keep.last_s = max(observation.stamp_s, *(t.last_s for t in joined))
         for t in joined:
             if t is not keep:
                 del self._tracks[t.id]
+
+    def _within_reach(self, points: np.ndarray, centroid: np.ndarray) -> list[_Track]:
+        """The tracks an observation of ``points`` might join: those whose bounding box
+        lies within ``associate_in`` of the observation's, or whose centre lies within
+        ``associate_centroid_in`` of ``centroid`` (with a micro-inch to spare, so the
+        exact tests in :meth:`_associate` decide). The gap between two boxes is never
+        more than between the points in them, so no match is left out; and most tracks,
+        across the room, are passed over in one array operation, not one each."""
+        tracks = list(self._tracks.values())
+        if not tracks:
+            return []
+        s, spare = self.settings, 1e-6
+        low, high = points.min(axis=0), points.max(axis=0)
+        lows, highs = np.array([t.low for t in tracks]), np.array([t.high for t in tracks])
+        box_gap = np.hypot(*np.maximum(0.0, np.maximum(lows - high, low - highs)).T)
+        centre_gap = np.hypot(*(np.array([t.centre for t in tracks]) - centroid).T)
+        reach = (box_gap <= s.associate_in + spare) | (centre_gap <= s.associate_centroid_in + spare)
+        return [track for track, near in zip(tracks, reach) if near]
 
     def tracks(self) -> tuple[Candidate, ...]:
         """Every track, whatever the rules say of it, by id."""

@@ -142,7 +142,7 @@ def _convex_gap(a: np.ndarray, b: np.ndarray) -> float:
     """The distance between two convex polygons (0 when they overlap)."""
     if _overlap(a, b):
         return 0.0
-    return min(min(_point_to_edges(p, b) for p in a), min(_point_to_edges(p, a) for p in b))
+    return min(_points_to_edges(a, b), _points_to_edges(b, a))
 
 
 def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
@@ -157,11 +157,14 @@ def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
     return True
 
 
-def _point_to_edges(point: np.ndarray, polygon: np.ndarray) -> float:
-    """The distance from ``point`` to the nearest edge of ``polygon``."""
+def _points_to_edges(points: np.ndarray, polygon: np.ndarray) -> float:
+    """The distance from the nearest of ``points`` to the nearest edge of ``polygon``:
+    every point against every edge in one array (a beam's blockers are asked of every
+    neighbour at every position the learner prices)."""
     start, end = polygon, np.roll(polygon, -1, axis=0)
     edge = end - start
     length2 = np.maximum((edge ** 2).sum(axis=1), 1e-12)
-    t = np.clip(((point - start) * edge).sum(axis=1) / length2, 0.0, 1.0)
-    nearest = start + t[:, None] * edge
-    return float(np.min(np.hypot(*(point - nearest).T)))
+    offset = points[:, None, :] - start[None, :, :]  # point by edge by (x, y)
+    t = np.clip((offset * edge).sum(axis=2) / length2, 0.0, 1.0)
+    nearest = start + t[..., None] * edge
+    return float(np.min(np.hypot(*(points[:, None, :] - nearest).transpose(2, 0, 1))))

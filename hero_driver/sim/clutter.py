@@ -82,7 +82,7 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
     """The distance between two convex outlines (0 when they touch or overlap)."""
     if _overlap(a, b):
         return 0.0
-    return min(min(_to_edges(p, b) for p in a), min(_to_edges(p, a) for p in b))
+    return min(_to_edges(a, b), _to_edges(b, a))
 
 
 def _place_beside(objects: list[dict[str, object]], anchor: int, partner: int,
@@ -142,10 +142,13 @@ def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
     return True
 
 
-def _to_edges(point: np.ndarray, polygon: np.ndarray) -> float:
+def _to_edges(points: np.ndarray, polygon: np.ndarray) -> float:
+    """The distance from the nearest of ``points`` to the nearest edge of ``polygon``,
+    every point against every edge in one array (placing a pair bisects on it)."""
     start, edge = polygon, np.roll(polygon, -1, axis=0) - polygon
-    t = np.clip(((point - start) * edge).sum(axis=1) / np.maximum((edge ** 2).sum(axis=1), 1e-12), 0.0, 1.0)
-    return float(np.min(np.hypot(*(point - start - t[:, None] * edge).T)))
+    offset = points[:, None, :] - start[None, :, :]  # point by edge by (x, y)
+    t = np.clip((offset * edge).sum(axis=2) / np.maximum((edge ** 2).sum(axis=1), 1e-12), 0.0, 1.0)
+    return float(np.min(np.hypot(*(offset - t[..., None] * edge).transpose(2, 0, 1))))
 
 
 def contaminated(sim: SimWorld, procedure: str, target: int) -> bool:

@@ -28,6 +28,7 @@ from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.worldfile import parse_world
 from learner.position import Position
 from robot_profile import load_profile
+from tests.executive import small_run
 
 # -- floors -------------------------------------------------------------------------
 
@@ -232,8 +233,11 @@ def test_by_default_the_page_goes_to_an_ignored_folder_never_docs() -> None:
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("experiment")
-    # one floor per condition: the page's layout is what these tests read, not its numbers
-    assert main(["experiment", "paper", "--quick", "--seeds", "1", "--jobs", "2", "--out", str(out)]) == 0
+    # one floor per condition, few objects on it, the sweeps at their ends (tests/executive/small_run.py):
+    # the page's layout is what these tests read, not its numbers
+    with pytest.MonkeyPatch.context() as patch:
+        small_run.shrink(patch)
+        assert main(["experiment", "paper", "--quick", "--seeds", "1", "--jobs", "2", "--out", str(out)]) == 0
     return out
 
 
@@ -306,8 +310,9 @@ def test_quick_run_csv_has_one_row_per_object_of_every_episode(quick_run: Path) 
     per_episode = Counter((r["study"], r["variant"], r["seed"], r["episode"]) for r in rows)
     assert len(per_episode) == episodes
     sets = {(r["study"], r["variant"], r["seed"], r["episode"]): r["objects"] for r in rows}
+    assert set(sets.values()) == {"test", "training"}
     for key, count in per_episode.items():
-        assert count == len(set_members(sets[key])), key  # every object on the floor was reported
+        assert count == len(small_run.few_members(sets[key])), key  # every object on the floor was reported
 
 
 @pytest.mark.slow

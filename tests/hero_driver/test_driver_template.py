@@ -16,6 +16,7 @@ import re
 import subprocess
 import sys
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -23,11 +24,12 @@ import zenoh
 
 from hero_driver.interface import INTERNAL, DriverError
 from hero_driver.zenoh_link.client import ZenohDriver
-from hero_driver.zenoh_link.conformance import shutdown_order
+from hero_driver.zenoh_link.conformance import Procedures, shutdown_order
 from hero_driver.zenoh_link.verbs import VERBS
 from planner.vision import look
 from robot_profile import load_profile, profile_stamp
-from tests.hero_driver.test_zenoh_conformance import ALL_CHECKS, ROVER, run_check_detailed
+from tests.hero_driver.test_zenoh_conformance import (ALL_CHECKS, BUSY_CHECKS, ROVER, run_check_detailed,
+                                                      run_named_checks)
 from tests.zenoh_rpc.support import free_endpoint
 
 pytestmark = pytest.mark.zenoh
@@ -61,16 +63,25 @@ class Template:
         return status
 
 
-@pytest.fixture
-def template(tmp_path: Path) -> Iterator[tuple[str, str]]:
-    """The toy backend on a free port; moves at 0.25 real s per robot s, so that the
-    10-degree turn of the busy check lasts 0.5 s and overlaps the releases sent."""
+@contextmanager
+def toy_template(directory: Path, time_scale: float) -> Iterator[tuple[str, str]]:
+    """The toy backend on a free port, its moves taking ``time_scale`` real s per robot s."""
     endpoint = free_endpoint()
-    process = Template("tpl", endpoint, "--time-scale", "0.25", cwd=tmp_path)
+    process = Template("tpl", endpoint, "--time-scale", str(time_scale), cwd=directory)
     try:
         yield "tpl", endpoint
     finally:
         assert process.stop() == 0  # SIGTERM: a clean shutdown, token first
+
+
+@pytest.fixture
+def template(tmp_path: Path) -> Iterator[tuple[str, str]]:
+    """The toy backend, its moves at 0.05 real s per robot s: they still take real time
+    (the turns check's 200 degrees, 40 robot s, take 2 s), and the whole suite runs in
+    a few seconds. The busy check's 10-degree turn is then 0.1 s, too short to overlap
+    a release: :func:`test_the_templates_turn_makes_a_second_verb_busy` slows it down."""
+    with toy_template(tmp_path, 0.05) as served:
+        yield served
 
 
 def _template_knowledge():  # noqa: ANN202 - the template's own module, loaded from its file
@@ -86,7 +97,7 @@ def _template_knowledge():  # noqa: ANN202 - the template's own module, loaded f
 def test_the_template_passes_every_conformance_check_but_the_reference(template: tuple[str, str],
                                                      capsys: pytest.CaptureFixture[str]) -> None:
     robot, endpoint = template
-    # a 90-degree turn of the turns check takes 18 robot s, 4.5 s here: 15 s for each reply
+    # a 90-degree turn of the turns check takes 18 robot s, 0.9 s here: 15 s for each reply
     status, verdicts, details = run_check_detailed(endpoint, robot, capsys, 15.0, "--profile", str(TEMPLATE_PROFILE))
     assert set(verdicts) == ALL_CHECKS | {"reference"}
     # it refuses the lab, as a real robot must, and its toy floor holds no reference objects
@@ -102,12 +113,25 @@ def test_the_template_passes_every_conformance_check_but_the_reference(template:
     optional = [v.name for v in VERBS if v.name not in served]
     assert details["every-verb"] == (f"{len(served)} verbs refuse a JSON array bad_request: {', '.join(served)}; "
                                      f"not served (optional here): {', '.join(optional)}")
-    assert "refused busy during a" in details["busy"]  # exercised, not skipped as too short
     # the box stands 56 in straight ahead of the sonar at the reset pose (100 - 3 - (30 + 11)):
     # a long sweep runs, the 6 in procedures are out of range
     assert details["sense"].startswith("SenseResult")
     assert "56.0 in away" in details["out-of-range-target"]
     assert "56.0 in away" in details["grasp"]
+
+
+@pytest.mark.slow
+def test_the_templates_turn_makes_a_second_verb_busy(tmp_path: Path) -> None:
+    """At 0.25 real s per robot s the busy check's 10-degree turn (2 robot s) lasts
+    0.5 s, long enough for the releases sent every 0.1 s to meet it running: the
+    template must refuse them busy, exercised, not skipped as too short. Only the busy
+    check and those it builds on run: at this pace the turns check alone would take 10 s
+    (40 robot s)."""
+    with toy_template(tmp_path, 0.25) as (robot, endpoint):
+        results = run_named_checks(robot, endpoint, BUSY_CHECKS, timeout_s=5.0,
+                                   procedures=Procedures.from_profile(TEMPLATE_PROFILE))
+    assert [name for name, result in results.items() if not result.passed] == []
+    assert "refused busy during a" in results["busy"].detail
 
 
 def test_the_template_checked_as_another_robot_fails_in_one_line(template: tuple[str, str],

@@ -4,10 +4,13 @@ processes fails exactly the checks that name what they break."""
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 
 import pytest
 
 from csl_cli.main import main
+from hero_driver.zenoh_link import conformance
+from hero_driver.zenoh_link.checking import CheckResult
 from hero_driver.zenoh_link.conformance import Procedures, known_world
 from hero_driver.zenoh_link.verbs import NAMES
 from robot_profile import DEFAULT_PROFILE, load_profile, profile_stamp
@@ -26,6 +29,25 @@ ALL_CHECKS = {
     "missing-field", "unknown-field", "non-finite-number", "wrong-version", "keeps-serving",
 }
 ROVER = REPO / "hero_driver" / "profiles" / "rover.toml"
+# The busy check turns from the move check's pose, which turns from a published state.
+BUSY_CHECKS = ("state-published", "move", "busy")
+
+
+def run_named_checks(robot: str, endpoint: str, names: Sequence[str], **options: object) -> dict[str, CheckResult]:
+    """The ``names`` checks of ``run_checks``, in the suite's order, the others left out.
+
+    Why: a driver whose moves take real time (a slow turn, the template's toy robot)
+    spends them on every move of the whole suite, while a test of one check needs only
+    it and the checks it builds on. Going through ``run_checks`` keeps its own steps (the
+    token awaited, the profile compared), and every name must be one the suite has, so
+    a renamed check fails here instead of leaving nothing checked."""
+    whole = conformance._Suite.checks
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(conformance._Suite, "checks",
+                      lambda suite: [(name, check) for name, check in whole(suite) if name in names])
+        results = conformance.run_checks(robot, [endpoint], **options)  # type: ignore[arg-type]
+    assert [r.name for r in results] == list(names), [(r.name, r.detail) for r in results]
+    return {r.name: r for r in results}
 
 
 def run_check(endpoint: str, robot: str, capsys: pytest.CaptureFixture[str],
