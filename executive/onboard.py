@@ -25,6 +25,15 @@ look after each (``behaviours.exploration``), keeping it while the rule still of
 view near it (else it would turn round after every leg as the costs shift); a view
 the robot failed to reach is not offered again. The map's frame is the odometry's at the first scan.
 
+A candidate's region is outlined again each time it is seen again, until it was seen
+``settled_seen`` times; then it stays as it is. The checks that look again at an object
+(before a sensing or a grasp, after a failed grasp) compare its region with the one it
+was located by, at a camera's precision (``behaviours.sameness``: an inch, a quarter
+of the area); an outline still being refined as the robot comes closer would read as
+the object pushed or changed. A place the latest scan looks through is not there now,
+whatever the map still holds (:func:`mapping.scene.seen_through`): the object was
+taken or moved, and the checks see it so.
+
 The matcher must see each scan in the driver's own frame (it applies the odometry's
 step between scans to its last corrected pose), so the perception scans through the
 driver *below* the localisation decorator.
@@ -57,6 +66,7 @@ class OnboardSettings:
     outline_views: int = 12  # the latest views that saw a candidate, for its outline
     refused_within_in: float = 12.0  # a view this close to one the robot failed to reach is not offered
     candidate_range_in: float = 480.0  # returns farther than this find no candidates (a range's noise grows with it)
+    settled_seen: int = 6  # a candidate seen this often keeps the region it has (module docstring)
     keep_goal_in: float = 24.0  # the view driven to is kept while the exploration still offers one this near it
 
     def __post_init__(self) -> None:
@@ -65,6 +75,8 @@ class OnboardSettings:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"onboard setting {name} must be positive, got {value}")
+        if self.settled_seen < 1:
+            raise ValueError(f"onboard setting settled_seen must be at least 1, got {self.settled_seen}")
         if self.outline_views < 1:
             raise ValueError(f"onboard setting outline_views must be at least 1, got {self.outline_views}")
 
@@ -164,9 +176,10 @@ class OnboardPerception:
         return self._scene
 
     def _region(self, candidate: Candidate) -> Region:
-        """The candidate's region, outlined again only when it was seen again."""
+        """The candidate's region, outlined again only when it was seen again, and no more
+        once it was seen ``settled_seen`` times (the module docstring)."""
         kept = self._regions.get(candidate.id)
-        if kept is not None and kept[0] == candidate.times_seen:
+        if kept is not None and (kept[0] == candidate.times_seen or kept[0] >= self.settings.settled_seen):
             return kept[1]
         s = self.settings
         centre = np.array([candidate.x_in, candidate.y_in])

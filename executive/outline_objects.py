@@ -27,11 +27,9 @@ one line naming the object and the scanner.
 
 from __future__ import annotations
 
-import numpy as np
-
+from executive.onboard import planar_scan
 from executive.training_sources import SeenObjects, Sighting, seen_objects
 from hero_driver.interface import Pose as DriverPose
-from hero_driver.interface import RangeScan
 from hero_driver.sim.catalogue import profile_and_catalogue
 from hero_driver.sim.probe import probe_world
 from hero_driver.sim.scan import scanner_of
@@ -78,12 +76,6 @@ def _survey(sim: SimWorld, centre: tuple[float, float]) -> list[tuple[PlanarScan
         scan = sim.scan()
         views.append((planar_scan(scan), Pose(scan.pose.x_in, scan.pose.y_in, scan.pose.heading_deg)))
     return views
-
-
-def planar_scan(scan: RangeScan) -> PlanarScan:
-    """The driver's scan as the mapping package takes it (angles in radians)."""
-    return PlanarScan(np.radians(np.asarray(scan.angles_deg, dtype=float)), np.asarray(scan.ranges_in, dtype=float),
-                      scan.pose.x_in, scan.pose.y_in, scan.pose.heading_deg, scan.clock_s, scan.range_max_in)
 
 
 def _range_sigma_in(sim: SimWorld) -> float:

@@ -93,7 +93,7 @@ def translated(value: Any, dx: float, dy: float, turn_deg: float = 0.0) -> Any:
         def moved(x: float, y: float) -> tuple[float, float]:
             return x + dx, y + dy
     if isinstance(value, Pose):
-        return Pose(*moved(value.x_in, value.y_in), value.heading_deg + turn_deg if turn_deg else value.heading_deg)
+        return Pose(*moved(value.x_in, value.y_in), (value.heading_deg + turn_deg) % 360.0 if turn_deg else value.heading_deg)
     if isinstance(value, Obstacle):
         return Obstacle(*moved(value.x_in, value.y_in), value.radius_in)
     if isinstance(value, tuple) and len(value) == 2 and all(isinstance(v, (int, float)) for v in value):

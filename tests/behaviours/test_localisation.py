@@ -89,3 +89,32 @@ def test_optional_features_are_offered_only_when_the_driver_has_them_and_shifted
     robot.localise(12.0, 10.0)
     assert robot.dock() == Pose(2.0, 5.0, 180.0)
     assert robot.charge().result().pose == Pose(12.0, 10.0, 90.0)
+
+
+def test_a_matched_heading_turns_every_pose_out_and_every_waypoint_back() -> None:
+    inner = Reckoning()
+    inner.pose = Pose(10.0, 0.0, 0.0)
+    robot = CameraLocalised(inner)
+    # The scan matcher says the robot stands at (0, 10) facing 90°: its dead reckoning
+    # turned a quarter turn about the origin (Rot(90°)·(10, 0) = (0, 10)), no shift.
+    assert robot.localise(0.0, 10.0, 90.0)
+    assert robot.turn_deg == pytest.approx(90.0) and robot.offset == pytest.approx((0.0, 0.0), abs=1e-9)
+    seen = robot.state().pose
+    assert (seen.x_in, seen.y_in, seen.heading_deg) == pytest.approx((0.0, 10.0, 90.0), abs=1e-9)
+    inner.move_answer = MoveResult(Pose(20.0, 0.0, 0.0), 5.0, False, True)
+    result = robot.move([Pose(0.0, 20.0, 90.0)], face=(-5.0, 20.0)).result()
+    (sent,), face = inner.sent[0]
+    # Rot(-90°) back: (0, 20) -> (20, 0) facing 0°; the face point (-5, 20) -> (20, 5)
+    assert (sent.x_in, sent.y_in, sent.heading_deg) == pytest.approx((20.0, 0.0, 0.0), abs=1e-9)
+    assert face == pytest.approx((20.0, 5.0), abs=1e-9)
+    assert (result.pose.x_in, result.pose.y_in, result.pose.heading_deg) == pytest.approx((0.0, 20.0, 90.0), abs=1e-9)
+    back = robot.to_driver(robot.to_camera(Pose(3.0, -4.0, 30.0)))
+    assert (back.x_in, back.y_in, back.heading_deg) == pytest.approx((3.0, -4.0, 30.0), abs=1e-9)
+
+
+def test_a_heading_within_the_deadband_changes_nothing_and_the_camera_never_turns() -> None:
+    robot = CameraLocalised(Reckoning())
+    assert not robot.localise(10.0, 10.0, 90.3)  # 0.3° off: within the half-degree deadband
+    assert robot.turn_deg == 0.0
+    assert robot.localise(12.0, 10.0)  # no heading given (the camera's): a shift alone
+    assert robot.turn_deg == 0.0 and robot.offset == (2.0, 0.0)

@@ -1,0 +1,93 @@
+"""The onboard perception (executive/onboard.py) on synthetic scans and the real planner:
+scans become a scene whose regions are the objects, whose map the planner plans on, and
+whose next view looks into what is still unknown."""
+
+from __future__ import annotations
+
+import math
+from concurrent.futures import Future
+
+import numpy as np
+import pytest
+
+from executive.onboard import OnboardPerception, OnboardSettings, planar_scan
+from hero_driver.interface import Pose as DriverPose
+from hero_driver.interface import RangeScan
+from planner import Navigator, Pose
+from robot_profile import load_profile
+from tests.mapping.synthetic import Lidar, box
+
+LIDAR = Lidar(sigma_in=0.0, dropout=0.0)
+# Two rooms, 120 x 100 in each, a 36 in doorway at y 32-68 in the wall x = 120; a 6 in box
+# at (60, 30) in the first room.
+WALLS = np.array(box(0.0, 0.0, 240.0, 100.0) + [(120.0, 0.0, 120.0, 32.0), (120.0, 68.0, 120.0, 100.0)]
+                 + box(57.0, 27.0, 63.0, 33.0), dtype=float)
+
+
+class Scans:
+    """A driver with the scan feature whose robot stands where the test puts it."""
+
+    robot = "r1"
+
+    def __init__(self) -> None:
+        self.pose = DriverPose(30.0, 70.0, 0.0)
+        self.clock_s = 0.0
+
+    def scan(self) -> Future[RangeScan]:
+        self.clock_s += 1.0
+        ranges = LIDAR.scan(WALLS, (self.pose.x_in, self.pose.y_in, math.radians(self.pose.heading_deg)),
+                            np.random.default_rng(0))
+        done: Future[RangeScan] = Future()
+        done.set_result(RangeScan(self.pose, self.clock_s, tuple(np.degrees(LIDAR.angles_rad).tolist()),
+                                  tuple(float(r) for r in ranges), 0.5, LIDAR.max_range_in))
+        return done
+
+
+def perception() -> tuple[OnboardPerception, Scans, Navigator]:
+    scans, navigator = Scans(), Navigator(load_profile().robot)
+    return OnboardPerception(scans, navigator, OnboardSettings(half_extent_in=300.0)), scans, navigator
+
+
+def test_a_driver_scan_in_degrees_with_no_echo_as_none_or_inf() -> None:
+    scan = RangeScan(DriverPose(1.0, 2.0, 90.0), 3.0, (-90.0, 0.0, 90.0), (10.0, None, math.inf), 0.5, 100.0)  # type: ignore[arg-type]
+    planar = planar_scan(scan)
+    assert planar.angles_rad == pytest.approx([-math.pi / 2, 0.0, math.pi / 2])
+    assert planar.ranges_in[0] == 10.0 and math.isinf(planar.ranges_in[1]) and math.isinf(planar.ranges_in[2])
+    assert (planar.x_in, planar.y_in, planar.heading_deg, planar.stamp_s) == (1.0, 2.0, 90.0, 3.0)
+
+
+def test_scans_make_a_scene_of_the_box_and_a_map_the_planner_plans_on() -> None:
+    seen, scans, navigator = perception()
+    for x, y in ((30.0, 70.0), (90.0, 70.0)):  # a candidate is reported once seen twice
+        scans.pose = DriverPose(x, y, 0.0)
+        scene = seen.scene(seen.look().result())
+    robot = scene.robot
+    assert navigator.scene is scene and robot is not None
+    assert (robot.x_in, robot.y_in, robot.heading_deg) == pytest.approx((90.0, 70.0, 0.0), abs=0.1)
+    assert len(scene.regions) == 1
+    box_region = scene.regions[0]
+    assert box_region.centroid == pytest.approx((60.0, 30.0), abs=1.5) and box_region.area_in2 is None
+    # the planner plans on it: round the box, within the first room; the second, seen
+    # only through the doorway's wedge, is not all free yet
+    plan = navigator.plan(Pose(30.0, 70.0, 0.0), Pose(90.0, 20.0, 0.0))
+    assert plan.found, plan.reason
+    assert not navigator.vision_map.is_free(200.0, 90.0)
+
+
+def test_the_next_view_looks_through_the_doorway_and_a_refused_one_is_not_offered_again() -> None:
+    seen, scans, _ = perception()
+    for x, y in ((30.0, 70.0), (90.0, 50.0)):
+        scans.pose = DriverPose(x, y, 0.0)
+        seen.scene(seen.look().result())
+    view = seen.next_view(Pose(90.0, 50.0, 0.0))
+    assert view is not None and view.x_in > 60.0, "toward the unknown second room"
+    seen.unreachable(view)
+    again = seen.next_view(Pose(90.0, 50.0, 0.0))
+    assert again is None or math.hypot(again.x_in - view.x_in, again.y_in - view.y_in) > 12.0
+
+
+def test_settings_are_checked_in_one_line() -> None:
+    with pytest.raises(ValueError, match="onboard setting inches_per_cell must be positive, got 0"):
+        OnboardSettings(inches_per_cell=0.0)
+    with pytest.raises(ValueError, match="settled_seen must be at least 1"):
+        OnboardSettings(settled_seen=0)
