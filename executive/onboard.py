@@ -30,7 +30,9 @@ A candidate's region is outlined again each time it is seen again, until it was 
 (before a sensing or a grasp, after a failed grasp) compare its region with the one it
 was located by, at a camera's precision (``behaviours.sameness``: an inch, a quarter
 of the area); an outline still being refined as the robot comes closer would read as
-the object pushed or changed. A place the latest scan looks through is not there now,
+the object pushed or changed. Each look also fits every region to the returns of that
+scan near it (:func:`mapping.scene.refit`), so a push shows as the region moved, its
+size kept, as the camera would see it. A place the latest scan looks through is not there now,
 whatever the map still holds (:func:`mapping.scene.seen_through`): the object was
 taken or moved, and the checks see it so.
 
@@ -52,8 +54,15 @@ from mapping import CandidateFinder, CandidateSettings, ExplorationSettings, Occ
 from mapping.exploration import exploration_goals
 from mapping.candidates import Candidate
 from mapping.scan import PlanarScan
-from mapping.scene import bridged, candidate_region, map_scene, seen_through
+from mapping.scene import bridged, candidate_region, map_scene, refit, seen_through
 from planner import Navigator, Pose, Region, Scene
+
+
+ONBOARD_CANDIDATES = CandidateSettings(range_sigma_in=1.0)
+"""The candidate rules for a home: a range finder's error grows with the range (the
+simulator's ``paper`` preset: 1 % of it, an inch at 100 in), and the rules' bands are
+multiples of it; at the default half inch, far walls broke into object-sized runs
+(seen on the simulated apartments: dozens of false candidates along a bed's side)."""
 
 
 @dataclass(frozen=True)
@@ -65,13 +74,11 @@ class OnboardSettings:
     outline_reach_in: float = 60.0  # scans taken farther than this from a candidate do not outline it
     outline_views: int = 12  # the latest views that saw a candidate, for its outline
     refused_within_in: float = 12.0  # a view this close to one the robot failed to reach is not offered
-    candidate_range_in: float = 480.0  # returns farther than this find no candidates (a range's noise grows with it)
     settled_seen: int = 6  # a candidate seen this often keeps the region it has (module docstring)
     keep_goal_in: float = 24.0  # the view driven to is kept while the exploration still offers one this near it
 
     def __post_init__(self) -> None:
-        for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in",
-                     "candidate_range_in", "keep_goal_in"):
+        for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in", "keep_goal_in"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"onboard setting {name} must be positive, got {value}")
@@ -102,7 +109,7 @@ class OnboardPerception:
     corrects_heading = True
 
     def __init__(self, scanner: Scanner, navigator: Navigator, settings: OnboardSettings | None = None,
-                 candidates: CandidateSettings = CandidateSettings(),
+                 candidates: CandidateSettings = ONBOARD_CANDIDATES,
                  exploration: ExplorationSettings = ExplorationSettings()) -> None:
         """``scanner``: the driver in its own frame (below the localisation decorator)."""
         self._scanner, self._navigator = scanner, navigator
@@ -146,6 +153,8 @@ class OnboardPerception:
 
         goals = exploration_goals(self._bridged, robot, self.finder.candidates(self.grid), cost, self.exploration)
         kept = self._goal
+        if kept is not None and math.hypot(kept.x_in - robot.x_in, kept.y_in - robot.y_in) <= self.exploration.arrived_in:
+            kept = None  # reached: choose anew
         if kept is not None and any(math.hypot(g.pose.x_in - kept.x_in, g.pose.y_in - kept.y_in) <= s.keep_goal_in
                                     for g in goals):
             return kept  # still worth it: on toward it (a view is reached in legs, a look after each)
@@ -167,12 +176,22 @@ class OnboardPerception:
             self.grid = OccupancyGrid(pose.x_in - e, pose.y_in - e, pose.x_in + e, pose.y_in + e,
                                       self.settings.inches_per_cell)
         self.grid.integrate(scan, pose)
-        self.finder.update(_within(scan, self.settings.candidate_range_in), pose)
+        self.finder.update(scan, pose)
         self._views.append(_View(scan, pose, _world_returns(scan, pose)))
-        regions = tuple(region for region in (self._region(c) for c in self.finder.candidates(self.grid))
-                        if not seen_through(region, scan, pose))  # the map is slow to forget: not there now
+        loose = self._views[-1].returns
+        if len(loose) and len(self.finder.structure):
+            loose = loose[~self.finder.structure.within(loose)]  # the returns off the home's structure
+        regions = []
+        for candidate in self.finder.candidates(self.grid):
+            region = self._region(candidate)
+            if seen_through(region, scan, pose):
+                continue  # the map is slow to forget: not there now
+            moved = refit(region, loose)
+            if moved is not region:  # pushed: it stays where the scan saw it
+                self._regions[candidate.id] = (self._regions[candidate.id][0], moved)
+            regions.append(moved)
         self._bridged = bridged(self.grid)
-        self._scene = map_scene(self._bridged, regions, pose)
+        self._scene = map_scene(self._bridged, tuple(regions), pose)
         return self._scene
 
     def _region(self, candidate: Candidate) -> Region:
@@ -190,15 +209,6 @@ class OnboardPerception:
         region = candidate_region(candidate, views, self.finder.settings.range_sigma_in)
         self._regions[candidate.id] = (candidate.times_seen, region)
         return region
-
-
-def _within(scan: PlanarScan, range_in: float) -> PlanarScan:
-    """``scan`` with the returns beyond ``range_in`` taken as no return: a range finder's
-    error grows with the range (a share of it), and far off a wall's returns scatter into
-    object-sized runs; the robot finds objects from nearer."""
-    ranges = np.where(scan.ranges_in <= range_in, scan.ranges_in, math.inf)
-    return PlanarScan(scan.angles_rad, ranges, scan.x_in, scan.y_in, scan.heading_deg, scan.stamp_s,
-                      scan.max_range_in)
 
 
 def _world_returns(scan: PlanarScan, pose: Pose) -> np.ndarray:

@@ -27,6 +27,7 @@ None, and the learner rules nothing out by appearance.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from collections.abc import Sequence
 
@@ -49,7 +50,15 @@ MIN_SIDE_IN = 1.0
 # square), so the checks that compare counts (pushed or changed) read a scan's region
 # at the resolution they were written for, not at the grid's coarser cells.
 PIXEL_IN2 = 0.64
-SEEN_AT_IN = 2.0  # a return this close to a region's footprint is the region seen again
+SEEN_AT_IN = 2.0
+# refit: returns this far beyond a region's half-diagonal may be its object pushed (a
+# failed grasp pushes up to about 4 in), at least this many of them, laid on its outline
+# within this RMS gap; a shift smaller than the last is the outline's own noise.
+REFIT_REACH_IN = 6.0
+REFIT_MIN_RETURNS = 4
+REFIT_RMS_IN = 1.0
+REFIT_MIN_SHIFT_IN = 0.5
+REFIT_ITERATIONS = 30  # a return this close to a region's footprint is the region seen again
 BRIDGE_CELLS = 5  # unknown gaps up to this many cells across, free on both sides, are free (bridged)
 BRIDGED_LOG_ODDS = -2.0 * DECIDED  # what a bridged cell holds: free, as a beam crossing it would say  # a region's extent is at least this (a leg seen edge-on is a line of returns)
 
@@ -121,6 +130,50 @@ def seen_through(region: Region, scan: PlanarScan, pose: Pose) -> bool:
         return False
     beyond = np.isfinite(ranges) & (ranges >= distance)
     return 2 * int(np.count_nonzero(beyond)) >= len(ranges)  # dropouts alone do not say it is gone
+
+
+def refit(region: Region, returns: np.ndarray) -> Region:
+    """``region`` moved to where ``returns`` (world inches: the latest scan's returns off
+    the home's structure, near the region) say its object now stands.
+
+    A kept region (the onboard perception keeps a candidate's once it has settled) would
+    hide a push: a failed grasp shoves an object an inch or a few, and the map's memory
+    of where it stood fades only over scans. So each look fits the region's outline to
+    the returns near it by a translation alone (the nearest point of its outline to each
+    return, then the mean gap, until it settles): an object the scan sees where its region is
+    stays as it was; one pushed comes out shifted by the push, its size unchanged, which
+    the checks read as pushed. Returns that no translation within :data:`REFIT_REACH_IN`
+    lays on the outline (its RMS gap above :data:`REFIT_RMS_IN`) are not this footprint:
+    the region is left as it was, for the checks to judge by what else they see."""
+    polygon = region.polygon_array()
+    centre = np.asarray(region.centroid)
+    reach = 0.5 * math.hypot(region.length_in, region.width_in) + REFIT_REACH_IN
+    near = returns[np.hypot(*(returns - centre).T) <= reach] if len(returns) else returns
+    if len(near) < REFIT_MIN_RETURNS:
+        return region
+    shift = np.zeros(2)
+    for _ in range(REFIT_ITERATIONS):
+        step = (near - _nearest_on_outline(near, polygon + shift)).mean(axis=0)
+        shift += step
+        if float(np.hypot(*step)) < 0.01:
+            break
+    rms = float(np.sqrt(np.mean(np.sum((near - _nearest_on_outline(near, polygon + shift)) ** 2, axis=1))))
+    if rms > REFIT_RMS_IN or float(np.hypot(*shift)) > REFIT_REACH_IN or float(np.hypot(*shift)) < REFIT_MIN_SHIFT_IN:
+        return region
+    dx, dy = float(shift[0]), float(shift[1])
+    return dataclasses.replace(region, polygon=tuple((x + dx, y + dy) for x, y in region.polygon),
+                               centroid=(region.centroid[0] + dx, region.centroid[1] + dy))
+
+
+def _nearest_on_outline(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """For each point, the nearest point on the closed polygon's edges."""
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    ab = b - a
+    length2 = np.maximum(np.sum(ab * ab, axis=1), 1e-12)
+    t = np.clip(np.einsum("nmk,mk->nm", points[:, None, :] - a[None], ab) / length2, 0.0, 1.0)
+    foot = a[None] + t[..., None] * ab[None]
+    best = np.argmin(np.sum((points[:, None, :] - foot) ** 2, axis=2), axis=1)
+    return foot[np.arange(len(points)), best]
 
 
 def map_scene(grid: OccupancyGrid, regions: Sequence[Region], robot: Pose | None,

@@ -91,3 +91,15 @@ def test_settings_are_checked_in_one_line() -> None:
         OnboardSettings(inches_per_cell=0.0)
     with pytest.raises(ValueError, match="settled_seen must be at least 1"):
         OnboardSettings(settled_seen=0)
+
+
+def test_the_view_driven_to_is_kept_until_reached() -> None:
+    seen, scans, _ = perception()
+    for x, y in ((30.0, 70.0), (90.0, 50.0)):
+        scans.pose = DriverPose(x, y, 0.0)
+        seen.scene(seen.look().result())
+    view = seen.next_view(Pose(90.0, 50.0, 0.0))
+    assert view is not None
+    assert seen.next_view(Pose(80.0, 50.0, 0.0)) == view  # on the way (the costs shifted): the same view
+    arrived = seen.next_view(Pose(view.x_in, view.y_in, view.heading_deg))
+    assert arrived != view  # standing there: another view, or none

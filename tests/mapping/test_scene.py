@@ -10,7 +10,7 @@ import pytest
 
 from mapping import OccupancyGrid, PlanarScan
 from mapping.candidates import Candidate
-from mapping.scene import (BRIDGED_LOG_ODDS, PIXEL_IN2, bridged, candidate_region, map_scene, seen_through)
+from mapping.scene import BRIDGED_LOG_ODDS, PIXEL_IN2, bridged, candidate_region, map_scene, refit, seen_through
 from planner.geometry import Pose
 from planner.vision import Region
 from tests.mapping.synthetic import Lidar, box
@@ -95,3 +95,22 @@ def test_a_place_is_seen_through_only_when_beams_cross_it_and_come_back_from_bey
     dark = PlanarScan(blind.angles_rad, np.full_like(blind.ranges_in, math.inf), 0.0, 0.0, 0.0, 0.0, blind.max_range_in)
     assert not seen_through(place, dark, Pose(0.0, 0.0, 0.0))  # no echo at all is not a sighting
     assert not seen_through(place, blind, Pose(19.0, 0.0, 0.0))  # standing on the place: nothing to tell
+
+
+def _on_square(cx: float, cy: float, half: float, n: int = 8) -> np.ndarray:
+    """Returns on the two faces of a square facing -x and -y (what one scan sees)."""
+    t = np.linspace(-half, half, n)
+    return np.vstack([np.column_stack([np.full(n, cx - half), cy + t]), np.column_stack([cx + t, np.full(n, cy - half)])])
+
+
+def test_a_region_is_moved_to_where_the_scan_sees_its_object_pushed() -> None:
+    region = Region(((-3.0, -3.0), (3.0, -3.0), (3.0, 3.0), (-3.0, 3.0)), (0.0, 0.0), 56, 0.0, False, 6.0, 6.0)
+    assert refit(region, _on_square(0.0, 0.0, 3.0)) is region  # seen where it is: kept as it was
+    pushed = refit(region, _on_square(2.5, -1.0, 3.0))
+    assert pushed.centroid == pytest.approx((2.5, -1.0), abs=0.05)
+    assert pushed.pixel_count == region.pixel_count and pushed.length_in == region.length_in
+    assert pushed.polygon[0] == pytest.approx((-0.5, -4.0), abs=0.05)
+    assert refit(region, _on_square(0.3, 0.0, 3.0)) is region  # under half an inch: the outline's own noise
+    wall = np.column_stack([np.full(12, -4.0), np.linspace(-8.0, 8.0, 12)])
+    assert refit(region, wall) is region  # a line longer than the footprint: not this object
+    assert refit(region, np.zeros((0, 2))) is region
