@@ -27,7 +27,8 @@ within :data:`CLEAN_TOLERANCE_IN` of the odometry's on every seed (it must not m
 pose the odometry had right), and under ``paper`` the median surface IoU is at least
 :data:`PAPER_SURFACE_IOU`.
 
-Writes ``map-<home>-<preset>.png`` (built map beside the truth) under ``--out``.
+Writes ``map-<home>-<preset>-<seed>.png`` (the built map beside the truth, the survey route on it:
+``reporting.built_map``, as ``csl demo --perception onboard`` draws its map.png) under ``--out``.
 
     python bench/bench_mapping_sim.py [--homes apartment,apartment-2] [--presets clean,paper,harsh]
                                       [--seeds 3] [--step 24] [--resolution 2] [--out /tmp/csl-mapping]
@@ -58,8 +59,8 @@ from hero_driver.sim.truth_map import TruthMap, truth_map  # noqa: E402
 from hero_driver.sim.world import SimWorld  # noqa: E402
 from hero_driver.sim.worldfile import WorldSpec, load_world  # noqa: E402
 from mapping import OccupancyGrid, PlanarScan, ScanMatcher  # noqa: E402
-from mapping.planning import map_image  # noqa: E402
 from planner.geometry import Pose as PlannerPose  # noqa: E402
+from reporting.built_map import plot_built_map  # noqa: E402
 
 MARGIN_IN = 4.0  # clearance kept beyond the base's radius on the survey route
 CLEAN_TOLERANCE_IN = 0.25  # under clean, the matcher's largest error beyond the exact odometry's
@@ -206,9 +207,9 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
     coverage = float((grid.free[::-1] & home_free).sum() / home_free.sum())
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        drawn = map_image(grid).pixels
-        truth_drawn = np.where(truth.occupied[::-1], 0, 254).astype(np.uint8)
-        cv2.imwrite(str(out / f"map-{home_name}-{preset}-{seed}.png"), np.hstack([drawn, truth_drawn]))
+        plot_built_map(out / f"map-{home_name}-{preset}-{seed}.png", grid, truth,
+                       route=[(p.x_in, p.y_in) for p in corrected_poses],
+                       title=f"{home_name} under {preset}, seed {seed}: the map from {len(corrected_poses)} scans")
     return Outcome(errors[-1], statistics.fmean(errors), max(errors), heading, drifts[-1], max(drifts),
                    float(inter / union) if union else 1.0, surface_iou(built, truth.occupied, home_free),
                    coverage, 1000 * statistics.median(took))

@@ -114,6 +114,19 @@ def add_retrain_option(p: argparse.ArgumentParser) -> None:
                         "world, seed and code is stored ($CSL_HOME/trained/)")
 
 
+CEILING, ONBOARD = "ceiling", "onboard"
+PERCEPTIONS = (CEILING, ONBOARD)
+"""``--perception``'s choices: ``executive.executive.PERCEPTIONS``, named here so that
+parsing the command line does not import the executive (``csl --help`` stays light;
+``tests/executive/test_cli_onboard.py`` holds the two equal)."""
+
+
+def add_perception_option(p: argparse.ArgumentParser, help: str) -> None:  # noqa: A002
+    """Add ``--perception {ceiling,onboard}`` (default ceiling), with ``help`` saying
+    what it changes for the command."""
+    p.add_argument("--perception", choices=PERCEPTIONS, default=CEILING, help=help)
+
+
 def output_folder(path: Path, option: str) -> Path:
     """Create the output folder, or say in one line why it cannot be."""
     if path.exists() and not path.is_dir():

@@ -41,7 +41,13 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 TRAINING_CODE = ("learner/**/*.py", "hero_driver/sim/**/*.py", "hero_driver/interface.py", "camera_model/*.py",
                  "planner/*.py", "robot_profile/*.py", "behaviours/appearance.py", "behaviours/bridge.py",
                  "executive/sim_training.py", "executive/training_sources.py")
+ONBOARD_TRAINING_CODE = ("executive/outline_objects.py", "mapping/*.py")
+"""The code that also makes the training objects when the robot sees them with its own
+scans (``--perception onboard``: their outlines as the scans see them)."""
 TRAINING_NOISE = False  # demo training measures the objects exactly, as the shipped library was made
+PERCEPTION_OF_TRAINING = {"ceiling": "camera", "onboard": "onboard"}
+"""How a demo's training objects are seen, by the demo's perception: the overhead
+camera's polygon, or the outline of the robot's own scans (``executive.sim_training``)."""
 
 
 @dataclass(frozen=True)
@@ -59,10 +65,12 @@ def trained_folder() -> Path:
     return defaults.library_db().parent / "trained"
 
 
-def training_key(profile: RobotProfile, world: str | Path, seed: int, noise: bool = TRAINING_NOISE) -> str:
+def training_key(profile: RobotProfile, world: str | Path, seed: int, noise: bool = TRAINING_NOISE,
+                 perception: str = "ceiling") -> str:
     """The content hash of everything a demo's training depends on: the knowledge file,
     the simulator's catalogue (the training objects), the world file, seed, noise and the
-    training code's source."""
+    training code's source; with onboard perception, that perception and its code too
+    (a ceiling demo's hash is what it was before there were two)."""
     from hero_driver.sim.catalogue import DEFAULT_CATALOGUE
     from hero_driver.sim.worldfile import resolve
 
@@ -72,18 +80,23 @@ def training_key(profile: RobotProfile, world: str | Path, seed: int, noise: boo
     _add(digest, "catalogue", DEFAULT_CATALOGUE.read_bytes())
     _add(digest, "world", resolve(world).read_bytes())
     _add(digest, "seed noise", f"{seed} {noise}".encode())
-    for path in _training_sources():
+    if perception != "ceiling":
+        _add(digest, "perception", perception.encode())
+    for path in _training_sources(perception):
         _add(digest, path.relative_to(REPOSITORY).as_posix(), path.read_bytes())
     return digest.hexdigest()
 
 
 def trained_library(knowledge: Knowledge, profile: RobotProfile, world: str | Path, seed: int, *,
                     retrain: bool = False, folder: Path | None = None,
-                    say: Callable[[str], None] = print) -> DemoLibrary:
+                    say: Callable[[str], None] = print, perception: str = "ceiling") -> DemoLibrary:
     """The demo's library: reused from ``folder`` (default :func:`trained_folder`) when
     one was stored under the same inputs' hash and ``retrain`` is not set, else trained
-    in the simulator and stored. ``say`` reports which, naming the hash."""
-    key = training_key(profile, world, seed)
+    in the simulator and stored, the training objects seen as ``perception`` sees
+    (``ceiling`` or ``onboard``). ``say`` reports which, naming the hash."""
+    if perception not in PERCEPTION_OF_TRAINING:
+        raise ValueError(f"perception must be one of {', '.join(PERCEPTION_OF_TRAINING)}, got {perception!r}")
+    key = training_key(profile, world, seed, perception=perception)
     path = (folder or trained_folder()) / f"{key}.json"
     if not retrain and path.exists():
         try:
@@ -96,7 +109,8 @@ def trained_library(knowledge: Knowledge, profile: RobotProfile, world: str | Pa
     say(f"training on the Table 3 objects in the simulator (library {key[:12]})...")
     from executive.sim_training import train_in_simulator  # the simulator: only when training
 
-    trained = train_in_simulator(knowledge, profile, seed, TRAINING_NOISE)
+    seen_by = {} if perception == "ceiling" else {"perception": PERCEPTION_OF_TRAINING[perception]}
+    trained = train_in_simulator(knowledge, profile, seed, TRAINING_NOISE, **seen_by)
     try:  # a store that cannot be written costs the next run a training, not this one its demo
         path.parent.mkdir(parents=True, exist_ok=True)
         write_json_atomically(path, {"format": FORMAT, "version": VERSION, "key": key,
@@ -127,8 +141,9 @@ def _read(path: Path, key: str) -> tuple[tuple[ObjectDescription, ...], Training
     return tuple(descriptions_from_json(data.get("library"), f"{path}: library")), figures
 
 
-def _training_sources() -> Iterable[Path]:
-    return sorted({p for pattern in TRAINING_CODE for p in REPOSITORY.glob(pattern)})
+def _training_sources(perception: str = "ceiling") -> Iterable[Path]:
+    patterns = TRAINING_CODE + (ONBOARD_TRAINING_CODE if perception != "ceiling" else ())
+    return sorted({p for pattern in patterns for p in REPOSITORY.glob(pattern)})
 
 
 def _add(digest: "hashlib._Hash", label: str, content: bytes) -> None:

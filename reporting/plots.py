@@ -25,7 +25,8 @@ from reporting.tree_figure import (BOX_PT, LABEL_H, LABEL_PT, LINE_H, PAD, Box, 
                                    layout, object_figures)
 from planner.image import undistorted  # noqa: E402
 
-_COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
+OUTCOME_COLOURS = {"grasped": "tab:green", "left": "tab:blue", "failed": "tab:red", None: "tab:gray"}
+"""The colour of each object outcome on every map (None: not finished)."""
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,7 @@ def plot_map(path: Path, image: CameraImage, records: Sequence[ObjectRecord], ev
 
 
 def _draw_object(ax: Axes, record: ObjectRecord, label: str, ending: Ending) -> None:
-    colour = _COLOURS.get(record.outcome, "tab:gray")
+    colour = OUTCOME_COLOURS.get(record.outcome, "tab:gray")
     moved = ending.shift_in > _MOVED_IN
     if moved or ending.change:
         xs, ys = zip(*ending.first)

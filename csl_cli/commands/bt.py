@@ -1,4 +1,6 @@
-"""``csl bt``: the executive's behaviour tree as text, Graphviz DOT or a PNG picture.
+"""``csl bt``: the executive's behaviour tree as text, Graphviz DOT or a PNG picture;
+``--perception onboard`` shows the tree of a robot without a ceiling camera, with the
+exploration branch.
 
 Apart from ``csl_cli/commands/episode.py`` (the demo's and run's handlers) so that
 printing the tree imports the tree alone: not the simulator, the recording, the
@@ -10,13 +12,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from csl_cli.args import ONBOARD
+
 
 def run_bt(args: argparse.Namespace) -> int:
     import py_trees
 
     from executive.behaviour_tree import build_tree
 
-    root = build_tree()
+    root = build_tree(explore=args.perception == ONBOARD)
     if args.dot:
         graph = py_trees.display.dot_tree(root)
         graph.set_name("csl_executive")

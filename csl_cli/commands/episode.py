@@ -1,5 +1,6 @@
 """Running ``csl demo`` and ``csl run``: the handlers behind the arguments
-that ``csl_cli/commands/run.py`` declares.
+that ``csl_cli/commands/run.py`` declares (with ``--perception onboard``, what a robot
+without a ceiling camera adds is in ``csl_cli/onboard.py``).
 
 Kept apart so that ``csl --help`` (and every other command) does not import the planner,
 the behaviour tree and matplotlib just to print a usage line.
@@ -22,7 +23,8 @@ from behaviours.services import Params
 from camera_model.board import MarkerBoard, load_board
 from camera_model.image import CameraImage
 from executive import defaults
-from csl_cli.args import criterion_from_args, library_path, output_folder
+from csl_cli import onboard
+from csl_cli.args import ONBOARD, criterion_from_args, library_path, output_folder
 from csl_cli.commands.learner_cmd import report_quarantined
 from csl_cli.library_choice import demo_library_line
 from executive.episode_log import EpisodeLog
@@ -72,11 +74,14 @@ class Setup:
 
 def _setup(args: argparse.Namespace) -> Setup:
     check_recording_options(args)  # before training or robot time
+    onboard.check_options(args)  # the overhead camera's options with --perception onboard
     profile = load_profile(args.knowledge)
+    # the appearance is what the overhead camera measured: on with it unless turned off, off without it
+    appearance = args.appearance if args.appearance is not None else args.perception != ONBOARD
     return Setup(profile, profile.knowledge(),
                  Params(max_alternatives=args.alternatives, nearest_after=args.nearest_after,
                         max_steps=args.max_steps, seed=args.seed or 0,
-                        use_appearance=args.appearance, battery_low=args.battery_low,
+                        use_appearance=appearance, battery_low=args.battery_low,
                         wait_driver_s=getattr(args, "wait_driver", 0.0),  # csl run only
                         learned_grasp_costs=args.learned_grasp_costs),
                  criterion_from_args(args), *_camera(args, profile))
@@ -150,7 +155,7 @@ def _camera_of_driver(args: argparse.Namespace, driver: Driver, setup: Setup) ->
         return setup
     from camera_model.bands import looks_like_bands
 
-    if looks_like_bands(driver.camera().result(timeout=60).pixels):
+    if looks_like_bands(_first_image(driver).pixels):
         return setup
     camera = _saved_camera(args)
     if camera is None:
@@ -160,6 +165,18 @@ def _camera_of_driver(args: argparse.Namespace, driver: Driver, setup: Setup) ->
                          f"saved at {default_calibration(args.robot)}: run 'csl camera calibrate --robot "
                          f"{args.robot}' first, or give --camera-calibration FILE (docs/camera.md)")
     return dataclasses.replace(setup, camera=camera)
+
+
+def _first_image(driver: Driver) -> CameraImage:
+    """The overhead camera's image; a robot with no ceiling camera is one line saying to
+    add --perception onboard (exit 2), any other error the robot's."""
+    try:
+        return driver.camera().result(timeout=60)
+    except DriverError as exc:
+        refused = onboard.camera_refused(exc, driver)
+        if refused is None:
+            raise
+        raise refused from None
 
 
 def _check_camera(camera: Camera | None, image: CameraImage, args: argparse.Namespace) -> None:
@@ -189,6 +206,11 @@ def run_demo(args: argparse.Namespace) -> int:
         raise ValueError(f"--out: {args.out} is where your robot's library is kept ($CSL_HOME), and a demo makes "
                          "its own library anew in --out: choose another folder")
     driver = _simulator(args, "r1", setup.profile)  # a bad world fails first
+    try:
+        onboard.check_world_camera(driver, args)  # a home with --perception ceiling: before training
+    except BaseException:
+        driver.close()
+        raise
     if setup.camera is not None:  # a calibration of another camera or room: said before training
         try:
             _check_camera(setup.camera, driver.camera().result(), args)
@@ -199,7 +221,7 @@ def run_demo(args: argparse.Namespace) -> int:
         from csl_cli.demo_library import trained_library  # the simulator: csl demo only
 
         trained = trained_library(knowledge, setup.profile, args.world, args.seed,
-                                  retrain=args.retrain, say=console.print)
+                                  retrain=args.retrain, say=console.print, perception=args.perception)
     summary = trained.summary
     console.print(f"trained: {summary.descriptions} descriptions at distances "
                   f"{', '.join(f'{d:g}' for d in summary.distances_in)} in and orientations "
@@ -221,6 +243,12 @@ def run_run(args: argparse.Namespace) -> int:
     try:
         driver = _driver(args, setup.profile, zenoh_config, timeouts)
     except BaseException:
+        learner.close()
+        raise
+    try:
+        onboard.check_world_camera(driver, args)  # the simulator's home with --perception ceiling
+    except BaseException:
+        driver.close()
         learner.close()
         raise
     return _episode(args, driver, learner, setup, console)
@@ -358,7 +386,11 @@ def _report_outbox(learner: LearnerService) -> None:
 def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerService, setup: Setup,
                     console: Console) -> int:
     check_library(learner.library().descriptions, setup.knowledge, "the library")  # before the robot moves
-    setup = _camera_of_driver(args, driver, setup)
+    scans = args.perception == ONBOARD
+    if scans:
+        onboard.check_scans(driver, args)
+    else:
+        setup = _camera_of_driver(args, driver, setup)
     log = EpisodeLog(args.out / "episode.jsonl")
     recording = open_recording(args, setup.profile)  # --record/--live (docs/recording.md)
     if recording is not None:
@@ -366,10 +398,10 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         driver = recording.attach(driver, log)
     executive = Executive(driver, learner, profile=setup.profile, params=setup.params, criterion=setup.criterion,
                           log=log, on_tick=None if recording is None else recording.tick,
-                          camera=setup.camera, board=setup.board)
+                          camera=setup.camera, board=setup.board, perception=args.perception)
     _say_battery_guard(driver, setup.params.battery_low)
     _say_blocked_branch(driver, setup.params.blocked_tries)
-    first_image = driver.camera().result(timeout=60)
+    first_image = None if scans else _first_image(driver)  # onboard: the scans are the looks
     start = driver.state().pose
     truths = _truths(driver, [])
 
@@ -386,7 +418,8 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
             print(status_tree(executive.root, colour=stream.isatty()), file=stream, flush=True)
 
     try:
-        _check_camera(setup.camera, first_image, args)  # before the robot moves
+        if first_image is not None:
+            _check_camera(setup.camera, first_image, args)  # before the robot moves
         with console.status("approaching and recognizing objects..."):
             result = executive.run(on_object=progress)
     finally:
@@ -395,15 +428,26 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
             recording.close()
     table = rows(result.objects, _truths(driver, truths))
     as_json = args.json  # --json: one document on stdout, after the plots
+    explored = onboard.exploration(log.events) if scans else None
+    missing = onboard.never_found(result.objects, truths) if scans else []
     if not as_json:
         print_report(table)
+        if explored is not None:
+            print(explored.line())
         print(f"episode: {result.ticks} ticks, {result.wall_s:.1f} s wall; log: {args.out / 'episode.jsonl'}")
         if recording is not None and recording.mcap is not None:
             print(f"recording: {recording.mcap} (Foxglove; docs/recording.md)")
     if not args.no_plots:
-        _plots(args.out, executive, result, _as_mapped(first_image, executive.services.navigator.camera),
-               [r.object for r in table], log.events,
-               (start.x_in, start.y_in), setup.profile.robot.geometry.base_radius_in)
+        labels = [r.object for r in table]
+        _plots(args.out, executive, result, labels, log.events)
+        if first_image is None:  # onboard: the map the scans built, beside the true one
+            if not onboard.plot_map(args.out / "map.png", executive, driver, result.objects, labels, truths,
+                                    log.events) and not as_json:
+                print("map: no scan was read, so no map was built: map.png is not written")
+        else:
+            plot_map(args.out / "map.png", _as_mapped(first_image, executive.services.navigator.camera),
+                     result.objects, log.events, labels, (start.x_in, start.y_in),
+                     base_radius_in=setup.profile.robot.geometry.base_radius_in)
         if not as_json:
             print(f"plots: {args.out}/map.png, {args.out}/tree-*.png, {args.out}/behaviour-tree.png")
     library = learner.path if isinstance(learner, LocalLearner) else None
@@ -416,6 +460,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
                 for record in result.objects]
     # the zenoh link refuses state publications nothing it asked explains (hero_driver/zenoh_link/state_check.py)
     status, why, doubts = run_status(outcomes, log.events, driver.robot, getattr(driver, "refused_states", 0))
+    status, why = onboard.judged(status, why, missing, truths)  # objects of the home never found fail it too
     history = _append_history(args, setup, learner, library, outcomes, table, log.events)
     for index, message in unanswered.items():
         print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
@@ -424,9 +469,16 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
               "left on the floor when no grasp held", file=sys.stderr)
     for line in doubts:  # what the robot said that was checked and found wanting (executive/exit_status.py)
         print(f"csl: {line}", file=sys.stderr)
+    if missing:
+        print(onboard.never_found_line(missing, truths), file=sys.stderr)
     if as_json:
-        print_json(episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out, plots=not args.no_plots,
-                                library=library, library_created=created, status=status, why=why))
+        document = episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out,
+                                plots=not args.no_plots, library=library, library_created=created, status=status,
+                                why=why)
+        if scans:
+            document["exploration"] = None if explored is None else dataclasses.asdict(explored)
+            document["never_found"] = [t.name for t in missing] if truths else None
+        print_json(document)
         return status
     if library is not None and args.command == "demo":
         print(demo_library_line(library))
@@ -524,11 +576,11 @@ def _as_mapped(image: CameraImage, camera: Camera | None) -> CameraImage:
                        origin_y_in=flat.origin_y_in, clock_s=image.clock_s, meta=image.meta)
 
 
-def _plots(out: Path, executive: Executive, result: EpisodeResult, image: CameraImage, labels: list[str],
-           events: list[dict[str, object]], start: tuple[float, float], base_radius_in: float) -> None:
+def _plots(out: Path, executive: Executive, result: EpisodeResult, labels: list[str],
+           events: list[dict[str, object]]) -> None:
+    """Each object's run-time tree and the behaviour tree (the map is the perception's)."""
     for old in out.glob("tree-*.png"):
         old.unlink()
-    plot_map(out / "map.png", image, result.objects, events, labels, start, base_radius_in=base_radius_in)
     for record, label in zip(result.objects, labels):
         plot_object_tree(out / f"tree-{record.index}.png", record, label, events)
     plot_behaviour_tree(out / "behaviour-tree.png", executive.root)

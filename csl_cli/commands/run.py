@@ -9,9 +9,9 @@ import argparse
 from pathlib import Path
 
 from executive import defaults
-from csl_cli.args import (add_criterion_options, add_learned_grasp_costs_option, add_recording_options,
-                            add_retrain_option, add_verb_timeout_option, battery_level, endpoint,
-                            non_negative_seconds)
+from csl_cli.args import (add_criterion_options, add_learned_grasp_costs_option, add_perception_option,
+                            add_recording_options, add_retrain_option, add_verb_timeout_option, battery_level,
+                            endpoint, non_negative_seconds)
 from csl_cli.commands import modes
 from hero_driver.cli import CAMERA_PRESETS, add_disturb_option, add_movers_option
 from hero_driver.sim.noise import NOISE_PRESETS
@@ -30,13 +30,16 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
     choosing.add_argument("--nearest-after", type=positive_int, default=None, metavar="K",
                           help="switch to nearest neighbour after K unreliable values (default: only as the last "
                                "resort)")
-    choosing.add_argument("--appearance", action=argparse.BooleanOptionalAction, default=True,
-                          help="let what the camera measured (footprint area and elongation) rule out unlike "
-                               "descriptions before any test, for free (default on; docs/library-format.md)")
+    choosing.add_argument("--appearance", action=argparse.BooleanOptionalAction, default=None,
+                          help="let what the overhead camera measured (footprint area and elongation) rule out "
+                               "unlike descriptions before any test, for free (docs/library-format.md; default on "
+                               "with --perception ceiling; off with onboard, where no camera measures it, and "
+                               "--appearance is then refused)")
     choosing.add_argument("--max-steps", type=positive_int, default=40, metavar="N",
                           help="recognition steps per object before it is reported failed (default 40)")
     add_learned_grasp_costs_option(choosing)
-    robot = p.add_argument_group("the robot's battery and camera")
+    robot = p.add_argument_group("the robot's perception, battery and camera")
+    add_perception_option(robot, PERCEPTION_HELP)
     robot.add_argument("--battery-low", type=battery_level, default=0.2, metavar="LEVEL",
                        help="below this battery level the robot drives to its dock and charges, then resumes "
                             "(default 0.2; 0 turns the guard off; needs the driver's battery feature)")
@@ -53,6 +56,18 @@ def _executive_options(p: argparse.ArgumentParser) -> None:
     add_recording_options(output)
 
 
+PERCEPTION_HELP = (
+    "how the robot sees its floor: ceiling, the overhead camera that sees the whole room at once (the paper's); or "
+    "onboard, no ceiling camera: the robot explores the home with its own range scans (the driver's scan feature: "
+    "a lidar or the sonar swept in place), builds a map of it, finds object candidates in the scans and plans on "
+    "that map (docs/mapping.md). Onboard writes map.png as the map built beside the true one (the simulator's; the "
+    "built map alone for another driver) with the route driven and the objects found, and prints the exploration's "
+    "robot time and candidates; objects the simulator placed that were never found fail the run (exit 1). "
+    "--appearance, --camera and --camera-calibration are the overhead camera's: they go with ceiling. With onboard, "
+    "a driver that offers no scans is refused in one line (exit 2); with ceiling, so is a robot or world with no "
+    "ceiling camera, the line saying to add --perception onboard. Default ceiling")
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     demo = sub.add_parser(
         "demo", help="the main job: train in the simulated lab, then retrieve the test objects",
@@ -61,9 +76,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                      "object and writes the episode log and plots (map, each object's run-time tree, the "
                      "behaviour tree) to --out, with the demo's own library (library.sqlite, made anew each "
                      "time): csl library and csl tree read the last demo's library while the robot's, "
-                     "$CSL_HOME/library.sqlite (csl run's), does not exist."))
+                     "$CSL_HOME/library.sqlite (csl run's), does not exist. A home without a ceiling camera "
+                     "(--world apartment, apartment-2 or two-rooms) takes --perception onboard: the training "
+                     "objects are then seen by the robot's own scans too, the robot explores the home, and "
+                     "map.png shows the map it built beside the true one."))
     demo.add_argument("--seed", type=non_negative_int, default=0, help="simulator seed (default 0)")
-    demo.add_argument("--world", default="lab", help="world name or file (default: the built-in lab)")
+    demo.add_argument("--world", default="lab",
+                      help="world name or file (default: the built-in lab; the homes apartment, apartment-2 and "
+                           "two-rooms have no ceiling camera: give --perception onboard; docs/simulator.md)")
     _noise_option(demo)
     _camera_option(demo)
     add_disturb_option(demo)
@@ -76,7 +96,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "run", help="run the executive against any driver (simulated in-process, or over zenoh)",
         description=("Locate, recognize and grasp every object the robot's camera sees, learning into the "
                      "library. --driver sim runs the simulated HERO in this process; --driver zenoh talks to "
-                     "the driver process serving hero/ROBOT/... (csl driver sim, or a hardware driver)."))
+                     "the driver process serving hero/ROBOT/... (csl driver sim, or a hardware driver). "
+                     "--perception onboard drives a driver that offers range scans (the scan feature) without "
+                     "a ceiling camera: the robot explores first, then handles the objects it found."))
     link = run.add_argument_group("the robot and the learner")
     link.add_argument("--driver", choices=("sim", "zenoh"), default="sim", help="which driver (default sim)")
     link.add_argument("--robot", default="r1", help="robot name (zenoh keys hero/ROBOT/...)")
@@ -125,6 +147,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                     help="write the tree as Graphviz DOT (py_trees.display.dot_tree; '-' for standard output); "
                          "render with e.g. 'dot -Tsvg FILE'")
     bt.add_argument("--unicode", action="store_true", help="draw with py_trees' unicode symbols (default: ascii)")
+    add_perception_option(bt, "the tree for ceiling perception (default) or onboard: with onboard, the branch "
+                              "'explore the home' (look around, more to see?, go to the view, until mapped) runs "
+                              "before the objects are located")
     bt.set_defaults(handler=_run_bt)
 
 

@@ -67,8 +67,8 @@ def test_worlds_then_world_files(monkeypatch: pytest.MonkeyPatch, tmp_path: Path
     (tmp_path / "notes.txt").write_text("")
     (tmp_path / "worlds").mkdir()
     offered = _complete("csl demo --world ", monkeypatch, tmp_path)
-    assert offered[:7] == ["apartment", "apartment-2", "clutter", "crossing", "lab", "reference", "training"] and sorted(offered[7:]) == ["mars.json", "worlds/"]  # not notes.txt
-    assert _complete("csl run --world t", monkeypatch, tmp_path) == ["training"]
+    assert offered[:8] == ["apartment", "apartment-2", "clutter", "crossing", "lab", "reference", "training", "two-rooms"] and sorted(offered[8:]) == ["mars.json", "worlds/"]  # not notes.txt
+    assert _complete("csl run --world t", monkeypatch, tmp_path) == ["training", "two-rooms"]
     assert _complete("csl driver sim --world la", monkeypatch, tmp_path) == ["lab"]
 
 

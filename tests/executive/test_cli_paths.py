@@ -76,7 +76,7 @@ def test_an_unknown_world_lists_the_shipped_ones(tmp_path: Path, capsys) -> None
     for argv in (["demo", "--world", "moon"], ["run", "--world", "moon"], ["driver", "sim", "--world", "moon"]):
         assert main([*argv, *(["--out", str(tmp_path)] if argv[0] != "driver" else [])]) == 2
         line = _one_error_line(capsys)
-        assert "argument --world: 'moon' is neither a world file nor a shipped world (shipped: apartment, apartment-2, clutter, crossing, lab, reference, training)" in line
+        assert "argument --world: 'moon' is neither a world file nor a shipped world (shipped: apartment, apartment-2, clutter, crossing, lab, reference, training, two-rooms)" in line
     world = tmp_path / "moon.json"
     world.write_text("{}")  # a file is taken as a file, and read (and refused) by the simulator
     assert main(["demo", "--world", str(world), "--out", str(tmp_path)]) == 2

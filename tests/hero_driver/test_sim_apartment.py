@@ -271,15 +271,15 @@ def test_the_truth_map_png_has_north_up(tmp_path: Path) -> None:
 
 
 def test_the_executive_stops_at_its_first_look_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """Until the onboard perception exists, a run in a home ends at the first camera
-    image with one line naming what is missing (exit status 3, a robot error)."""
+    """A run in a home with the ceiling camera's perception (the default) stops before
+    the robot moves with one line saying what to add (exit status 2, bad usage)."""
     from csl_cli.main import main
 
     assert main(["run", "--world", "apartment", "--no-plots", "--out", str(tmp_path),
-                 "--library", str(tmp_path / "lib.sqlite")]) == 3
+                 "--library", str(tmp_path / "lib.sqlite")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["csl: robot error: no_camera: camera: world 'apartment' has no ceiling camera; "
-                   "it needs onboard perception (range scans)"]
+    assert err == ["csl: error: world 'apartment' has no ceiling camera: add --perception onboard (the robot "
+                   "explores it with its own range scans)"]
 
 
 # ---------------------------------------------------------------- over zenoh

@@ -52,7 +52,7 @@ def test_a_world_file_and_a_worldspec(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("world", "objects", "message"), [
-    ("labb", None, "world: 'labb' is neither a world file nor a shipped world (shipped: apartment, apartment-2, clutter, crossing, lab, reference, training)"),
+    ("labb", None, "world: 'labb' is neither a world file nor a shipped world (shipped: apartment, apartment-2, clutter, crossing, lab, reference, training, two-rooms)"),
     (None, [("no-such/thing", 50, 50)],
      "<scenario>: objects[0]: field 'id' names unknown catalogue entry 'no-such/thing'"),
     (None, [("cup-8oz/upright", 50, 50), "cup"], "objects[1]: expected a Placement or (entry, x_in, y_in[, yaw_deg])"),
