@@ -44,6 +44,7 @@ trusts (``mapping.localisation``). The next look then chooses again from there."
 
 VIEW = "view"  # blackboard: the next view to look from (None: nothing more to see)
 EXPLORED_S = "explored_s"  # blackboard: robot seconds spent exploring so far
+SEEN = "candidates_seen"  # blackboard: object candidates the latest look found
 
 
 class LookAround(LookAction):
@@ -55,6 +56,7 @@ class LookAround(LookAction):
         super().__init__(name, robot)
         self.bb.register_key(VIEW, access=Access.WRITE)
         self.bb.register_key(EXPLORED_S, access=Access.WRITE)
+        self.bb.register_key(SEEN, access=Access.WRITE)
         self._clock_before: float | None = None
 
     def start(self) -> Future[Any]:
@@ -66,6 +68,7 @@ class LookAround(LookAction):
         scene = self.look(result)
         spent = max(0.0, services.driver.state().clock_s - (self._clock_before or 0.0))
         self.bb.set(EXPLORED_S, (self.bb.get(EXPLORED_S) if self.bb.exists(EXPLORED_S) else 0.0) + spent)
+        self.bb.set(SEEN, len(scene.regions))
         here = self.robot_pose()
         view = services.perception.next_view(here)
         self.bb.set(VIEW, view)
@@ -155,6 +158,7 @@ class UntilMapped(py_trees.decorators.Decorator):
         self.bb = self.attach_blackboard_client(name=name, namespace=namespace(robot))
         self.bb.register_key(VIEW, access=Access.READ)
         self.bb.register_key(EXPLORED_S, access=Access.READ)
+        self.bb.register_key(SEEN, access=Access.READ)
         self._services: Services | None = None
         self.rounds = 0
 
@@ -177,8 +181,9 @@ class UntilMapped(py_trees.decorators.Decorator):
             return Status.RUNNING  # the child starts afresh: look again from where the robot now stands
         reason = "the home is mapped" if view is None else f"the bound of {limit} views was spent"
         spent = self.bb.get(EXPLORED_S) if self.bb.exists(EXPLORED_S) else 0.0
+        found = self.bb.get(SEEN) if self.bb.exists(SEEN) else 0
         self._services.log.event(Event.MAPPED, behaviour=self.name, views=self.rounds, seconds=round(spent, 1),
-                                 reason=reason)
+                                 candidates=found, reason=reason)
         self.feedback_message = reason
         return Status.SUCCESS
 

@@ -119,16 +119,13 @@ class Exploration:
 
 def exploration(events: Sequence[dict[str, object]]) -> Exploration | None:
     """The exploration of an episode's events (None when it never ended: no ``mapped``).
-    The candidates are the ``mapped`` event's when it counts them, else those the last
-    view before it had found."""
+    The candidates are the ``mapped`` event's."""
     at = next((i for i, e in enumerate(events) if e.get("event") == Event.MAPPED), None)
     if at is None:
         return None
-    mapped, views = events[at], [e for e in events[:at] if e.get("event") == Event.VIEW]
-    last_view = views[-1].get("candidates", 0) if views else 0
-    return Exploration(views=int(str(mapped.get("views", len(views)))),
-                       robot_s=float(str(mapped.get("seconds", 0.0))), reason=str(mapped.get("reason", "")),
-                       candidates=int(str(mapped.get("candidates", last_view))))
+    mapped = events[at]
+    return Exploration(views=int(str(mapped["views"])), robot_s=float(str(mapped["seconds"])),
+                       reason=str(mapped["reason"]), candidates=int(str(mapped["candidates"])))
 
 
 def never_found(records: Sequence[ObjectRecord], present: Sequence[Truth]) -> list[Truth]:

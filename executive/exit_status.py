@@ -106,8 +106,8 @@ class Doubts:
             out.append(f"{sum(self.faults.values())} driver faults ({_counts(self.faults)}): driver {robot} failed "
                        "verbs (`internal` or malformed replies); look at the robot")
         if self.unverified:
-            out.append(f"driver {robot} suspect: {len(self.unverified)} grasps reported held while the camera still "
-                       f"saw the object on the floor (objects {', '.join(map(str, self.unverified))}); "
+            out.append(f"driver {robot} suspect: {len(self.unverified)} grasps reported held while the look after "
+                       f"(the camera's, or a rescan) still saw the object on the floor (objects {', '.join(map(str, self.unverified))}); "
                        "check its finger sensor")
         if self.durations_ignored:
             out.append(f"driver {robot} suspect: {self.durations_ignored} grasp durations implausible against the "

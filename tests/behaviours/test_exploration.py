@@ -74,7 +74,7 @@ def test_the_robot_looks_and_goes_to_each_view_until_none_is_left() -> None:
     log = services.log
     assert log.kinds() == ["view", "explore_move", "view", "explore_move", "view", "mapped"]
     assert [e["next"] for e in log.of("view")] == [[30.0, 0.0, 0.0], [30.0, 40.0, 90.0], None]
-    assert log.of("mapped")[0] == {"event": "mapped", "behaviour": "explore the home", "views": 3, "seconds": 120.0,
+    assert log.of("mapped")[0] == {"event": "mapped", "behaviour": "explore the home", "views": 3, "seconds": 120.0, "candidates": 0,
                                    "reason": "the home is mapped"}
 
 

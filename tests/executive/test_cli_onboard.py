@@ -237,16 +237,14 @@ def test_run_onboard_drives_a_driver_that_offers_scans(tmp_path: Path, capsys: p
 # ---------------------------------------------------------------- the pieces, by hand
 
 
-def test_the_exploration_is_read_from_the_mapped_event_and_the_last_view() -> None:
+def test_the_exploration_is_read_from_the_mapped_event() -> None:
     events = [{"event": "view", "candidates": 1}, {"event": "explore_move"}, {"event": "view", "candidates": 3},
-              {"event": "mapped", "views": 2, "seconds": 150.0, "reason": "the home is mapped"},
+              {"event": "mapped", "views": 2, "seconds": 150.0, "candidates": 3, "reason": "the home is mapped"},
               {"event": "object", "object": 0}]
     found = exploration(events)
     assert found == Exploration(views=2, robot_s=150.0, reason="the home is mapped", candidates=3)
     assert found.line() == "exploration: the home is mapped after 2 views, 2.5 robot min; 3 object candidates found"
     assert exploration(events[:3]) is None  # never ended
-    counted = exploration([*events[:3], {**events[3], "candidates": 5}])
-    assert counted is not None and counted.candidates == 5  # the event's own count, when it has one
 
 
 def _record(x: float, y: float) -> SimpleNamespace:

@@ -41,8 +41,8 @@ def test_an_unverified_grasp_names_the_driver_suspect() -> None:
     events = [{"event": "grasp_unverified", "object": 2, "driver": "hero7"}]
     status, why, lines = run_status(["grasped", "grasped", "failed"], events, "hero7")
     assert status == LOST
-    assert lines == ["driver hero7 suspect: 1 grasps reported held while the camera still saw the object on the "
-                     "floor (objects 2); check its finger sensor"]
+    assert lines == ["driver hero7 suspect: 1 grasps reported held while the look after (the camera's, or a rescan) "
+                     "still saw the object on the floor (objects 2); check its finger sensor"]
 
 
 def test_implausible_values_are_counted_and_fail_the_run_only_when_an_object_failed() -> None:
