@@ -34,12 +34,15 @@ used: the pose is the odometry's step from the last corrected pose, and the corr
 says so (``matched`` False). The scan is then not added to the map either, so a bad pose
 does not spoil it.
 
-Before giving up, such a scan is aligned once more from the reported pose as it is: the
+Such a scan, and one placed with less than :attr:`MatcherSettings.reset_inlier_share` of
+its returns matched, is aligned once more from the reported pose as it is: the
 odometry may have been reset (at the dock the base knows exactly where it stands, in the
 frame it started in, which is the map's), and then the step across the reset carries all
 the drift from before it, beyond any one step's correction; dead reckoned from there,
-every later scan would be refused as well. The second alignment is used only when most of
-the scan (:attr:`MatcherSettings.reset_inlier_share`) lies on the map there.
+every later scan would be refused as well; or, the drift being within a step's gate, a
+wrong alignment near the prediction passes it, and the map is spoilt from there. The
+second alignment is used only when most of the scan lies on the map there
+(``reset_inlier_share``), and more of it than at the first when that was used.
 """
 
 from __future__ import annotations
@@ -93,8 +96,9 @@ class MatcherSettings:
     min_inlier_share: float = 0.3  # of the scan's returns paired with the map in the refinement's last stage
     max_step_correction_in: float = 12.0  # a correction beyond these is a mismatch
     max_step_correction_deg: float = 15.0
-    # a scan the odometry's step cannot place is tried at the reported pose as it is (a reset
-    # odometry, :meth:`ScanMatcher._realign`), kept when this share of its returns is matched there
+    # a scan the odometry's step cannot place, or places with fewer than this share of its returns
+    # matched, is tried at the reported pose as it is (a reset odometry, :meth:`ScanMatcher._realign`),
+    # and placed there when this share is matched there (and more than at the first)
     reset_inlier_share: float = 0.7
     # The refinement on the floor (:func:`_refine`):
     refine_correspondence_in: tuple[float, ...] = (6.0, 3.0)  # stage by stage: farther from a map return, no match
@@ -297,9 +301,10 @@ class ScanMatcher:
                 corrected, matched, inliers = guess, True, 0  # the first scan with returns starts the map
             else:
                 corrected, matched, inliers = self._align(guess, step, cloud, points, normals)
-                if not matched and not np.allclose(guess, reported, atol=1e-6):
-                    corrected, matched, inliers = self._realign(reported, step, cloud, points, normals, guess,
-                                                                inliers)
+                weak = inliers < self.settings.reset_inlier_share * len(points)
+                if (not matched or weak) and not np.allclose(guess, reported, atol=1e-6):
+                    corrected, matched, inliers = self._realign(reported, step, cloud, points, normals,
+                                                                (corrected, matched, inliers))
         if matched and cloud is not None and normals is not None:
             self._map.insert(cloud, corrected)
             self._floor.add(points @ corrected[:2, :2].T + corrected[:2, 3], normals @ corrected[:2, :2].T)
@@ -338,16 +343,18 @@ class ScanMatcher:
         return _transform(x, y, heading), True, inliers
 
     def _realign(self, reported: np.ndarray, step: np.ndarray, cloud: small_gicp.PointCloud, points: np.ndarray,
-                 normals: np.ndarray, guess: np.ndarray, inliers: int) -> tuple[np.ndarray, bool, int]:
+                 normals: np.ndarray, first: tuple[np.ndarray, bool, int]) -> tuple[np.ndarray, bool, int]:
         """The alignment from the reported pose as it is, for a scan the step from the last
-        corrected pose could not place: an odometry reset (the dock puts the base back in
-        the frame it started in, which is the map's) carries the drift before it into the
+        corrected pose could not place, or placed with few of its returns matched
+        (``first``: that alignment): an odometry reset (the dock puts the base back in the
+        frame it started in, which is the map's) carries the drift before it into the
         step. Used only when most of the scan lies on the map there
-        (:attr:`MatcherSettings.reset_inlier_share`); else ``guess``, unmatched."""
+        (:attr:`MatcherSettings.reset_inlier_share`) and, when ``first`` was used, more of it."""
         pose, matched, found = self._align(reported, step, cloud, points, normals)
-        if matched and found >= self.settings.reset_inlier_share * len(points):
+        enough = found >= self.settings.reset_inlier_share * len(points)
+        if matched and enough and (not first[1] or found > first[2]):
             return pose, True, found
-        return guess, False, inliers
+        return first
 
     def _within_a_step(self, pose: np.ndarray, predicted: np.ndarray) -> bool:
         """Whether ``pose`` (x, y, heading rad) is a correction the odometry could need in one step."""
