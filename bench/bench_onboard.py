@@ -286,7 +286,8 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             found = sum(m.found for m in ms) / max(sum(m.present for m in ms), 1)
             right = sum(m.right for m in ms) / max(sum(m.found for m in ms), 1)
-            goals.append((found >= GOAL_FOUND, f"{world} paper: found {found:.0%} of present (at least {GOAL_FOUND:.0%})"))
+            goals.append((found >= GOAL_FOUND,
+                          f"{world} paper: found {found:.0%} of present (at least {GOAL_FOUND:.0%})"))
             goals.append((right >= GOAL_RIGHT, f"{world} paper: handled right {right:.0%} of found "
                                                f"(at least {GOAL_RIGHT:.0%})"))
             times = statistics.median(ratio) if ratio else math.inf
