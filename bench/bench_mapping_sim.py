@@ -166,6 +166,19 @@ def surface_iou(built: np.ndarray, truth: np.ndarray, free: np.ndarray) -> float
     return float(matched / total) if total else 1.0
 
 
+def map_accuracy(built: np.ndarray, built_free: np.ndarray, truth: TruthMap, footprint: TruthMap,
+                 start: tuple[float, float]) -> tuple[float, float, float]:
+    """(IoU, surface IoU, free floor known) of a built map on the truth's cells (row 0 at
+    the low-y edge): ``built`` its occupied cells, ``built_free`` its free ones; the home's
+    free floor is the truly free floor reachable from ``start``."""
+    truly_free = ~footprint.occupied & ~truth.occupied
+    reachable = ndimage.label(truly_free)[0]
+    home_free = reachable == reachable[truth.cell_of(*start)]
+    inter, union = (built & truth.occupied).sum(), (built | truth.occupied).sum()
+    coverage = float((built_free & home_free).sum() / home_free.sum())
+    return (float(inter / union) if union else 1.0, surface_iou(built, truth.occupied, home_free), coverage)
+
+
 def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: float,
         out: Path | None) -> Outcome:
     profile, catalogue = profile_and_catalogue(None)
@@ -199,20 +212,16 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
     errors = [math.hypot(c.x_in - t.x_in, c.y_in - t.y_in) for c, t in zip(corrected_poses, true_poses)]
     heading = abs(math.remainder(corrected_poses[-1].heading_deg - true_poses[-1].heading_deg, 360.0))
     drifts = [math.hypot(r.x_in - t.x_in, r.y_in - t.y_in) for r, t in zip(reported_poses, true_poses)]
-    built = grid.occupied[::-1]  # the grid's row 0 is its high-y edge, the truth's its low-y edge
-    truly_free = ~footprint.occupied & ~truth.occupied
-    reachable = ndimage.label(truly_free)[0]
-    home_free = reachable == reachable[truth.cell_of(start.x_in, start.y_in)]
-    inter, union = (built & truth.occupied).sum(), (built | truth.occupied).sum()
-    coverage = float((grid.free[::-1] & home_free).sum() / home_free.sum())
+    # the grid's row 0 is its high-y edge, the truth's its low-y edge
+    iou, surface, coverage = map_accuracy(grid.occupied[::-1], grid.free[::-1], truth, footprint,
+                                          (start.x_in, start.y_in))
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         plot_built_map(out / f"map-{home_name}-{preset}-{seed}.png", grid, truth,
                        route=[(p.x_in, p.y_in) for p in corrected_poses],
                        title=f"{home_name} under {preset}, seed {seed}: the map from {len(corrected_poses)} scans")
     return Outcome(errors[-1], statistics.fmean(errors), max(errors), heading, drifts[-1], max(drifts),
-                   float(inter / union) if union else 1.0, surface_iou(built, truth.occupied, home_free),
-                   coverage, 1000 * statistics.median(took))
+                   iou, surface, coverage, 1000 * statistics.median(took))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -33,6 +33,16 @@ the map, or a correction larger than the odometry could have drifted in one step
 used: the pose is the odometry's step from the last corrected pose, and the correction
 says so (``matched`` False). The scan is then not added to the map either, so a bad pose
 does not spoil it.
+
+Such a scan, and one placed with less than :attr:`MatcherSettings.reset_inlier_share` of
+its returns matched, is aligned once more from the reported pose as it is: the
+odometry may have been reset (at the dock the base knows exactly where it stands, in the
+frame it started in, which is the map's), and then the step across the reset carries all
+the drift from before it, beyond any one step's correction; dead reckoned from there,
+every later scan would be refused as well; or, the drift being within a step's gate, a
+wrong alignment near the prediction passes it, and the map is spoilt from there. The
+second alignment is used only when most of the scan lies on the map there
+(``reset_inlier_share``), and more of it than at the first when that was used.
 """
 
 from __future__ import annotations
@@ -86,6 +96,10 @@ class MatcherSettings:
     min_inlier_share: float = 0.3  # of the scan's returns paired with the map in the refinement's last stage
     max_step_correction_in: float = 12.0  # a correction beyond these is a mismatch
     max_step_correction_deg: float = 15.0
+    # a scan the odometry's step cannot place, or places with fewer than this share of its returns
+    # matched, is tried at the reported pose as it is (a reset odometry, :meth:`ScanMatcher._realign`),
+    # and placed there when this share is matched there (and more than at the first)
+    reset_inlier_share: float = 0.7
     # The refinement on the floor (:func:`_refine`):
     refine_correspondence_in: tuple[float, ...] = (6.0, 3.0)  # stage by stage: farther from a map return, no match
     refine_iterations: int = 15  # per stage; a step under 0.001 in and 0.0006° ends a stage sooner
@@ -113,6 +127,9 @@ class MatcherSettings:
         if self.normal_neighbours < 2 or self.refine_iterations < 1:
             raise ValueError(f"matcher normal_neighbours must be >= 2 and refine_iterations >= 1, got "
                              f"{self.normal_neighbours} and {self.refine_iterations}")
+        if not 0.0 <= self.min_inlier_share <= self.reset_inlier_share <= 1.0:
+            raise ValueError(f"matcher inlier shares must satisfy 0 <= min_inlier_share <= reset_inlier_share <= 1, "
+                             f"got {self.min_inlier_share} and {self.reset_inlier_share}")
         if not (self.huber_in > 0 and self.range_sigma_in > 0 and self.odometry_sigma_in > 0
                 and self.odometry_sigma_deg > 0):
             raise ValueError("matcher huber_in, range_sigma_in, odometry_sigma_in and odometry_sigma_deg "
@@ -284,6 +301,10 @@ class ScanMatcher:
                 corrected, matched, inliers = guess, True, 0  # the first scan with returns starts the map
             else:
                 corrected, matched, inliers = self._align(guess, step, cloud, points, normals)
+                weak = inliers < self.settings.reset_inlier_share * len(points)
+                if (not matched or weak) and not np.allclose(guess, reported, atol=1e-6):
+                    corrected, matched, inliers = self._realign(reported, step, cloud, points, normals,
+                                                                (corrected, matched, inliers))
         if matched and cloud is not None and normals is not None:
             self._map.insert(cloud, corrected)
             self._floor.add(points @ corrected[:2, :2].T + corrected[:2, 3], normals @ corrected[:2, :2].T)
@@ -320,6 +341,20 @@ class ScanMatcher:
         if inliers < s.min_inlier_share * len(points) or not self._within_a_step(np.array([x, y, heading]), predicted):
             return guess, False, inliers
         return _transform(x, y, heading), True, inliers
+
+    def _realign(self, reported: np.ndarray, step: np.ndarray, cloud: small_gicp.PointCloud, points: np.ndarray,
+                 normals: np.ndarray, first: tuple[np.ndarray, bool, int]) -> tuple[np.ndarray, bool, int]:
+        """The alignment from the reported pose as it is, for a scan the step from the last
+        corrected pose could not place, or placed with few of its returns matched
+        (``first``: that alignment): an odometry reset (the dock puts the base back in the
+        frame it started in, which is the map's) carries the drift before it into the
+        step. Used only when most of the scan lies on the map there
+        (:attr:`MatcherSettings.reset_inlier_share`) and, when ``first`` was used, more of it."""
+        pose, matched, found = self._align(reported, step, cloud, points, normals)
+        enough = found >= self.settings.reset_inlier_share * len(points)
+        if matched and enough and (not first[1] or found > first[2]):
+            return pose, True, found
+        return first
 
     def _within_a_step(self, pose: np.ndarray, predicted: np.ndarray) -> bool:
         """Whether ``pose`` (x, y, heading rad) is a correction the odometry could need in one step."""

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from mapping import PlanarScan, ScanMatcher, localisation_error
-from mapping.localisation import _with_odometry, surface_normals
+from mapping.localisation import MatcherSettings, _with_odometry, surface_normals
 from planner.geometry import Pose
 from tests.mapping.synthetic import (APARTMENT_LOOP, Drift, Lidar, apartment, box, drifting_odometry,
                                      loop_poses)
@@ -84,6 +84,35 @@ def test_the_first_scan_with_returns_starts_the_map() -> None:
     assert first_seen.matched and first_seen.pose == pytest.approx(second)
     third = matcher.update(scan_at(walls, Pose(70.0, 50.0, 0.0), Pose(75.0, 50.0, 0.0), rng, 2.0))
     assert third.matched and abs(third.pose.x_in - 70.0) < TOLERANCE_IN
+
+
+def test_an_odometry_reset_is_placed_at_the_reported_pose() -> None:
+    """The robot drives along the room while its odometry drifts 5 in sideways and 4° a
+    step (each step's error within what the matcher corrects, so each scan is placed);
+    then the odometry is reset to the truth (the dock). The step across the reset carries
+    the 20 in and 16° of drift before it: placed by that step the scan would be refused
+    (beyond 12 in and 15°) and every later prediction off by as much. Tried at the
+    reported pose as it is, the scan lies on the map: matched, within the tolerance."""
+    walls, rng = room(), np.random.default_rng(11)
+    matcher = ScanMatcher()
+    for k, x in enumerate((40.0, 50.0, 60.0, 70.0, 80.0)):
+        truth = Pose(x, 50.0, 0.0)
+        correction = matcher.update(scan_at(walls, truth, Pose(x, 50.0 + 5.0 * k, 4.0 * k), rng, float(k)))
+        assert correction.matched
+        assert math.dist((correction.pose.x_in, correction.pose.y_in), (x, 50.0)) < TOLERANCE_IN
+    docked = Pose(90.0, 40.0, 0.0)
+    correction = matcher.update(scan_at(walls, docked, docked, rng, 5.0))
+    assert correction.matched
+    assert math.dist((correction.pose.x_in, correction.pose.y_in), (docked.x_in, docked.y_in)) < TOLERANCE_IN
+    assert abs(correction.pose.heading_deg) < TOLERANCE_DEG
+    after = Pose(100.0, 40.0, 0.0)
+    correction = matcher.update(scan_at(walls, after, after, rng, 6.0))
+    assert correction.matched and math.dist((correction.pose.x_in, correction.pose.y_in), (100.0, 40.0)) < TOLERANCE_IN
+
+
+def test_the_reset_share_may_not_be_below_the_matching_share() -> None:
+    with pytest.raises(ValueError, match="reset_inlier_share"):
+        MatcherSettings(min_inlier_share=0.5, reset_inlier_share=0.4)
 
 
 @pytest.mark.slow  # 230 scans, each refined on the floor: about 6 s on the shared machine
