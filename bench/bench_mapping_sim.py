@@ -255,6 +255,11 @@ def main(argv: list[str] | None = None) -> int:
                 surface = med("surface_iou")
                 goals.append((surface >= PAPER_SURFACE_IOU,
                               f"{home} paper: surface IoU {surface:.3f} (at least {PAPER_SURFACE_IOU})"))
+    return report_goals(goals)
+
+
+def report_goals(goals: list[tuple[bool, str]]) -> int:
+    """Print one line per goal, met or MISSED; the exit status: 0 when every one was met."""
     print()
     for met, line in goals:
         print(f"goal {'met' if met else 'MISSED'}: {line}")

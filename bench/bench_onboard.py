@@ -54,7 +54,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
-from bench_mapping_sim import map_accuracy  # noqa: E402
+from bench_mapping_sim import map_accuracy, report_goals  # noqa: E402
 
 import behaviours.exploration  # noqa: E402
 from behaviours.services import Params  # noqa: E402
@@ -293,10 +293,7 @@ def main(argv: list[str] | None = None) -> int:
             times = statistics.median(ratio) if ratio else math.inf
             goals.append((times <= GOAL_TIME_RATIO, f"{world} paper: robot time per object present {times:.2f}x the "
                                                     f"ceiling-camera lab's (at most {GOAL_TIME_RATIO}x)"))
-    print()
-    for met, line in goals:
-        print(f"goal {'met' if met else 'MISSED'}: {line}")
-    return 0 if all(met for met, _ in goals) else 1
+    return report_goals(goals)
 
 
 if __name__ == "__main__":
