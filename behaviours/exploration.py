@@ -67,7 +67,7 @@ class LookAround(LookAction):
         services = self.services
         scene = self.look(result)
         spent = max(0.0, services.driver.state().clock_s - (self._clock_before or 0.0))
-        self.bb.set(EXPLORED_S, (self.bb.get(EXPLORED_S) if self.bb.exists(EXPLORED_S) else 0.0) + spent)
+        _add_explored(self.bb, spent)
         self.bb.set(SEEN, len(scene.regions))
         here = self.robot_pose()
         view = services.perception.next_view(here)
@@ -116,7 +116,7 @@ class GoToView(DriverAction):
 
     def finish(self, result: MoveResult) -> Status:
         self.bb.pose = result.pose
-        self.bb.set(EXPLORED_S, (self.bb.get(EXPLORED_S) if self.bb.exists(EXPLORED_S) else 0.0) + result.duration_s)
+        _add_explored(self.bb, result.duration_s)
         self.note(Event.EXPLORE_MOVE, seconds=round(result.duration_s, 1), collided=result.collided,
                   pose=pose_json(result.pose))
         if result.collided or result.blocked is not None:
@@ -130,6 +130,15 @@ class GoToView(DriverAction):
                   reason=reason)
         self.feedback_message = f"view unreachable: {reason}"
         return Status.FAILURE
+
+
+def _explored(bb: py_trees.blackboard.Client) -> float:
+    """Robot seconds spent exploring so far (none before the first round)."""
+    return float(bb.get(EXPLORED_S)) if bb.exists(EXPLORED_S) else 0.0
+
+
+def _add_explored(bb: py_trees.blackboard.Client, seconds: float) -> None:
+    bb.set(EXPLORED_S, _explored(bb) + seconds)
 
 
 def first_leg(path: Path[PlannerPose], leg_in: float) -> list[PlannerPose]:
@@ -180,7 +189,7 @@ class UntilMapped(py_trees.decorators.Decorator):
             self.feedback_message = f"round {self.rounds}"
             return Status.RUNNING  # the child starts afresh: look again from where the robot now stands
         reason = "the home is mapped" if view is None else f"the bound of {limit} views was spent"
-        spent = self.bb.get(EXPLORED_S) if self.bb.exists(EXPLORED_S) else 0.0
+        spent = _explored(self.bb)
         found = self.bb.get(SEEN) if self.bb.exists(SEEN) else 0
         self._services.log.event(Event.MAPPED, behaviour=self.name, views=self.rounds, seconds=round(spent, 1),
                                  candidates=found, reason=reason)

@@ -123,7 +123,7 @@ class OnboardPerception:
         self._regions: dict[int, tuple[int, Region]] = {}  # candidate id -> (times seen, its region)
         self._refused: list[Pose] = []
         self._goal: Pose | None = None  # the view being driven to
-        self._scene: Scene | None = None
+        self._candidates: tuple[Candidate, ...] = ()  # those the latest scan's reading kept
 
     def look(self) -> Future[RangeScan]:
         return self._scanner.scan()
@@ -136,11 +136,6 @@ class OnboardPerception:
     def glance(self, observation: RangeScan) -> Scene:
         return self._read(observation)  # the map takes every scan: what the planner plans on is unchanged
 
-    @property
-    def latest(self) -> Scene | None:
-        """The scene of the latest scan read (None before any)."""
-        return self._scene
-
     def next_view(self, robot: Pose) -> Pose | None:
         if self._bridged is None:
             return None
@@ -151,7 +146,7 @@ class OnboardPerception:
                 return math.inf
             return self._navigator.move_cost(robot, pose).seconds
 
-        goals = exploration_goals(self._bridged, robot, self.finder.candidates(self.grid), cost, self.exploration)
+        goals = exploration_goals(self._bridged, robot, self._candidates, cost, self.exploration)
         kept = self._goal
         if kept is not None and math.hypot(kept.x_in - robot.x_in, kept.y_in - robot.y_in) <= self.exploration.arrived_in:
             kept = None  # reached: choose anew
@@ -177,12 +172,13 @@ class OnboardPerception:
                                       self.settings.inches_per_cell)
         self.grid.integrate(scan, pose)
         self.finder.update(scan, pose)
-        self._views.append(_View(scan, pose, _world_returns(scan, pose)))
+        self._views.append(_View(scan, pose, scan.world_points(pose.x_in, pose.y_in, pose.heading_deg)))
         loose = self._views[-1].returns
         if len(loose) and len(self.finder.structure):
             loose = loose[~self.finder.structure.within(loose)]  # the returns off the home's structure
         regions = []
-        for candidate in self.finder.candidates(self.grid):
+        self._candidates = self.finder.candidates(self.grid)
+        for candidate in self._candidates:
             region = self._region(candidate)
             if seen_through(region, scan, pose):
                 continue  # the map is slow to forget: not there now
@@ -191,8 +187,7 @@ class OnboardPerception:
                 self._regions[candidate.id] = (self._regions[candidate.id][0], moved)
             regions.append(moved)
         self._bridged = bridged(self.grid)
-        self._scene = map_scene(self._bridged, tuple(regions), pose)
-        return self._scene
+        return map_scene(self._bridged, tuple(regions), pose)
 
     def _region(self, candidate: Candidate) -> Region:
         """The candidate's region, outlined again only when it was seen again, and no more
@@ -209,11 +204,3 @@ class OnboardPerception:
         region = candidate_region(candidate, views, self.finder.settings.range_sigma_in)
         self._regions[candidate.id] = (candidate.times_seen, region)
         return region
-
-
-def _world_returns(scan: PlanarScan, pose: Pose) -> np.ndarray:
-    local = scan.points()
-    h = math.radians(pose.heading_deg)
-    c, s = math.cos(h), math.sin(h)
-    return np.column_stack([pose.x_in + c * local[:, 0] - s * local[:, 1],
-                            pose.y_in + s * local[:, 0] + c * local[:, 1]])

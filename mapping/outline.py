@@ -203,13 +203,10 @@ def _world_returns(views: Sequence[tuple[PlanarScan, Pose]]) -> tuple[np.ndarray
     points, origins, index = [np.zeros((0, 2))], [np.zeros((0, 2))], [np.zeros(0, dtype=int)]
     for i, (scan, pose) in enumerate(views):
         pose.require_finite(f"outline: views[{i}]")
-        local = scan.points()
-        h = math.radians(pose.heading_deg)
-        c, s = math.cos(h), math.sin(h)
-        points.append(np.column_stack([pose.x_in + c * local[:, 0] - s * local[:, 1],
-                                       pose.y_in + s * local[:, 0] + c * local[:, 1]]))
-        origins.append(np.tile([pose.x_in, pose.y_in], (len(local), 1)))
-        index.append(np.full(len(local), i))
+        seen = scan.world_points(pose.x_in, pose.y_in, pose.heading_deg)
+        points.append(seen)
+        origins.append(np.tile([pose.x_in, pose.y_in], (len(seen), 1)))
+        index.append(np.full(len(seen), i))
     return np.concatenate(points), np.concatenate(origins), np.concatenate(index)
 
 
@@ -275,17 +272,21 @@ def _fit_circle(points: np.ndarray) -> tuple[tuple[float, float], float] | None:
     return (float(params[0]), float(params[1])), abs(float(params[2]))
 
 
+def nearest_on_outline(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """For each point (Nx2), the nearest point on the closed polygon's edges (Nx2)."""
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    ab = b - a
+    length2 = np.sum(ab * ab, axis=1)
+    along = np.einsum("nmk,mk->nm", points[:, None, :] - a[None], ab)
+    t = np.clip(np.divide(along, length2, out=np.zeros_like(along), where=length2 >= 1e-12), 0.0, 1.0)
+    foot = a[None] + t[..., None] * ab[None]
+    best = np.argmin(np.sum((points[:, None, :] - foot) ** 2, axis=2), axis=1)
+    return foot[np.arange(len(points)), best]
+
+
 def _boundary_distance(points: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """Each point's distance to the nearest edge of a closed polygon."""
-    best = np.full(len(points), np.inf)
-    for i in range(len(corners)):
-        a, b = corners[i], corners[(i + 1) % len(corners)]
-        ab = b - a
-        length2 = float(ab @ ab)
-        t = np.zeros(len(points)) if length2 < 1e-12 else np.clip((points - a) @ ab / length2, 0.0, 1.0)
-        nearest = a + t[:, None] * ab
-        best = np.minimum(best, np.hypot(*(points - nearest).T))
-    return best
+    return np.hypot(*(points - nearest_on_outline(points, corners)).T)
 
 
 class _Rectangle:

@@ -18,12 +18,11 @@ from __future__ import annotations
 import hashlib
 import math
 
-import cv2
 import numpy as np
 
 from camera_model.image import CameraImage
 from mapping.occupancy import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
-from planner.vision_map import VisionMap, disc_kernel
+from planner.vision_map import VisionMap, inflated_map
 
 # Grey levels of the map image (those of the ROS map_server's PGM images).
 SHADES = {FREE: 254, UNKNOWN: 205, OCCUPIED: 0}
@@ -47,13 +46,8 @@ def planning_map(grid: OccupancyGrid, base_radius_in: float) -> VisionMap:
         raise ValueError(f"base_radius_in must be finite and not negative, got {base_radius_in}")
     image = map_image(grid)
     blocked = image.pixels != SHADES[FREE]
-    cell = grid.inches_per_cell
-    inflation_in = base_radius_in + (1.0 + math.sqrt(0.5)) * cell
-    inflated = cv2.dilate(blocked.astype(np.uint8), disc_kernel(inflation_in / cell))
-    free = inflated == 0
-    strict = cv2.dilate(inflated, np.ones((3, 3), np.uint8)) == 0
     digest = hashlib.blake2b(digest_size=16)
-    digest.update(repr(("scan map", image.shape, cell, image.origin_x_in, image.origin_y_in, base_radius_in)).encode())
+    digest.update(repr(("scan map", image.shape, grid.inches_per_cell, image.origin_x_in, image.origin_y_in,
+                        base_radius_in)).encode())
     digest.update(np.packbits(blocked).tobytes())
-    return VisionMap(image=image, occupied=blocked, free=free, free_strict=strict, inflation_in=inflation_in,
-                     key=digest.hexdigest())
+    return inflated_map(image, blocked, base_radius_in, digest.hexdigest())

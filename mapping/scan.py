@@ -60,3 +60,11 @@ class PlanarScan:
         seen = self.returned
         r, a = self.ranges_in[seen], self.angles_rad[seen]
         return np.column_stack([r * np.cos(a), r * np.sin(a)])
+
+    def world_points(self, x_in: float, y_in: float, heading_deg: float) -> np.ndarray:
+        """The returns as an Nx2 array in world inches, the scan taken at (``x_in``,
+        ``y_in``) facing ``heading_deg`` (its corrected pose, not necessarily its own)."""
+        local = self.points()
+        h = math.radians(heading_deg)
+        c, s = math.cos(h), math.sin(h)
+        return np.column_stack([x_in + c * local[:, 0] - s * local[:, 1], y_in + s * local[:, 0] + c * local[:, 1]])

@@ -36,12 +36,12 @@ import numpy as np
 
 from mapping.candidates import Candidate
 from mapping.occupancy import OccupancyGrid
-from mapping.outline import outline
+from mapping.outline import nearest_on_outline, outline
 from camera_model.image import CameraImage
 from mapping.occupancy import DECIDED, FREE
 from mapping.planning import SHADES, map_image
 from mapping.scan import PlanarScan
-from planner.geometry import Pose, wrap_360
+from planner.geometry import Pose, counter_clockwise, wrap_360
 from planner.vision import Region, Scene
 
 CROP_MARGIN_IN = 24.0  # the scene reaches this far beyond the floor seen (unknown: blocked)
@@ -91,7 +91,7 @@ def candidate_region(candidate: Candidate, views: Sequence[tuple[PlanarScan, Pos
     rel = polygon - centroid
     area = abs(float(cv2.contourArea(polygon.astype(np.float32))))
     return Region(
-        polygon=tuple((float(x), float(y)) for x, y in _counter_clockwise(polygon)),
+        polygon=tuple((float(x), float(y)) for x, y in counter_clockwise(polygon)),
         centroid=(float(centroid[0]), float(centroid[1])),
         pixel_count=max(1, round(area / PIXEL_IN2)),
         orientation_deg=None if is_round else axis,
@@ -153,27 +153,16 @@ def refit(region: Region, returns: np.ndarray) -> Region:
         return region
     shift = np.zeros(2)
     for _ in range(REFIT_ITERATIONS):
-        step = (near - _nearest_on_outline(near, polygon + shift)).mean(axis=0)
+        step = (near - nearest_on_outline(near, polygon + shift)).mean(axis=0)
         shift += step
         if float(np.hypot(*step)) < 0.01:
             break
-    rms = float(np.sqrt(np.mean(np.sum((near - _nearest_on_outline(near, polygon + shift)) ** 2, axis=1))))
+    rms = float(np.sqrt(np.mean(np.sum((near - nearest_on_outline(near, polygon + shift)) ** 2, axis=1))))
     if rms > REFIT_RMS_IN or float(np.hypot(*shift)) > REFIT_REACH_IN or float(np.hypot(*shift)) < REFIT_MIN_SHIFT_IN:
         return region
     dx, dy = float(shift[0]), float(shift[1])
     return dataclasses.replace(region, polygon=tuple((x + dx, y + dy) for x, y in region.polygon),
                                centroid=(region.centroid[0] + dx, region.centroid[1] + dy))
-
-
-def _nearest_on_outline(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
-    """For each point, the nearest point on the closed polygon's edges."""
-    a, b = polygon, np.roll(polygon, -1, axis=0)
-    ab = b - a
-    length2 = np.maximum(np.sum(ab * ab, axis=1), 1e-12)
-    t = np.clip(np.einsum("nmk,mk->nm", points[:, None, :] - a[None], ab) / length2, 0.0, 1.0)
-    foot = a[None] + t[..., None] * ab[None]
-    best = np.argmin(np.sum((points[:, None, :] - foot) ** 2, axis=2), axis=1)
-    return foot[np.arange(len(points)), best]
 
 
 def map_scene(grid: OccupancyGrid, regions: Sequence[Region], robot: Pose | None,
@@ -232,9 +221,3 @@ def _cropped(image: CameraImage, grid: OccupancyGrid, robot: Pose | None, margin
     s = image.inches_per_pixel
     return CameraImage(pixels=np.ascontiguousarray(image.pixels[r0:r1, c0:c1]), inches_per_pixel=s,
                        origin_x_in=image.origin_x_in + c0 * s, origin_y_in=image.origin_y_in - r0 * s)
-
-
-def _counter_clockwise(polygon: np.ndarray) -> np.ndarray:
-    x, y = polygon[:, 0], polygon[:, 1]
-    signed = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-    return polygon if signed >= 0 else polygon[::-1]

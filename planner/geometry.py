@@ -62,3 +62,10 @@ def ray_exit_distance(origin: np.ndarray, direction: np.ndarray, polygon: np.nda
     s = (rel[:, 0] * direction[1] - rel[:, 1] * direction[0]) / denom
     hits = (s >= -1e-9) & (s <= 1 + 1e-9) & (t >= 0)
     return float(t[hits].max()) if hits.any() else 0.0
+
+
+def counter_clockwise(polygon: np.ndarray) -> np.ndarray:
+    """An Nx2 polygon's corners in counter-clockwise order (reversed when clockwise)."""
+    x, y = polygon[:, 0], polygon[:, 1]
+    signed_area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    return polygon if signed_area >= 0 else polygon[::-1]

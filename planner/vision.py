@@ -24,7 +24,7 @@ import numpy as np
 
 from camera_model.bands import MARKER_BAND, OBJECT_BAND, ROBOT_BAND, WALL_BAND
 from camera_model.image import CameraImage
-from planner.geometry import Pose, wrap_360
+from planner.geometry import Pose, counter_clockwise, wrap_360
 from planner.image import undistorted
 from planner.segmentation import Camera, segment
 
@@ -350,7 +350,7 @@ def _describe(image: CameraImage, roi: np.ndarray, row0: int, col0: int) -> Regi
     length = float(np.ptp(rel @ u))
     width = float(np.ptp(rel @ v))
     return Region(
-        polygon=tuple((float(x), float(y)) for x, y in _counter_clockwise(world_polygon)),
+        polygon=tuple((float(x), float(y)) for x, y in counter_clockwise(world_polygon)),
         centroid=(float(centroid[0]), float(centroid[1])),
         pixel_count=count,
         orientation_deg=orientation,
@@ -391,11 +391,6 @@ def _outline(roi: np.ndarray) -> np.ndarray:
     return (simplified + 0.5) / scale - 1.5
 
 
-def _signed_area(polygon: np.ndarray) -> float:
-    x, y = polygon[:, 0], polygon[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
 def _fill_ratio(polygon: np.ndarray, centroid: np.ndarray) -> float:
     """How much of its circumscribed circle (about the centroid) a polygon fills."""
     radius = float(np.max(np.linalg.norm(polygon - centroid, axis=1)))
@@ -408,7 +403,3 @@ def _rectangle_axis_deg(polygon: np.ndarray) -> float:
     sides = [box[1] - box[0], box[2] - box[1]]
     side = max(sides, key=lambda s: float(np.hypot(*s)))
     return math.degrees(math.atan2(float(side[1]), float(side[0])))
-
-
-def _counter_clockwise(polygon: np.ndarray) -> np.ndarray:
-    return polygon if _signed_area(polygon) >= 0 else polygon[::-1]

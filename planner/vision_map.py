@@ -171,12 +171,17 @@ def draw_discs(scene: Scene, discs: tuple[Disc, ...]) -> np.ndarray:
 def build_vision_map(scene: Scene, robot: RobotGeometry, discs: tuple[Disc, ...] = ()) -> VisionMap:
     """Inflate the scene's obstacles, ``discs`` drawn in, by the base's radius
     (cv2.dilate with a disc)."""
-    image = scene.image
+    return inflated_map(scene.image, draw_discs(scene, discs), robot.base_radius_in, map_key(scene, robot, discs))
+
+
+def inflated_map(image: CameraImage, occupied: np.ndarray, base_radius_in: float, key: str) -> VisionMap:
+    """The map of ``occupied`` cells on ``image``'s grid, inflated by the base's radius
+    plus the margin of the module docstring; ``key`` names what it was built from. The
+    overhead image's map and the scan-built one (``mapping.planning``) are both made here."""
     ipp = image.inches_per_pixel
-    inflation_in = robot.base_radius_in + (1.0 + math.sqrt(0.5)) * ipp
-    occupied = draw_discs(scene, discs)
+    inflation_in = base_radius_in + (1.0 + math.sqrt(0.5)) * ipp
     inflated = cv2.dilate(occupied.astype(np.uint8), disc_kernel(inflation_in / ipp))
     free = inflated == 0
     strict = cv2.dilate(inflated, np.ones((3, 3), np.uint8)) == 0
     return VisionMap(image=image, occupied=occupied, free=free, free_strict=strict,
-                     inflation_in=inflation_in, key=map_key(scene, robot, discs))
+                     inflation_in=inflation_in, key=key)
