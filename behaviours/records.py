@@ -153,7 +153,13 @@ class LostVerb:
 
 def reset_blackboard(robot: str) -> None:
     """The robot's blackboard keys as an episode starts: no objects located yet, no
-    results, no object or step under way, no pose known, no driver lost."""
+    results, no object or step under way, no pose known, no driver lost; and nothing
+    else an earlier episode of this process left under the robot's namespace (the
+    blackboard is py_trees' process-wide store: an onboard tree's exploration keys, a
+    view or the seconds explored, must not carry into the next episode)."""
+    prefix = f"{namespace(robot)}/"
+    for stale in [key for key in py_trees.blackboard.Blackboard.storage if key.startswith(prefix)]:
+        py_trees.blackboard.Blackboard.unset(stale)
     for key, value in (("objects", []), ("results", []), ("object", None), ("step", Step()), ("pose", None),
                        (DRIVER_LOST, None), (DRIVER_BACK, None)):
         py_trees.blackboard.Blackboard.set(f"{namespace(robot)}/{key}", value)
