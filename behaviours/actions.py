@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from py_trees.common import Access, Status
 
 from behaviours.base import DriverAction, LookAction
-from behaviours.bridge import to_driver_pose
+from behaviours.legs import LeggedMove
 from behaviours.events import Event
 from behaviours.records import ObjectRecord, Step
 from hero_driver.interface import DriverError, GraspResult, MoveResult, Obstacle, RobotState, SenseResult
@@ -61,7 +61,7 @@ class Blockage:
     rounds: int
 
 
-class MoveTo(DriverAction):
+class MoveTo(LeggedMove):
     """Plan a collision-free path to the chosen test's (or grasp's) position and drive it.
 
     The goal is the learner position turned into a world pose on the vision map; the
@@ -78,6 +78,9 @@ class MoveTo(DriverAction):
     (``behaviours.blocked``) when this move is one of that branch's (``role``: the
     ``first`` try, a re-plan ``around`` the obstacle, a ``retry`` after waiting);
     anywhere else, or with the branch off, it counts as a collision.
+
+    A long move is driven in legs with a look after each when the perception asks for
+    it (``behaviours.legs``: the onboard scan matcher); the camera's moves are whole.
     """
 
     POSE_ACCESS = Access.WRITE  # a move changes where the robot stands
@@ -95,7 +98,6 @@ class MoveTo(DriverAction):
         self.in_branch = False  # set by behaviours.blocked.around_movers
         self.bb.register_key(BLOCKED, access=Access.WRITE)
         self._goal: Position | None = None
-        self._path: tuple[DriverPose, ...] = ()  # the waypoints sent, logged with the move
 
     def goal(self) -> Position | None:
         """Where to go: the step's test position, or its grasp's."""
@@ -120,8 +122,7 @@ class MoveTo(DriverAction):
         return self.timed(lambda: nav.plan(self.robot_pose(), obj.estimator.pose(goal)))
 
     def drive(self, plan: PlanResult) -> Future[MoveResult]:
-        self._path = tuple(to_driver_pose(p) for p in plan.path or ())
-        return self.services.driver.move(list(self._path), face=self.obj.region.centroid)
+        return self.drive_path(plan.path or (), face=self.obj.region.centroid)
 
     def no_path(self, goal: Position, plan: PlanResult) -> Status:
         self.note(Event.NO_PATH, to=goal.to_json(), reason=plan.reason)
@@ -132,15 +133,19 @@ class MoveTo(DriverAction):
             return self._unusable()
         return Status.FAILURE
 
-    def finish(self, result: MoveResult) -> Status:
-        obj = self.obj
+    def finish(self, result: Any) -> Status:
+        whole = self.leg_done(result)
+        if whole is None:
+            return Status.RUNNING  # the look between two legs, or the next leg
+        result, obj = whole, self.obj
         self.bb.pose = result.pose
         obj.ledger.moving_s += result.duration_s
         blocked = None if result.blocked is None else [round(result.blocked.x_in, 1), round(result.blocked.y_in, 1),
                                                        round(result.blocked.radius_in, 1)]
         self.note(Event.MOVE, to=self._goal.to_json() if self._goal else None, seconds=round(result.duration_s, 1),
                   collided=result.collided, pose=pose_json(result.pose),
-                  path=[pose_json(p) for p in self._path],  # as planned: the map draws it as driven
+                  path=[pose_json(p) for p in self.sent],  # as planned: the map draws it as driven
+                  **({"legs": self.legs} if self.legs > 1 else {}),
                   **({} if blocked is None else {"blocked": blocked}))
         if result.blocked is not None and self.in_branch and self.services.params.blocked_tries > 0:
             return self._blockage(result.blocked)

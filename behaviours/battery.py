@@ -22,6 +22,7 @@ cached prices, made on the low level.
 from __future__ import annotations
 
 from concurrent.futures import Future
+from typing import Any
 
 import py_trees
 from py_trees.common import Access, Status
@@ -31,6 +32,7 @@ from behaviours.base import CslBehaviour, DriverAction
 from behaviours.bridge import to_driver_pose, to_planner_pose
 from behaviours.events import Event
 from behaviours.guard import KeepPlace
+from behaviours.legs import LeggedMove
 from hero_driver.interface import Charger, Driver, MoveResult, Pose, RobotState
 
 DOCK_TRIP = "dock_trip"  # blackboard: what the drive to the dock cost, for the charge event
@@ -74,7 +76,7 @@ class BatteryLow(CslBehaviour):
         return level < threshold
 
 
-class DriveToDock(DriverAction):
+class DriveToDock(LeggedMove):
     """Plan a collision-free path from where the robot stands to the dock and drive it."""
 
     POSE_ACCESS = Access.WRITE  # the move changes where the robot stands
@@ -95,9 +97,13 @@ class DriveToDock(DriverAction):
         if not plan.found:
             self.note(Event.NO_PATH, to="dock", reason=plan.reason)
             return Status.FAILURE
-        return self.services.driver.move([to_driver_pose(p) for p in plan.path or ()] or [dock])
+        return self.drive_path(plan.path or (), fallback=dock)
 
-    def finish(self, result: MoveResult) -> Status:
+    def finish(self, result: Any) -> Status:
+        whole = self.leg_done(result)
+        if whole is None:
+            return Status.RUNNING  # a long way to the dock is driven in legs (behaviours.legs)
+        result = whole
         self.bb.pose = result.pose
         trip = dict(self.bb.get(DOCK_TRIP))
         trip.update(moving_s=round(result.duration_s, 1), collided=result.collided)

@@ -19,8 +19,6 @@ events (``view``, ``explore_move``) and their sum on ``mapped``.
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence as Path
 from concurrent.futures import Future
 from typing import Any
 
@@ -32,15 +30,10 @@ from behaviours.actions import pose_json
 from behaviours.base import CslBehaviour, DriverAction, LookAction, receive_services
 from behaviours.bridge import to_driver_pose
 from behaviours.events import Event
+from behaviours.legs import first_leg
 from behaviours.services import Services, namespace
 from hero_driver.interface import MoveResult
 from planner import Pose as PlannerPose
-
-LEG_IN = 60.0
-"""A move toward a view stops after this far along its path, for a look: the odometry
-drifts with the distance driven, and the scan matcher corrects a short step surely
-where a long one (a turn through a doorway and across a room) may be past what it
-trusts (``mapping.localisation``). The next look then chooses again from there."""
 
 VIEW = "view"  # blackboard: the next view to look from (None: nothing more to see)
 EXPLORED_S = "explored_s"  # blackboard: robot seconds spent exploring so far
@@ -93,7 +86,8 @@ class MoreToSee(CslBehaviour):
 
 class GoToView(DriverAction):
     """Plan a path to the next view on the map built so far and drive it, or its first
-    :data:`LEG_IN` (then a look, and the next view chosen again); a view with no path,
+    ``leg_in`` of the perception (then a look, and the next view chosen again:
+    ``behaviours.legs`` says why); a view with no path,
     or a move that collided, is unreachable (told to the perception)."""
 
     VERB = "move"
@@ -112,7 +106,8 @@ class GoToView(DriverAction):
         plan = self.services.navigator.plan(self.robot_pose(), view)
         if not plan.found:
             return self._unreachable(f"no path: {plan.reason}")
-        return self.services.driver.move([to_driver_pose(p) for p in first_leg(plan.path or (), LEG_IN)])
+        leg = first_leg(plan.path or (), self.services.perception.leg_in)
+        return self.services.driver.move([to_driver_pose(p) for p in leg])
 
     def finish(self, result: MoveResult) -> Status:
         self.bb.pose = result.pose
@@ -139,24 +134,6 @@ def _explored(bb: py_trees.blackboard.Client) -> float:
 
 def _add_explored(bb: py_trees.blackboard.Client, seconds: float) -> None:
     bb.set(EXPLORED_S, _explored(bb) + seconds)
-
-
-def first_leg(path: Path[PlannerPose], leg_in: float) -> list[PlannerPose]:
-    """The waypoints of ``path`` up to ``leg_in`` along it, the last one cut at that
-    length (heading along the path); the whole path when it is shorter."""
-    if not path:
-        return []
-    out, driven = [path[0]], 0.0
-    for a, b in zip(path, path[1:]):
-        step = math.hypot(b.x_in - a.x_in, b.y_in - a.y_in)
-        if driven + step >= leg_in and step > 0:
-            t = (leg_in - driven) / step
-            heading = math.degrees(math.atan2(b.y_in - a.y_in, b.x_in - a.x_in))
-            out.append(PlannerPose(a.x_in + t * (b.x_in - a.x_in), a.y_in + t * (b.y_in - a.y_in), heading))
-            return out
-        driven += step
-        out.append(b)
-    return out
 
 
 class UntilMapped(py_trees.decorators.Decorator):

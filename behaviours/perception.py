@@ -33,10 +33,13 @@ from planner.vision import look
 class Perception(Protocol):
     """A source of looks. ``verb`` is the driver verb a look sends (a driver fault is
     counted under it); ``corrects_heading``: the robot pose a scene gives carries a
-    heading to trust (the scan matcher's), not only a position (the camera's)."""
+    heading to trust (the scan matcher's), not only a position (the camera's);
+    ``leg_in``: how far a move may drive between two looks (None: any distance), for a
+    source that corrects the dead reckoning only over short steps (``behaviours.legs``)."""
 
     verb: str
     corrects_heading: bool
+    leg_in: float | None
 
     def look(self) -> Future[Any]:
         """Start one look (the robot's time: a scan may turn the base in place)."""
@@ -61,6 +64,7 @@ class CeilingCamera:
 
     verb = "camera"
     corrects_heading = False
+    leg_in = None  # it sees the robot wherever it drives: a move is driven whole, as in the paper
 
     def __init__(self, driver: Driver, navigator: Navigator) -> None:
         self._driver, self._navigator = driver, navigator

@@ -21,14 +21,14 @@ from py_trees.common import Access, Status
 
 from behaviours.actions import MoveTo, pose_json
 from behaviours.appearance import appearance_of
-from behaviours.base import CslBehaviour, DriverAction, LookAction
-from behaviours.bridge import other_end, to_driver_pose
+from behaviours.base import CslBehaviour, LookAction
+from behaviours.legs import LeggedMove
+from behaviours.bridge import other_end
 from behaviours.choosing import Choose
 from behaviours.events import Event
 from behaviours.records import ObjectRecord
 from behaviours.sameness import CHANGED_RATIO, PUSHED_IN
 from hero_driver.interface import DriverError, MoveResult, SenseResult
-from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from learner.choosing.leaf import AmbiguousLeaf
 from learner.choosing.matrix import Test
 from learner.choosing.node import ScoredTest
@@ -270,7 +270,7 @@ class DropFailedGrasp(CslBehaviour):
         return Status.SUCCESS
 
 
-class Discriminate(DriverAction):
+class Discriminate(LeggedMove):
     """After a wrong prediction, measure until the object is told apart from the wrongly
     predicted grasp's descriptions (docs/method.md §5, "discriminating features added"):
     the cheapest feature they have and this object lacks, here where the robot stands,
@@ -284,7 +284,8 @@ class Discriminate(DriverAction):
     grasp, and it failed), the cheapest discriminating test is worth a move: without one
     value the object would be learned with none, nothing would tell it from the wrongly
     predicted descriptions next time, and the same grasp would fail again
-    (docs/method.md §5.8). The move is one more driver verb before the sense."""
+    (docs/method.md §5.8). The move is one more driver verb before the sense (or more: a
+    long one is driven in legs, ``behaviours.legs``)."""
 
     POSE_ACCESS = Access.WRITE  # the move to a discriminating test changes where the robot stands
 
@@ -298,7 +299,6 @@ class Discriminate(DriverAction):
         self._silent: set[str] = set()  # procedures that gave no value on this object
         self._tried_on: ObjectRecord | None = None
         self._may_move = False
-        self._path: tuple[DriverPose, ...] = ()  # the waypoints of a move for the value, logged with it
 
     def start(self) -> Future[SenseResult] | Status:
         obj, attempt = self.obj, self.step.attempt
@@ -341,12 +341,12 @@ class Discriminate(DriverAction):
         if not plan.found:
             self.note(Event.NO_PATH, to=target.to_json(), reason=plan.reason)
             return Status.SUCCESS
-        self._path = tuple(to_driver_pose(p) for p in plan.path or ())
-        return self.services.driver.move(list(self._path), face=obj.region.centroid)
+        return self.drive_path(plan.path or (), face=obj.region.centroid)
 
-    def finish(self, result: SenseResult | MoveResult) -> Status:
-        if isinstance(result, MoveResult):
-            return self._moved(result)
+    def finish(self, result: Any) -> Status:
+        if not isinstance(result, SenseResult):  # a leg of the move, or a look between two
+            whole = self.leg_done(result)
+            return Status.RUNNING if whole is None else self._moved(whole)
         obj = self.obj
         assert self._test is not None and self._wrong is not None
         obj.ledger.sensing_s += result.duration_s
@@ -371,7 +371,7 @@ class Discriminate(DriverAction):
         self.bb.pose = result.pose
         obj.ledger.moving_s += result.duration_s
         self.note(Event.MOVE, to=self._test.target.to_json(), seconds=round(result.duration_s, 1),
-                  collided=result.collided, pose=pose_json(result.pose), path=[pose_json(p) for p in self._path])
+                  collided=result.collided, pose=pose_json(result.pose), path=[pose_json(p) for p in self.sent])
         if result.collided:
             return Status.SUCCESS  # not where the value was wanted: learn without it
         obj.session.position = self._test.target

@@ -38,6 +38,7 @@ handled, no lab baseline, no object goals): map and localisation only, much fast
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import statistics
 import sys
@@ -56,7 +57,6 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from bench_mapping_sim import map_accuracy, report_goals  # noqa: E402
 
-import behaviours.exploration  # noqa: E402
 from behaviours.services import Params  # noqa: E402
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import Executive  # noqa: E402
@@ -165,8 +165,6 @@ def on_truth_cells(mask: np.ndarray, grid: OccupancyGrid, truth: TruthMap) -> np
 def episode(world: str, preset: str, seed: int, params: Params, explore_only: bool = False,
             leg_in: float | None = None) -> Measured:
     """One episode: onboard in a home, with the ceiling camera in the lab."""
-    if leg_in is not None:
-        behaviours.exploration.LEG_IN = leg_in  # a run-time probe of the legs' length (this process only)
     onboard = world != LAB
     hero = TruthAtScans("bench", world=world, seed=seed, noise=NOISE_PRESETS[preset])
     sim = hero._live()
@@ -174,6 +172,8 @@ def episode(world: str, preset: str, seed: int, params: Params, explore_only: bo
     learner = LocalLearner(Path(tempfile.mkdtemp()) / "library.sqlite",
                            seed_library=read_library_json(EXAMPLE_LIBRARY))
     ex = Executive(hero, learner, params=params, perception="onboard" if onboard else "ceiling")
+    if leg_in is not None and ex.perception is not None:  # a probe of the legs' length
+        ex.perception.settings = dataclasses.replace(ex.perception.settings, leg_in=leg_in)
     began = time.perf_counter()
     if explore_only:
         def stop_when_mapped(tick: int, root: object) -> None:
@@ -238,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--explore-only", action="store_true",
                         help="end each onboard episode when the home is mapped: map and localisation only")
     parser.add_argument("--leg-in", type=float, default=None,
-                        help="override behaviours.exploration.LEG_IN for the run (a probe; default: as shipped)")
+                        help="override OnboardSettings.leg_in for the run (a probe; default: as shipped)")
     args = parser.parse_args(argv)
     presets = args.presets.split(",")
     unknown = [p for p in presets if p not in NOISE_PRESETS]

@@ -76,9 +76,11 @@ class OnboardSettings:
     refused_within_in: float = 12.0  # a view this close to one the robot failed to reach is not offered
     settled_seen: int = 6  # a candidate seen this often keeps the region it has (module docstring)
     keep_goal_in: float = 24.0  # the view driven to is kept while the exploration still offers one this near it
+    leg_in: float = 60.0  # a move drives this far at most between two scans (behaviours.legs): a step the matcher corrects surely
 
     def __post_init__(self) -> None:
-        for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in", "keep_goal_in"):
+        for name in ("half_extent_in", "inches_per_cell", "outline_reach_in", "refused_within_in", "keep_goal_in",
+                     "leg_in"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"onboard setting {name} must be positive, got {value}")
@@ -124,6 +126,10 @@ class OnboardPerception:
         self._refused: list[Pose] = []
         self._goal: Pose | None = None  # the view being driven to
         self._candidates: tuple[Candidate, ...] = ()  # those the latest scan's reading kept
+
+    @property
+    def leg_in(self) -> float:
+        return self.settings.leg_in
 
     def look(self) -> Future[RangeScan]:
         return self._scanner.scan()

@@ -10,7 +10,8 @@ from typing import Any
 import numpy as np
 from py_trees.common import Status
 
-from behaviours.exploration import LEG_IN, explore, first_leg
+from behaviours.exploration import explore
+from behaviours.legs import first_leg
 from behaviours.perception import CeilingCamera
 from behaviours.services import Params, Services
 from camera_model.image import CameraImage
@@ -19,11 +20,15 @@ from planner import PlanResult, Pose, Scene
 from tests.behaviours.conftest import ROBOT, fresh_board, make_services, moved, run
 
 
+LEG_IN = 60.0  # the perception's leg
+
+
 class Views:
     """A perception offering the views it is given, in turn, and noting those refused."""
 
     verb = "scan"
     corrects_heading = True
+    leg_in = LEG_IN
 
     def __init__(self, *views: Pose | None) -> None:
         self.views = list(views)
