@@ -5,8 +5,8 @@ whenever it looks, and a move is driven whole, as in the paper. The onboard perc
 corrects it by matching each scan to the map (``mapping.localisation``), and the
 matcher trusts a step only as far as its gate: a move across two rooms drifts past it
 (seen in a simulated apartment under the ``paper`` preset: one move between two
-objects, about 350 in with turns, came out 25 in off, the matcher refused every scan
-after it, and the rest of the episode was handled 17 in from where the robot was). So a
+objects in different rooms came out past the gate, the matcher refused every scan
+after it, and the rest of the episode was handled far from where the robot was). So a
 perception says how far a move may go between looks (``Perception.leg_in``; None: as
 far as it likes), and a move longer than that is driven a leg at a time: after each leg
 a look corrects where the robot stands (:meth:`CslBehaviour.look`, the ``localised``

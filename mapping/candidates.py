@@ -61,6 +61,10 @@ from mapping.scan import PlanarScan
 from planner.geometry import Pose
 
 
+CORE_SHARE = 0.9
+"""The share of a track's outline its core holds (:attr:`Candidate.core_extent_in`)."""
+
+
 @dataclass(frozen=True)
 class CandidateSettings:
     """The rules' numbers (inches, degrees). docs/mapping.md says why each is what it is."""
@@ -86,7 +90,7 @@ class CandidateSettings:
     outline_voxel_in: float = 1.0  # a track's outline: the mean of its returns in squares of this side
     min_seen: int = 2  # scans that must see a track before it is a candidate
     min_outline_points: int = 3  # a track with fewer outline points off the structure lines is structure
-    leg_max_extent_in: float = 10.0  # a track no wider than this may be a table leg (a 2 in leg, widened by noise)
+    leg_max_extent_in: float = 10.0  # a track whose core is no wider may be a table leg (a 2 in leg, widened by noise)
     table_min_in: float = 12.0  # a table's legs stand between these apart (centre to centre)
     table_max_in: float = 96.0
     table_tolerance_in: float = 3.0  # sides and diagonals of a leg rectangle agree within this
@@ -151,6 +155,20 @@ class Candidate:
     times_seen: int
     first_seen_s: float
     last_seen_s: float
+
+    @property
+    def core_extent_in(self) -> float:
+        """Twice the distance from the outline's median within which :data:`CORE_SHARE`
+        of its points lie: the size with a stray return or two left out. A track seen
+        many times gathers a few (a mixed return at an edge, a noisy one from far off),
+        and its ``extent_in`` grows with them: in a simulated apartment under the
+        ``paper`` preset two of a table's 2 in legs grew past the leg bound that way,
+        and the table's legs became four candidates to handle."""
+        points = np.asarray(self.outline, dtype=float).reshape(-1, 2)
+        if len(points) < 2:
+            return self.extent_in
+        radii = np.hypot(*(points - np.median(points, axis=0)).T)
+        return 2.0 * float(np.quantile(radii, CORE_SHARE))
 
 
 @dataclass(frozen=True)
@@ -501,15 +519,17 @@ class CandidateFinder:
 
     def table_legs(self) -> tuple[tuple[int, int, int, int], ...]:
         """Ids of the sets of four small tracks judged a table's legs."""
-        small = [c for c in self._off_structure() if c.extent_in <= self.settings.leg_max_extent_in]
-        return table_legs(small, self.settings)
+        return table_legs(self._small(self._off_structure()), self.settings)
+
+    def _small(self, candidates: list[Candidate]) -> list[Candidate]:
+        """Those that may be a table's leg: their core no wider than ``leg_max_extent_in``."""
+        return [c for c in candidates if c.core_extent_in <= self.settings.leg_max_extent_in]
 
     def candidates(self, grid: OccupancyGrid | None = None) -> tuple[Candidate, ...]:
         """The tracks the rules keep, by id, each with the part of its outline off the
         structure lines (module docstring)."""
         off = self._off_structure()
-        small = [c for c in off if c.extent_in <= self.settings.leg_max_extent_in]
-        legs = {i for group in table_legs(small, self.settings) for i in group}
+        legs = {i for group in table_legs(self._small(off), self.settings) for i in group}
         return tuple(c for c in off if c.id not in legs and c.extent_in <= self.widest_in
                      and (grid is None or grid_supports(grid, c, self.settings)))
 

@@ -149,6 +149,21 @@ def _small(i: int, x: float, y: float) -> Candidate:
     return Candidate(i, x, y, ((x, y),), 2.0, 5, 0.0, 1.0)
 
 
+def test_a_legs_core_leaves_a_stray_return_out() -> None:
+    """A 2 in leg's outline (its centre, four edge midpoints 1 in out, four corners
+    1.414 in out) and one stray return 9 in off: the largest distance between two points
+    is the stray's to a far corner, 10.05 in, past the 10 in leg bound; the core, twice
+    the 90th percentile of the distances from the median (0, 0) (0.1 of the way from
+    1.414 to 9, as numpy interpolates between the 9th and 10th of ten), is 4.34 in."""
+    leg = [(0.0, 0.0), (1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0),
+           (1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+    stray = Candidate(1, 0.9, 0.0, tuple(leg) + ((9.0, 0.0),), math.hypot(10.0, 1.0), 50, 0.0, 1.0)
+    assert stray.extent_in > CandidateSettings().leg_max_extent_in
+    assert stray.core_extent_in == pytest.approx(2.0 * (math.sqrt(2.0) + 0.1 * (9.0 - math.sqrt(2.0))))
+    assert stray.core_extent_in <= CandidateSettings().leg_max_extent_in
+    assert _small(2, 0.0, 0.0).core_extent_in == 2.0  # a single point: its extent as it is
+
+
 def test_the_table_rule_by_hand() -> None:
     """A 46 x 28 rectangle is a table; a 46 x 28 parallelogram (one corner moved 10 in
     along) is not (its diagonals differ by 16 in); nor a 100 x 28 rectangle (too long);
