@@ -44,7 +44,7 @@ def run_onboard(config: ExperimentConfig, console: Console | None = None) -> Onb
     """Play every episode the study plans for ``config`` and write the page into ``config.out``."""
     (config.out / RESULTS_DIR).mkdir(parents=True, exist_ok=True)  # the map is drawn there by a worker
     ran = run_studies([study_onboard.STUDY], config, console)
-    results = {job: r for job, r in ran.results.items() if isinstance(job, study_onboard.OnboardJob)}
+    results = ran.results  # every job is the study's: OnboardJob -> Episode
     goals = tuple(study_onboard.goals(study_onboard.pooled(results, *study_onboard.sweep(config))))
     cpu_s = cpu_seconds()
     page = config.out / PAGE

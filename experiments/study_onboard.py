@@ -149,7 +149,8 @@ def run_job(job: OnboardJob) -> Episode:
             plot_built_map(job.map_png, grid, truth_map(spec, catalogue, grid.inches_per_cell),
                            route=[(c.x_in, c.y_in) for _, _, c in perception.poses], moves=legs(events, None),
                            records=[record for record, _ in judged], labels=[row.object for _, row in judged],
-                           present=truths, title=f"{job.world} under {job.preset}, seed {job.seed}: the map the robot built")
+                           present=truths,
+                           title=f"{job.world} under {job.preset}, seed {job.seed}: the map the robot built")
             drawn = job.map_png.name
     return Episode(job.world, job.preset, job.seed, present, found, explore_s, objects_s, accuracy, located,
                    wall_s, drawn)
@@ -363,7 +364,6 @@ def sweep(config: ExperimentConfig) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 STUDY = Study("onboard",
               lambda config: plan(*sweep(config), config.seed_list, config.out / RESULTS_DIR / MAP_PNG),
-              lambda context, results: summarise({j: r for j, r in results.items() if isinstance(j, OnboardJob)},
-                                                 *sweep(context.config)),
+              lambda context, results: summarise(results, *sweep(context.config)),
               floors=(1, 2))
 """Every home under every preset with the lab beside it (``csl experiment onboard``)."""
