@@ -39,8 +39,8 @@ from executive.executive import CEILING, ONBOARD, Executive
 from experiments.conditions import noise_config
 from experiments.config import ExperimentConfig
 from experiments.floor import play
-from experiments.onboard_truth import (Found, Localisation, MapAccuracy, TruthAtScans, found_and_right,
-                                       localisation, map_accuracy)
+from experiments.onboard_truth import (FOUND_WITHIN_IN, Found, Localisation, MapAccuracy, TruthAtScans,
+                                       found_and_right, localisation, map_accuracy)
 from experiments.study import RESULTS_DIR, Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worker import installed_profile
@@ -335,13 +335,13 @@ NOTES = (
     "Each row: one home under one noise preset, the means over its seeds (each seed its own noise draws and "
     "odometry drift; the homes' objects stand where their world files put them). Found and right are pooled "
     "over the seeds: objects found of all present, handled right of all found; a record is an object found "
-    "when it was first seen within 12 in of the object it is matched to, false when it matches none or is a "
-    "second record of one. Robot minutes per object present include the exploration; 'x lab' divides them by "
-    "the ceiling-camera lab's (world `lab`, the same library, preset and seeds), whose own figure is in "
-    "brackets. Surface IoU: the map's occupied cells against the true ones a robot can see, each matched "
-    "within one 2 in cell. Localisation: each scan's corrected pose against the simulator's true pose at that "
-    "scan, the mean of the episodes' medians and the largest error of any; odometry: the pose the scan was "
-    "stamped with, its largest error.",
+    f"when it was first seen within {FOUND_WITHIN_IN:g} in of the object it is matched to, false when it matches "
+    "none or is a second record of one. Robot minutes per object present include the exploration; 'x lab' "
+    "divides them by the ceiling-camera lab's (world `lab`, the same library, preset and seeds), whose own figure "
+    "is in brackets. Surface IoU: the map's occupied cells against the true ones a robot can see, each matched "
+    f"within one {TRUTH_CELL_IN:g} in cell. Localisation: each scan's corrected pose against the simulator's true "
+    "pose at that scan, the mean of the episodes' medians and the largest error of any; odometry: the pose the "
+    "scan was stamped with, its largest error.",
 )
 
 
