@@ -136,12 +136,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     onboard.set_defaults(handler=run_experiment_onboard)
 
 
+def _command_line(args: argparse.Namespace) -> str:
+    """The command that regenerates a page, as its header quotes it."""
+    return f"csl experiment {args.experiment}" + "".join(
+        [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
+         f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
+
+
 def run_experiment_paper(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
     seeds = parse_seeds(args.seeds) if args.seeds else tuple(range(QUICK_SEEDS if args.quick else FULL_SEEDS))
-    command = "csl experiment paper" + "".join(
-        [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
-         f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
+    command = _command_line(args)
     config = ExperimentConfig(args.quick, seeds, args.jobs, args.out, command)
     from rich.console import Console
 
@@ -165,10 +170,7 @@ def run_experiment_onboard(args: argparse.Namespace) -> int:
     from experiments.study_onboard import STUDY
 
     seeds = parse_seeds(args.seeds) if args.seeds else tuple(range(STUDY.floors[0 if args.quick else 1]))
-    command = "csl experiment onboard" + "".join(
-        [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
-         f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
-    run = run_onboard(ExperimentConfig(args.quick, seeds, args.jobs, args.out, command),
+    run = run_onboard(ExperimentConfig(args.quick, seeds, args.jobs, args.out, _command_line(args)),
                       Console(stderr=True, soft_wrap=True))
     for goal in run.goals:
         print(goal.line)
