@@ -25,7 +25,8 @@ Then issue 35's goals for the map, checked per home, one line each and a non-zer
 when one is missed: under ``clean`` (exact odometry) the matcher's largest error is
 within :data:`CLEAN_TOLERANCE_IN` of the odometry's on every seed (it must not move a
 pose the odometry had right), and under ``paper`` the median surface IoU is at least
-:data:`PAPER_SURFACE_IOU`.
+:data:`experiments.study_onboard.GOAL_SURFACE_IOU`. The measures are
+``experiments.onboard_truth``'s, as ``csl experiment onboard`` takes them.
 
 Writes ``map-<home>-<preset>-<seed>.png`` (the built map beside the truth, the survey route on it:
 ``reporting.built_map``, as ``csl demo --perception onboard`` draws its map.png) under ``--out``.
@@ -42,6 +43,7 @@ import statistics
 import sys
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,40 +54,31 @@ from scipy import ndimage
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from hero_driver.interface import Pose, RangeScan  # noqa: E402
+from executive.onboard import planar_scan  # noqa: E402
+from experiments.onboard_truth import Localisation, MapAccuracy, localisation, map_accuracy  # noqa: E402
+from experiments.study_onboard import GOAL_SURFACE_IOU  # noqa: E402
+from hero_driver.interface import Pose  # noqa: E402
 from hero_driver.sim.catalogue import profile_and_catalogue  # noqa: E402
 from hero_driver.sim.noise import NOISE_PRESETS  # noqa: E402
 from hero_driver.sim.truth_map import TruthMap, truth_map  # noqa: E402
 from hero_driver.sim.world import SimWorld  # noqa: E402
 from hero_driver.sim.worldfile import WorldSpec, load_world  # noqa: E402
-from mapping import OccupancyGrid, PlanarScan, ScanMatcher  # noqa: E402
+from mapping import OccupancyGrid, ScanMatcher  # noqa: E402
 from planner.geometry import Pose as PlannerPose  # noqa: E402
 from reporting.built_map import plot_built_map  # noqa: E402
 
 MARGIN_IN = 4.0  # clearance kept beyond the base's radius on the survey route
 CLEAN_TOLERANCE_IN = 0.25  # under clean, the matcher's largest error beyond the exact odometry's
-PAPER_SURFACE_IOU = 0.9  # issue 35's goal for the map under paper
 
 
 @dataclass(frozen=True)
 class Outcome:
-    final_in: float
-    mean_in: float
-    max_in: float
-    final_deg: float
-    odometry_final_in: float
-    odometry_max_in: float
-    iou: float
-    surface_iou: float
-    coverage: float
+    """One survey: where the robot thought it was against the truth, the map it built,
+    and the matching's and integrating's wall time per scan."""
+
+    located: Localisation
+    map: MapAccuracy
     ms_per_scan: float
-
-
-def planar(scan: RangeScan) -> PlanarScan:
-    """The driver's scan as the mapping package takes it (angles in radians)."""
-    return PlanarScan(np.radians(np.asarray(scan.angles_deg, dtype=float)),
-                      np.asarray(scan.ranges_in, dtype=float), scan.pose.x_in, scan.pose.y_in,
-                      scan.pose.heading_deg, scan.clock_s, scan.range_max_in)
 
 
 def survey_route(home: WorldSpec, truth: TruthMap, start: tuple[float, float], radius_in: float,
@@ -155,30 +148,6 @@ def to_odometry(target: tuple[float, float], corrected: PlannerPose, reported: P
     return Pose(x, y, reported.heading_deg)
 
 
-def surface_iou(built: np.ndarray, truth: np.ndarray, free: np.ndarray) -> float:
-    """Visible true cells (occupied, beside a truly free one) against built occupied
-    cells, each matched when the other has an occupied cell within one cell."""
-    visible = truth & ndimage.binary_dilation(free)
-    near_built = ndimage.binary_dilation(built, structure=np.ones((3, 3), bool))
-    near_truth = ndimage.binary_dilation(visible, structure=np.ones((3, 3), bool))
-    matched = (visible & near_built).sum() + (built & near_truth).sum()
-    total = visible.sum() + built.sum()
-    return float(matched / total) if total else 1.0
-
-
-def map_accuracy(built: np.ndarray, built_free: np.ndarray, truth: TruthMap, footprint: TruthMap,
-                 start: tuple[float, float]) -> tuple[float, float, float]:
-    """(IoU, surface IoU, free floor known) of a built map on the truth's cells (row 0 at
-    the low-y edge): ``built`` its occupied cells, ``built_free`` its free ones; the home's
-    free floor is the truly free floor reachable from ``start``."""
-    truly_free = ~footprint.occupied & ~truth.occupied
-    reachable = ndimage.label(truly_free)[0]
-    home_free = reachable == reachable[truth.cell_of(*start)]
-    inter, union = (built & truth.occupied).sum(), (built | truth.occupied).sum()
-    coverage = float((built_free & home_free).sum() / home_free.sum())
-    return (float(inter / union) if union else 1.0, surface_iou(built, truth.occupied, home_free), coverage)
-
-
 def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: float,
         out: Path | None) -> Outcome:
     profile, catalogue = profile_and_catalogue(None)
@@ -190,38 +159,35 @@ def run(home_name: str, preset: str, seed: int, step_in: float, resolution_in: f
     grid, matcher = OccupancyGrid(x0, y0, x1, y1, resolution_in), ScanMatcher()
     start = sim.pose
     route = survey_route(home, footprint, (start.x_in, start.y_in), profile.robot.geometry.base_radius_in, step_in)
-    corrected_poses, true_poses, reported_poses, stamps, took = [], [], [], [], []
+    poses: list[tuple[float, PlannerPose, PlannerPose]] = []  # (clock, reported, corrected) of each scan
+    true_at: dict[float, PlannerPose] = {}
+    took: list[float] = []
 
     def look() -> tuple[PlannerPose, Pose]:
         scan = sim.scan()
         began = time.perf_counter()
-        seen = planar(scan)
+        seen = planar_scan(scan)
         correction = matcher.update(seen)
         grid.integrate(seen, correction.pose)
         took.append(time.perf_counter() - began)
-        corrected_poses.append(correction.pose)
-        true_poses.append(PlannerPose(sim.pose.x_in, sim.pose.y_in, sim.pose.heading_deg))
-        reported_poses.append(scan.pose)
-        stamps.append(scan.clock_s)
+        reported = PlannerPose(scan.pose.x_in, scan.pose.y_in, scan.pose.heading_deg)
+        poses.append((scan.clock_s, reported, correction.pose))
+        true_at[scan.clock_s] = PlannerPose(sim.pose.x_in, sim.pose.y_in, sim.pose.heading_deg)
         return correction.pose, scan.pose
 
     corrected, reported = look()
     for target in route:
         sim.move([to_odometry(target, corrected, reported)], None)
         corrected, reported = look()
-    errors = [math.hypot(c.x_in - t.x_in, c.y_in - t.y_in) for c, t in zip(corrected_poses, true_poses)]
-    heading = abs(math.remainder(corrected_poses[-1].heading_deg - true_poses[-1].heading_deg, 360.0))
-    drifts = [math.hypot(r.x_in - t.x_in, r.y_in - t.y_in) for r, t in zip(reported_poses, true_poses)]
-    # the grid's row 0 is its high-y edge, the truth's its low-y edge
-    iou, surface, coverage = map_accuracy(grid.occupied[::-1], grid.free[::-1], truth, footprint,
-                                          (start.x_in, start.y_in))
+    located = localisation(poses, true_at)
+    assert located is not None  # every scan's truth was noted
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         plot_built_map(out / f"map-{home_name}-{preset}-{seed}.png", grid, truth,
-                       route=[(p.x_in, p.y_in) for p in corrected_poses],
-                       title=f"{home_name} under {preset}, seed {seed}: the map from {len(corrected_poses)} scans")
-    return Outcome(errors[-1], statistics.fmean(errors), max(errors), heading, drifts[-1], max(drifts),
-                   iou, surface, coverage, 1000 * statistics.median(took))
+                       route=[(c.x_in, c.y_in) for _, _, c in poses],
+                       title=f"{home_name} under {preset}, seed {seed}: the map from {len(poses)} scans")
+    return Outcome(located, map_accuracy(grid, truth, footprint, (start.x_in, start.y_in)),
+                   1000 * statistics.median(took))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -241,20 +207,24 @@ def main(argv: list[str] | None = None) -> int:
         for preset in args.presets.split(","):
             runs = [run(home, preset, seed, args.step, args.resolution, args.out) for seed in range(args.seeds)]
 
-            def med(field: str) -> float:
-                return statistics.median(getattr(r, field) for r in runs)
-            print(f"| {home} | {preset} | {len(runs)} | {med('final_in'):.1f} ({med('odometry_final_in'):.1f}) | "
-                  f"{med('mean_in'):.1f} | {med('max_in'):.1f} | {med('final_deg'):.2f} | {med('iou'):.2f} | "
-                  f"{med('surface_iou'):.2f} | {med('coverage'):.0%} | {med('ms_per_scan'):.1f} |", flush=True)
+            def med(measure: Callable[[Outcome], float]) -> float:
+                return statistics.median(measure(r) for r in runs)
+            print(f"| {home} | {preset} | {len(runs)} | {med(lambda r: r.located.corrected.final_in):.1f} "
+                  f"({med(lambda r: r.located.odometry.final_in):.1f}) | "
+                  f"{med(lambda r: r.located.corrected.mean_in):.1f} | "
+                  f"{med(lambda r: r.located.corrected.max_in):.1f} | "
+                  f"{med(lambda r: r.located.corrected.final_deg):.2f} | {med(lambda r: r.map.iou):.2f} | "
+                  f"{med(lambda r: r.map.surface_iou):.2f} | {med(lambda r: r.map.coverage):.0%} | "
+                  f"{med(lambda r: r.ms_per_scan):.1f} |", flush=True)
             if preset == "clean":
-                beyond = max(r.max_in - r.odometry_max_in for r in runs)
+                beyond = max(r.located.corrected.max_in - r.located.odometry.max_in for r in runs)
                 goals.append((beyond <= CLEAN_TOLERANCE_IN,
                               f"{home} clean: the matcher's largest error is {beyond:.2f} in beyond the exact "
                               f"odometry's (at most {CLEAN_TOLERANCE_IN} in)"))
             if preset == "paper":
-                surface = med("surface_iou")
-                goals.append((surface >= PAPER_SURFACE_IOU,
-                              f"{home} paper: surface IoU {surface:.3f} (at least {PAPER_SURFACE_IOU})"))
+                surface = med(lambda r: r.map.surface_iou)
+                goals.append((surface >= GOAL_SURFACE_IOU,
+                              f"{home} paper: surface IoU {surface:.3f} (at least {GOAL_SURFACE_IOU})"))
     return report_goals(goals)
 
 

@@ -57,14 +57,14 @@ def run_paper(config: ExperimentConfig, console: Console | None = None) -> Paper
         rows: list[EpisodeRow] = [row for spec in episodes for row in ran.results[spec]]
         csv_path = plots / CSV_NAME
         count = write_episodes(csv_path, rows)
-        cpu_s = _cpu_s()
+        cpu_s = cpu_seconds()
         n_episodes = sum(spec.episodes for spec in episodes)
         page = config.out / "results.md"
         page.write_text("\n".join(_page(config, ran.sections, n_episodes, count, ran.wall_s, cpu_s)), encoding="utf-8")
     return PaperRun(ran.sections, page, csv_path, n_episodes, count, ran.wall_s, cpu_s)
 
 
-def _cpu_s() -> float:
+def cpu_seconds() -> float:
     """CPU seconds of this process and its finished workers: the run's size on any
     machine, where wall time also depends on what else the machine is doing."""
     own = resource.getrusage(resource.RUSAGE_SELF)

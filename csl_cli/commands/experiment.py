@@ -115,14 +115,38 @@ def register(sub: argparse._SubParsersAction) -> None:
     paper.set_defaults(handler=run_experiment_paper)
     for study in SITUATIONS:
         _add_situation(studies, study)
+    onboard = studies.add_parser(
+        "onboard", help="without a ceiling camera: whole onboard episodes in the simulated homes against the lab",
+        description=("Run whole episodes with --perception onboard in the simulated homes (apartment, apartment-2) "
+                     "under the clean, paper and harsh noise presets, each beside the ceiling-camera lab on the "
+                     "same preset and seed; measure objects found, handled right, false records, robot time per "
+                     "object against the lab's, the map's surface IoU and the localisation error against the "
+                     "simulator's truth, and check issue 35's goals under paper. Writes DIR/results-onboard.md "
+                     "and one episode's map under DIR/results/."))
+    onboard.add_argument("--quick", action="store_true", help="a small run: the apartment under paper, 1 seed")
+    onboard.add_argument("--seeds", type=seeds_argument, default=None, metavar="SEEDS",
+                         help="the seeds every home, preset and the lab run on (default 2, or 1 with --quick): "
+                              "a count N (seeds 0 to N-1), a range A-B or a list A,B,C (other seeds draw other "
+                              "noise; each home stays as its world file lays it out)")
+    onboard.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="J",
+                         help="parallel worker processes (default: the CPU count)")
+    onboard.add_argument("--out", type=Path, default=DEFAULT_OUT, metavar="DIR",
+                         help=f"folder for results-onboard.md (the map goes to its results/ folder; default "
+                              f"./{DEFAULT_OUT}; --out docs regenerates a checkout's docs/results-onboard.md)")
+    onboard.set_defaults(handler=run_experiment_onboard)
+
+
+def _command_line(args: argparse.Namespace) -> str:
+    """The command that regenerates a page, as its header quotes it."""
+    return f"csl experiment {args.experiment}" + "".join(
+        [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
+         f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
 
 
 def run_experiment_paper(args: argparse.Namespace) -> int:
     output_folder(args.out, "--out")
     seeds = parse_seeds(args.seeds) if args.seeds else tuple(range(QUICK_SEEDS if args.quick else FULL_SEEDS))
-    command = "csl experiment paper" + "".join(
-        [" --quick" if args.quick else "", f" --seeds {args.seeds}" if args.seeds else "",
-         f" --jobs {args.jobs}", f" --out {shlex.quote(str(args.out))}"])
+    command = _command_line(args)
     config = ExperimentConfig(args.quick, seeds, args.jobs, args.out, command)
     from rich.console import Console
 
@@ -132,6 +156,26 @@ def run_experiment_paper(args: argparse.Namespace) -> int:
     run = run_paper(config, console)
     print(f"{run.episodes} episodes, {run.object_rows} object rows in {run.wall_s:.0f} s ({run.cpu_s:.0f} CPU s); "
           f"wrote {run.page}, {run.csv} and the plots beside it")
+    sys.stdout.flush()
+    return 0
+
+
+def run_experiment_onboard(args: argparse.Namespace) -> int:
+    """The onboard study and its page; each of issue 35's goals one line, met or not."""
+    output_folder(args.out, "--out")
+    from rich.console import Console
+
+    from experiments.onboard_page import run_onboard  # the simulator: only when the run starts
+    from experiments.study import RESULTS_DIR
+    from experiments.study_onboard import STUDY
+
+    seeds = parse_seeds(args.seeds) if args.seeds else tuple(range(STUDY.floors[0 if args.quick else 1]))
+    run = run_onboard(ExperimentConfig(args.quick, seeds, args.jobs, args.out, _command_line(args)),
+                      Console(stderr=True, soft_wrap=True))
+    for goal in run.goals:
+        print(goal.line)
+    drawn = "".join(f", {args.out / RESULTS_DIR / name}" for name in run.study.plots)
+    print(f"{run.episodes} episodes in {run.wall_s:.0f} s ({run.cpu_s:.0f} CPU s); wrote {run.page}{drawn}")
     sys.stdout.flush()
     return 0
 
