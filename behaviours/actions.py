@@ -122,7 +122,9 @@ class MoveTo(LeggedMove):
         return self.timed(lambda: nav.plan(self.robot_pose(), obj.estimator.pose(goal)))
 
     def drive(self, plan: PlanResult) -> Future[MoveResult]:
-        return self.drive_path(plan.path or (), face=self.obj.region.centroid)
+        goal = self._goal
+        return self.drive_path(plan.path or (), face=self.obj.region.centroid,
+                               standoff_in=None if goal is None else goal.distance_in)
 
     def no_path(self, goal: Position, plan: PlanResult) -> Status:
         self.note(Event.NO_PATH, to=goal.to_json(), reason=plan.reason)
@@ -146,6 +148,7 @@ class MoveTo(LeggedMove):
                   collided=result.collided, pose=pose_json(result.pose),
                   path=[pose_json(p) for p in self.sent],  # as planned: the map draws it as driven
                   **({"legs": self.legs} if self.legs > 1 else {}),
+                  **({} if self.approach_in is None else {"approach_in": self.approach_in}),
                   **({} if blocked is None else {"blocked": blocked}))
         if result.blocked is not None and self.in_branch and self.services.params.blocked_tries > 0:
             return self._blockage(result.blocked)

@@ -40,6 +40,7 @@ class Perception(Protocol):
     verb: str
     corrects_heading: bool
     leg_in: float | None
+    measures_ahead: bool  # distance_ahead can answer: a move's final approach is checked (behaviours.legs)
 
     def look(self) -> Future[Any]:
         """Start one look (the robot's time: a scan may turn the base in place)."""
@@ -50,6 +51,11 @@ class Perception(Protocol):
     def glance(self, observation: Any) -> Scene:
         """What ``observation`` shows, the planner's map left as it is (a check that
         must not change where later plans go: the grasp's verification)."""
+
+    def distance_ahead(self, observation: Any) -> float | None:
+        """The sonar's distance to the first thing straight ahead of the robot in
+        ``observation`` (what a learner position's distance measures), seen from where
+        the robot stands; None when the look cannot tell, or nothing answered."""
 
     def next_view(self, robot: Pose) -> Pose | None:
         """Where to look from next to see more of the floor (None: nothing more to see,
@@ -65,6 +71,7 @@ class CeilingCamera:
     verb = "camera"
     corrects_heading = False
     leg_in = None  # it sees the robot wherever it drives: a move is driven whole, as in the paper
+    measures_ahead = False  # from above, the distance to an object's face is the map's, not a measurement
 
     def __init__(self, driver: Driver, navigator: Navigator) -> None:
         self._driver, self._navigator = driver, navigator
@@ -77,6 +84,9 @@ class CeilingCamera:
 
     def glance(self, observation: CameraImage) -> Scene:
         return look(observation, self._navigator.camera)
+
+    def distance_ahead(self, observation: CameraImage) -> float | None:
+        return None
 
     def next_view(self, robot: Pose) -> Pose | None:
         return None  # the camera sees the whole room at once

@@ -341,7 +341,7 @@ class Discriminate(LeggedMove):
         if not plan.found:
             self.note(Event.NO_PATH, to=target.to_json(), reason=plan.reason)
             return Status.SUCCESS
-        return self.drive_path(plan.path or (), face=obj.region.centroid)
+        return self.drive_path(plan.path or (), face=obj.region.centroid, standoff_in=target.distance_in)
 
     def finish(self, result: Any) -> Status:
         if not isinstance(result, SenseResult):  # a leg of the move, or a look between two

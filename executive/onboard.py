@@ -65,6 +65,11 @@ multiples of it; at the default half inch, far walls broke into object-sized run
 (seen on the simulated apartments: dozens of false candidates along a bed's side)."""
 
 
+AHEAD_DEG = 2.0
+"""Beams this close to the heading measure what lies straight ahead: at a procedure's
+range the object's near face fills them (the move ends facing the object)."""
+
+
 @dataclass(frozen=True)
 class OnboardSettings:
     """The onboard map's extent and resolution (inches), and how far a refused view reaches."""
@@ -109,6 +114,7 @@ class OnboardPerception:
 
     verb = "scan"
     corrects_heading = True
+    measures_ahead = True
 
     def __init__(self, scanner: Scanner, navigator: Navigator, settings: OnboardSettings | None = None,
                  candidates: CandidateSettings = ONBOARD_CANDIDATES,
@@ -141,6 +147,16 @@ class OnboardPerception:
 
     def glance(self, observation: RangeScan) -> Scene:
         return self._read(observation)  # the map takes every scan: what the planner plans on is unchanged
+
+    def distance_ahead(self, observation: RangeScan) -> float | None:
+        """The nearest return within :data:`AHEAD_DEG` of the heading, less the sonar's
+        offset ahead of the base centre the scan ranges from."""
+        angles = np.abs(np.asarray(observation.angles_deg, dtype=float))
+        ranges = np.array([math.inf if r is None else r for r in observation.ranges_in], dtype=float)
+        ahead = ranges[(angles <= AHEAD_DEG) & np.isfinite(ranges)]
+        if not len(ahead):
+            return None
+        return float(ahead.min()) - self._navigator.robot.geometry.sensor_offset_in
 
     def next_view(self, robot: Pose) -> Pose | None:
         if self._bridged is None:

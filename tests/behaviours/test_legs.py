@@ -32,10 +32,12 @@ class Scans:
     verb = "scan"
     corrects_heading = True
 
-    def __init__(self, leg_in: float | None, *seen: Pose) -> None:
+    def __init__(self, leg_in: float | None, *seen: Pose, ahead: tuple[float | None, ...] = ()) -> None:
         self.leg_in = leg_in
         self.seen = list(seen)
         self.looks = 0
+        self.ahead = list(ahead)  # what each look measures straight ahead, in turn (none: nothing measured)
+        self.measures_ahead = bool(ahead)
 
     def look(self) -> Future[Any]:
         self.looks += 1
@@ -48,6 +50,9 @@ class Scans:
                      np.zeros((2, 2), bool), np.zeros((2, 2), bool))
 
     glance = scene
+
+    def distance_ahead(self, observation: Any) -> float | None:
+        return self.ahead.pop(0)
 
     def next_view(self, robot: Pose) -> Pose | None:
         return None
@@ -119,3 +124,33 @@ def test_a_perception_without_legs_drives_the_move_whole() -> None:
     assert perception.looks == 0
     assert fake.calls == [("move", (DriverPose(160.0, 50.0, 180.0), DriverPose(124.0, 50.0, 180.0)), (100.0, 50.0))]
     assert "legs" not in services.log.of("move")[0]
+
+
+def test_the_final_approach_drives_the_difference_the_look_straight_ahead_measures() -> None:
+    # the move to (24, 0) ends at (124, 50) facing west (180); the look there finds the
+    # object's face 26.5 in from the sonar, 2.5 in farther than wanted: the robot drives
+    # 2.5 in on along its heading, to (121.5, 50), facing the object again
+    perception = Scans(None, Pose(124.0, 50.0, 180.0), ahead=(26.5,))
+    services, fake = in_legs(perception)
+    fake.pose = DriverPose(124.0, 50.0, 180.0)  # the encoders agree with the look: no correction of the pose
+    fake.script("move", moved(DriverPose(124.0, 50.0, 180.0), 40.0), moved(DriverPose(121.5, 50.0, 180.0), 3.0))
+    assert run(MoveTo(ROBOT, "test"), services) == Status.SUCCESS
+    assert perception.looks == 1
+    last = fake.calls[-1]
+    assert [(round(p.x_in, 6), round(p.y_in, 6)) for p in last[1]] == [(124.0, 50.0), (121.5, 50.0)]
+    assert last[2] == (100.0, 50.0)
+    move = services.log.of("move")[0]
+    assert move["approach_in"] == 2.5 and move["seconds"] == 43.0 and move["pose"] == [121.5, 50.0, 180.0]
+    assert get("object").session.position == P(24, 0)
+
+
+def test_a_final_approach_within_the_deadband_or_past_the_bound_is_left_as_it_is() -> None:
+    for measured in (24.3, 24.0 + 7.0, None):  # 0.3 in off; 7 in off (the wall behind); nothing measured
+        perception = Scans(None, Pose(124.0, 50.0, 180.0), ahead=(measured,))
+        perception.measures_ahead = True
+        services, fake = in_legs(perception)
+        fake.pose = DriverPose(124.0, 50.0, 180.0)
+        fake.script("move", moved(DriverPose(124.0, 50.0, 180.0), 40.0))
+        assert run(MoveTo(ROBOT, "test"), services) == Status.SUCCESS
+        assert perception.looks == 1 and len(fake.calls) == 1
+        assert "approach_in" not in services.log.of("move")[0]
