@@ -141,6 +141,25 @@ class FakeDriver:
         self.calls.append(("close",))
 
 
+class CountedLooks:
+    """The looks of a test's perception: each resolves at once with its number."""
+
+    def __init__(self) -> None:
+        self.looks = 0
+
+    def look(self) -> Future[Any]:
+        self.looks += 1
+        done: Future[Any] = Future()
+        done.set_result(self.looks)
+        return done
+
+
+def blank_scene(robot: Pose | None = None) -> Scene:
+    """A scene with no regions and nothing in the way, placing the robot at ``robot``."""
+    return Scene(CameraImage(np.zeros((2, 2), np.uint8), 1.0, 0.0, 2.0), (), robot,
+                 np.zeros((2, 2), bool), np.zeros((2, 2), bool))
+
+
 def image() -> CameraImage:
     """Any overhead image: the FakeNavigator ignores its pixels."""
     return CameraImage(np.zeros((4, 4), dtype=np.uint8), 1.0, 0.0, 4.0)

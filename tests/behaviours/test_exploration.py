@@ -4,26 +4,23 @@ alone on the fake driver and navigator, with a perception whose views the test c
 from __future__ import annotations
 
 import dataclasses
-from concurrent.futures import Future
 from typing import Any
 
-import numpy as np
 from py_trees.common import Status
 
 from behaviours.exploration import explore
 from behaviours.legs import first_leg
 from behaviours.perception import CeilingCamera
 from behaviours.services import Params, Services
-from camera_model.image import CameraImage
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from planner import PlanResult, Pose, Scene
-from tests.behaviours.conftest import ROBOT, fresh_board, make_services, moved, run
+from tests.behaviours.conftest import ROBOT, CountedLooks, blank_scene, fresh_board, make_services, moved, run
 
 
 LEG_IN = 60.0  # the perception's leg
 
 
-class Views:
+class Views(CountedLooks):
     """A perception offering the views it is given, in turn, and noting those refused."""
 
     verb = "scan"
@@ -31,19 +28,12 @@ class Views:
     leg_in = LEG_IN
 
     def __init__(self, *views: Pose | None) -> None:
+        super().__init__()
         self.views = list(views)
-        self.looks = 0
         self.refused: list[Pose] = []
 
-    def look(self) -> Future[Any]:
-        self.looks += 1
-        done: Future[Any] = Future()
-        done.set_result(self.looks)
-        return done
-
     def scene(self, observation: Any) -> Scene:
-        return Scene(CameraImage(np.zeros((2, 2), np.uint8), 1.0, 0.0, 2.0), (), None,
-                     np.zeros((2, 2), bool), np.zeros((2, 2), bool))
+        return blank_scene()
 
     glance = scene
 

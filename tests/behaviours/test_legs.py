@@ -9,45 +9,35 @@ the pose (160, 50, 180); (24,0) is (124, 50, 180), 36 in farther along the x axi
 from __future__ import annotations
 
 import dataclasses
-from concurrent.futures import Future
 from typing import Any
 
-import numpy as np
 from py_trees.common import Status
 
 from behaviours.actions import MoveTo
 from behaviours.legs import first_leg, split_leg
 from behaviours.localisation import CameraLocalised
 from behaviours.services import Services
-from camera_model.image import CameraImage
 from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from planner import PlanResult, Pose, Scene
-from tests.behaviours.conftest import (ROBOT, FakeDriver, P, get, make_services, moved, pose_at, put, run,
-                                       start_object)
+from tests.behaviours.conftest import (ROBOT, CountedLooks, FakeDriver, P, blank_scene, get, make_services, moved,
+                                       pose_at, put, run, start_object)
 
 
-class Scans:
+class Scans(CountedLooks):
     """A perception whose looks place the robot at the poses it is given, in turn."""
 
     verb = "scan"
     corrects_heading = True
 
     def __init__(self, leg_in: float | None, *seen: Pose, ahead: tuple[float | None, ...] = ()) -> None:
+        super().__init__()
         self.leg_in = leg_in
         self.seen = list(seen)
-        self.looks = 0
         self.ahead = list(ahead)  # what each look measures straight ahead, in turn (none: nothing measured)
         self.measures_ahead = bool(ahead)
 
-    def look(self) -> Future[Any]:
-        self.looks += 1
-        done: Future[Any] = Future()
-        done.set_result(self.looks)
-        return done
-
     def scene(self, observation: Any) -> Scene:
-        return Scene(CameraImage(np.zeros((2, 2), np.uint8), 1.0, 0.0, 2.0), (), self.seen.pop(0),
-                     np.zeros((2, 2), bool), np.zeros((2, 2), bool))
+        return blank_scene(self.seen.pop(0))
 
     glance = scene
 
