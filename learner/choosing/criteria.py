@@ -95,34 +95,24 @@ class Criterion(Traits):
     name: str
     score: Callable[[float, float], float]
     cost_sensitive: bool
-    settings: tuple[tuple[str, float], ...] = ()  # every parameter's value, by name (the formula's are bound in score)
-
-    def setting(self, name: str, default: float = 0.0) -> float:
-        """The value of parameter ``name`` (``default`` when the criterion has none such)."""
-        return dict(self.settings).get(name, default)
 
 
 @dataclass(frozen=True)
 class Parameter:
-    """A numeric knob of a criterion (eg2's ``w``). Values must be finite, at least
-    ``minimum`` and below ``below``: a NaN or infinite weight would make every score NaN
-    or 0 and the tree would silently test at random. ``scores``: the formula takes it
-    (bound into ``score``); else it is a setting of how the criterion searches, read
-    from :attr:`Criterion.settings` (``cs-id3-failure-exact``'s ``lost``)."""
+    """A numeric knob of a criterion (eg2's ``w``). Values must be finite and at least
+    ``minimum``: a NaN or infinite weight would make every score NaN or 0 and the tree
+    would silently test at random."""
 
     name: str
     default: float
     help: str
     minimum: float = 0.0
-    below: float = math.inf
-    scores: bool = True
 
     def check(self, value: float) -> float:
         """``value`` as a float, or ValueError naming the parameter and the bound."""
         value = float(value)
-        if not (math.isfinite(value) and self.minimum <= value < self.below):
-            bounds = f">= {self.minimum:g}" + (f" and < {self.below:g}" if math.isfinite(self.below) else "")
-            raise ValueError(f"{self.name} must be a finite number {bounds}, got {value:g}")
+        if not (math.isfinite(value) and value >= self.minimum):
+            raise ValueError(f"{self.name} must be a finite number >= {self.minimum:g}, got {value:g}")
         return value
 
 
@@ -157,8 +147,7 @@ class CriterionSpec(Traits):
                              f"(its parameters: {', '.join(names) or 'none'})")
         bound = {p.name: p.check(given.get(p.name, p.default)) for p in self.parameters}
         traits = {name: getattr(self, name) for name in _TRAITS}
-        scoring = {p.name: bound[p.name] for p in self.parameters if p.scores}
-        return Criterion(self.name, functools.partial(self.score, **scoring), settings=tuple(bound.items()), **traits)
+        return Criterion(self.name, functools.partial(self.score, **bound), **traits)
 
 
 _TRAITS = ("cost_sensitive", *(f.name for f in dataclasses.fields(Traits)))
@@ -246,12 +235,8 @@ def with_exact_search(priced: CriterionSpec) -> CriterionSpec:
     return dataclasses.replace(with_walk_rollout(priced), name=f"{priced.name}-exact",
                                formula=f"{priced.formula}, exact search at small nodes",
                                help="exact below a few descriptions, walk rollout above", leaf_every_row=True,
-                               exact_search=True, parameters=(*priced.parameters, LOST))
+                               exact_search=True)
 
-
-LOST = Parameter("lost", 0.0, "the chance a sensing value is lost (noise): the search pays such a test "
-                 "and tests on at the node; 0: noise-free, the optimum", below=1.0, scores=False)
-"""The exact search's accounting of noise (learner/choosing/exact.py, ``ExactSearch.lost``)."""
 
 _CS_ID3 = CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True, _cs_id3)
 _IDX = CriterionSpec("idx", "I / C", "Norton 1989", True, _idx)

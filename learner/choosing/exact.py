@@ -49,11 +49,6 @@ from learner.position import Position
 _EPS = 1e-9
 Weights = tuple[float, ...]
 Rows = tuple[int, ...]
-Child = tuple[int, float, Weights, int]
-"""An outcome of an action: the node it leads to, its probability, the node's rows'
-probabilities, and the tests then free there."""
-Action = tuple[float, list[Child], int, int]
-"""An action: its expected cost now, its outcomes, where the robot ends, the tests taken after."""
 
 
 @dataclass(frozen=True)
@@ -94,17 +89,9 @@ class ExactSearch:
     say all the search needs of the learner's carried marks, so its nodes keep none.
     """
 
-    def __init__(self, matrix: DescriptionMatrix, estimator: MoveCostEstimator, ctx: Context, *,
-                 lost: float = 0.0) -> None:
+    def __init__(self, matrix: DescriptionMatrix, estimator: MoveCostEstimator, ctx: Context) -> None:
         """``ctx``: the matrix's context, for where the learner fills a ``*`` slot and
-        places a grasp (it reads the knowledge only, not the criterion). ``lost``: the
-        chance that a paid sensing test's value is lost (a dropout, or a reading the
-        session cannot trust): the test is paid, nothing is split or made free, and it
-        is not taken again at the node (the session's reselection). 0, noise-free
-        sensing, is docs/optimum.md's accounting and the optimum."""
-        if not 0.0 <= lost < 1.0:
-            raise ValueError(f"the chance a sensing value is lost must be in [0, 1), got {lost!r}")
-        self.lost = lost
+        places a grasp (it reads the knowledge only, not the criterion)."""
         self.matrix = matrix
         self.estimator = estimator
         self.knowledge = matrix.knowledge
@@ -183,24 +170,24 @@ class ExactSearch:
         actions = []
         # an action that alone costs the budget is left out: bounding its children would not save it
         found, some = self.actions(node, weights, at, free, taken, budget)
-        for cost, children, target, now_taken in found:
+        for cost, children, target, now_free, now_taken in found:
             bound, bounds = cost, []
-            for child, mass, child_weights, child_free in children:
-                bounds.append(self._bound(child, child_weights, target, child_free))
+            for child, mass, child_weights in children:
+                bounds.append(self._bound(child, child_weights, target, now_free))
                 bound += mass * bounds[-1]
                 if bound >= budget - _EPS:
                     break  # it cannot come in under the budget: no need to bound the rest
             else:
-                actions.append((bound, cost, children, bounds, target, now_taken))
+                actions.append((bound, cost, children, bounds, target, now_free, now_taken))
         if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
         actions.sort(key=lambda a: a[0])
         best, chosen = math.inf, (0, at)
-        for bound, cost, children, bounds, target, now_taken in actions:
+        for bound, cost, children, bounds, target, now_free, now_taken in actions:
             limit = min(best, budget)
             if bound >= limit - _EPS:
                 break  # sorted: no later action can do better
-            total = self.below(cost, children, bounds, target, now_taken, limit)
+            total = self.below(cost, children, bounds, target, now_free, now_taken, limit)
             if total < best:
                 best, chosen = total, (now_taken & ~taken, target)
         if best < budget:
@@ -222,13 +209,13 @@ class ExactSearch:
             return None
         return known[0], chosen[0].bit_length() - 1, chosen[1]
 
-    def below(self, cost: float, children: Sequence[Child], bounds: Sequence[float], target: int, taken: int,
-              limit: float = math.inf) -> float:
+    def below(self, cost: float, children: Sequence[tuple[int, float, Weights]], bounds: Sequence[float], target: int,
+              free: int, taken: int, limit: float = math.inf) -> float:
         """An action's total: ``cost`` plus, per child, its probability times its least
         expected cost, the children searched within what is left of ``limit`` (at least
         ``limit`` when the action cannot do better)."""
-        total, rest = cost, sum(m * x for (_, m, _, _), x in zip(children, bounds))
-        for (child, mass, child_weights, free), child_bound in zip(children, bounds):
+        total, rest = cost, sum(m * x for (_, m, _), x in zip(children, bounds))
+        for (child, mass, child_weights), child_bound in zip(children, bounds):
             rest -= mass * child_bound
             total += mass * self.expected(child, child_weights, target, free, taken,
                                           (limit - total - rest) / mass + _EPS)
@@ -237,15 +224,16 @@ class ExactSearch:
         return total
 
     def actions(self, node: int, weights: Weights, at: int, free: int, taken: int,
-                budget: float = math.inf) -> tuple[list[Action], bool]:
+                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]], int, int, int]],
+                                                   bool]:
         """Every action from ``at`` that costs less than ``budget`` by itself, and whether
-        there is any action at all: (its expected cost now, its outcomes (:data:`Child`),
-        where the robot ends, tests taken after). A test is paid whatever comes of it; a
-        grasp only when it is wrong (the right one ends recognition, not counted), and
-        then, as a failed attempt, its move and ``feature_cost_s``: time plus side-effect
-        penalty."""
+        there is any action at all: (its expected cost now, its children as (node,
+        probability, their rows' probabilities), where the robot ends, free tests after,
+        tests taken after). A test is paid whatever comes of it; a grasp only when it
+        is wrong (the right one ends recognition, not counted), and then, as a failed
+        attempt, its move and ``feature_cost_s``: time plus side-effect penalty."""
         facts = self.facts(node)
-        found: list[Action] = []
+        found: list[tuple[float, list[tuple[int, float, Weights]], int, int, int]] = []
         some = False
         limit = budget - _EPS
         for b in self.branchings(node):
@@ -254,19 +242,20 @@ class ExactSearch:
                 continue
             some = True
             if free >> c & 1:  # re-used where the robot stands; the session records it there too
-                found.append((0.0, self._children(b, weights, free | self._frees(c, "feature", at)), at,
+                found.append((0.0, self._children(b, weights), at, free | self._frees(c, "feature", at),
                               taken | (1 << c)))
                 continue
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
-            shares = None
+            children = None
             for base, target in self._offers(c, at):
                 cost = paid * base
                 if cost >= limit:
                     break  # the offers are cheapest first
-                if shares is None:
-                    shares = self._shares(b, weights)
-                found.append((cost, self._outcomes(node, weights, b, free, target, shares), target, taken | (1 << c)))
+                if children is None:
+                    children = self._children(b, weights)
+                now_free = free if grasp else free | self._frees(c, "procedure", target)
+                found.append((cost, children, target, now_free, taken | (1 << c)))
         for grasp in facts.grasps:
             if not self.verifiable[grasp]:
                 continue  # "executing" it means moving on: the robot would never learn it was wrong
@@ -278,12 +267,13 @@ class ExactSearch:
                 some = True
                 cost = wrong * (move + self.failure_s[grasp])
                 if cost < limit:
-                    found.append((cost, [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k), free)],
-                                  target, taken))
+                    found.append((cost, [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k))],
+                                  target, free, taken))
         return found, some
 
-    def test_action(self, node: int, weights: Weights, b: _Branching, at: int, target: int, free: int,
-                    taken: int) -> Action | None:
+    def test_action(self, node: int, weights: Weights, b: _Branching, at: int, target: int, free: int, taken: int,
+                    children: list[tuple[int, float, Weights]] | None = None
+                    ) -> tuple[float, list[tuple[int, float, Weights]], int, int, int] | None:
         """A paid test made at ``target`` (None when no move gets there): a grasp tried as
         a feature is paid only when it fails (when it holds, the object's own grasp was
         executed); its branches are 0 and 1, in that order."""
@@ -293,49 +283,30 @@ class ExactSearch:
         if not math.isfinite(move):
             return None
         paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
-        return paid * (move + self.price[c]), self._outcomes(node, weights, b, free, target), target, taken | (1 << c)
-
-    def _outcomes(self, node: int, weights: Weights, b: _Branching, free: int, target: int,
-                  shares: list[tuple[int, float, Weights]] | None = None) -> list[Child]:
-        """What a paid test made at ``target`` leads to: a grasp's two branches; a sensing
-        test's branches, its procedure's features then free, each ``1 - lost`` as likely,
-        and with the chance ``lost`` the node again, nothing more free (the value was lost).
-        ``shares``: the branches' :meth:`_shares`, when already worked out."""
-        if shares is None:
-            shares = self._shares(b, weights)
-        if self.is_grasp[b.column]:
-            return [(child, mass, w, free) for child, mass, w in shares]
-        now_free = free | self._frees(b.column, "procedure", target)
-        if not self.lost:
-            return [(child, mass, w, now_free) for child, mass, w in shares]
-        kept = 1.0 - self.lost
-        return [(child, kept * mass, w, now_free) for child, mass, w in shares] + [(node, self.lost, weights, free)]
+        now_free = free if grasp else free | self._frees(c, "procedure", target)
+        if children is None:
+            children = self._children(b, weights)
+        return paid * (move + self.price[c]), children, target, now_free, taken | (1 << c)
 
     def branching(self, node: int, column: int) -> _Branching | None:
         """``column``'s split of the node, None when it does not split it."""
         return next((b for b in self.branchings(node) if b.column == column), None)
 
-    def _children(self, b: _Branching, weights: Weights, free: int) -> list[Child]:
-        """``b``'s branches as outcomes, ``free`` the tests free in each."""
-        return [(child, mass, w, free) for child, mass, w in self._shares(b, weights)]
-
-    @staticmethod
-    def _shares(b: _Branching, weights: Weights) -> list[tuple[int, float, Weights]]:
-        """Each branch of ``b`` the object may follow: its node, its probability, and its
-        rows' probabilities there."""
-        out = []
+    def _children(self, b: _Branching, weights: Weights) -> list[tuple[int, float, Weights]]:
+        children = []
         for child, members in zip(b.children, b.members):
             raw = [weights[i] * s for i, s in members]
             mass = sum(raw)
             if mass > _EPS:
-                out.append((child, mass, tuple(x / mass for x in raw)))
-        return out
+                children.append((child, mass, tuple(x / mass for x in raw)))
+        return children
 
-    def bounds_of(self, children: Sequence[Child], target: int, taken: int) -> list[float]:
+    def bounds_of(self, children: Sequence[tuple[int, float, Weights]], target: int, free: int,
+                  taken: int) -> list[float]:
         """A lower bound of each child's expected cost: what the memo knows of its state
         (exact, or a bound at least some budget) where it was searched, else :meth:`_bound`."""
         out = []
-        for child, _, child_weights, free in children:
+        for child, _, child_weights in children:
             facts = self.facts(child)
             if len(facts.grasps) < 2:
                 out.append(0.0)
@@ -533,16 +504,17 @@ class ExactSearch:
 
 
 def session_action(search: ExactSearch, node: int, weights: Weights, test: ScoredTest, at: int, free: int,
-                   taken: int) -> Action | None:
+                   taken: int) -> tuple[float, list[tuple[int, float, Weights]], int, int, int] | None:
     """``test`` as a session would take it at the search's ``node`` (from ``at``, to its
-    ``target``), as the search's action: (its expected cost now, its outcomes, where the
-    robot ends, taken tests after); None when it splits nothing or cannot be reached."""
+    ``target``), as the search's action: (its expected cost now, its children, where the
+    robot ends, free and taken tests after); None when it splits nothing or cannot be
+    reached."""
     column = search.matrix.column[test.test]
     b = search.branching(node, column)
     if b is None:
         return None
     if test.cost <= 0 and not test.test.is_grasp:  # a value already measured, re-used where the robot stands
-        return 0.0, search._children(b, weights, free | search._frees(column, "feature", at)), at, taken | (1 << column)
+        return 0.0, search._children(b, weights), at, free | search._frees(column, "feature", at), taken | (1 << column)
     return search.test_action(node, weights, b, at, search.place(test.target), free, taken)
 
 
@@ -559,16 +531,16 @@ def priced_all(search: ExactSearch, node: int, weights: Weights, tests: Sequence
     for i, test in enumerate(tests):
         action = session_action(search, node, weights, test, at, free, taken)
         if action is not None:
-            cost, children, target, now_taken = action
-            bounds = search.bounds_of(children, target, now_taken)
-            bounded.append((cost + sum(m * x for (_, m, _, _), x in zip(children, bounds)), i, action, bounds))
+            cost, children, target, now_free, now_taken = action
+            bounds = search.bounds_of(children, target, now_free, now_taken)
+            bounded.append((cost + sum(m * x for (_, m, _), x in zip(children, bounds)), i, action, bounds))
     bounded.sort(key=lambda a: (a[0], a[1]))
     best = math.inf
-    for bound, i, (cost, children, target, now_taken), bounds in bounded:
+    for bound, i, (cost, children, target, now_free, now_taken), bounds in bounded:
         if bound >= best - _EPS:
             prices[i] = (max(bound, best), False)
             continue
-        price = search.below(cost, children, bounds, target, now_taken, best)
+        price = search.below(cost, children, bounds, target, now_free, now_taken, best)
         prices[i] = (price, price < best)
         best = min(best, price)
     return prices

@@ -91,7 +91,7 @@ def session_search(ctx: Context) -> ExactSearch:
     session's copy of the estimator prices as the original does.)"""
     search = ctx.scratch.get("exact")
     if not isinstance(search, ExactSearch) or search.matrix is not ctx.matrix:
-        search = ctx.scratch["exact"] = ExactSearch(ctx.matrix, ctx.estimator, ctx, lost=ctx.criterion.setting("lost"))
+        search = ctx.scratch["exact"] = ExactSearch(ctx.matrix, ctx.estimator, ctx)
     return search
 
 
