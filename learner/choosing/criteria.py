@@ -242,13 +242,14 @@ _CS_ID3 = CriterionSpec("cs-id3", "I^2 / C", "CSL's, Tan & Schlimmer 1991", True
 _IDX = CriterionSpec("idx", "I / C", "Norton 1989", True, _idx)
 _FAILURE_PRICED = with_grasp_paid_on_failure(_CS_ID3)
 
-DEFAULT_CRITERION = "cs-id3-failure-exact"
-"""The executive's rule: the exact search where few descriptions remain, the walk
-rollout above. At 1.000 of the noise-free optimum from every start measured, and on the
-noisy floors no dearer than ``cs-id3-failure`` (the default before it) with the camera's
-appearance or without (paired over the same floors; docs/optimum.md, "Under noise,
-measured"). ``cs-id3-failure`` stays offered, the one-step rule at a fraction of the
-computation."""
+DEFAULT_CRITERION = "cs-id3-failure"
+"""The executive's rule. Cheaper under noise than ``cs-id3`` (docs/optimum.md, "Under
+noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
+this takes milliseconds per object, beyond the learner's decision-time goals, so it is
+opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
+the optimum noise-free and is no dearer than this rule on noisy floors, but whose walk
+rollout above the exact search takes 100 ms and more a decision on libraries of
+thousands of descriptions (docs/optimum.md, "Under noise, measured")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
@@ -267,9 +268,9 @@ CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     )
 })
 """The criteria the product offers, by name, in the order help lists them: the paper's
-baselines, the rollouts of CSL's rule and Norton's, the failure-priced rule, its walk
+baselines, the rollouts of CSL's rule and Norton's, the default, the default's walk
 search with carried rows deciding leaves, and its exact search where few descriptions
-remain, the default (docs/optimum.md, "Which criteria the product offers", says why these).
+remain (docs/optimum.md, "Which criteria the product offers", says why these).
 Iterating it gives the names, so it also serves as argparse ``choices``. The other forms
 the builders above make are the experiments' to measure."""
 

@@ -11,10 +11,6 @@ from learner.choosing.criteria import criterion
 from tests.executive.scenarios import NOISE, NOISY_SONAR, tumbler_story_library
 
 PAPER = criterion("cs-id3")  # the paper's rule, for the stories the paper tells
-# The one-step rule the other stories were found with (the default until 2026-11-29): each
-# story pins a control strategy on the choices it makes; the exact search (the default
-# since) chooses otherwise on these floors, e.g. it tries Front-Pinch as a feature on the cup.
-ONE_STEP = criterion("cs-id3-failure")
 # The paper's robot sensed with the arm only: each story pins one control strategy on the
 # sensing it takes, so the camera's appearance (on by default) is off here.
 ARM_ONLY = Params(use_appearance=False)
@@ -26,7 +22,7 @@ def test_tree_shape(csl_snapshot) -> None:  # noqa: ANN001
 
 def _one_object(csl_scenario: ScenarioFactory, entry: str, seed: int, params: Params = ARM_ONLY,
                 noise: NoiseConfig = NOISE) -> ScenarioResult:
-    result = csl_scenario.one_object(entry, seed=seed, params=params, noise=noise, criterion=ONE_STEP).run()
+    result = csl_scenario.one_object(entry, seed=seed, params=params, noise=noise).run()
     assert result.status == "SUCCESS"
     return result
 

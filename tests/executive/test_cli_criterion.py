@@ -60,7 +60,7 @@ def test_parsed_options_build_the_criterion() -> None:
     parser = argparse.ArgumentParser()
     add_criterion_options(parser)
     default = criterion_from_args(parser.parse_args([]))
-    assert default.name == "cs-id3-failure-exact" and default.score(1.0, 10.0) == pytest.approx(0.1)  # 1^2 / 10
+    assert default.name == "cs-id3-failure" and default.score(1.0, 10.0) == pytest.approx(0.1)  # 1^2 / 10
     assert criterion_from_args(parser.parse_args(["--criterion", "eg2"])).score(1.0, 10.0) == pytest.approx(1 / 11)
     w0 = criterion_from_args(parser.parse_args(["--criterion", "eg2", "--eg2-w", "0"]))
     assert w0.name == "eg2" and w0.score(1.0, 10.0) == pytest.approx(1.0)

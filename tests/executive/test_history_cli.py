@@ -15,7 +15,6 @@ from csl_cli.main import main
 from executive.episode_log import read_log
 from reporting.history import Run, append_run, default_history, read_history, wrong_grasps
 from learner.library.store import LibraryStore
-from learner.choosing.criteria import DEFAULT_CRITERION
 
 
 def _run(**changes: object) -> Run:
@@ -36,7 +35,7 @@ def test_a_run_appends_its_row(tmp_path: Path, capsys: pytest.CaptureFixture[str
     with LibraryStore(library) as store:
         size = len(store.descriptions())
     assert dataclasses.replace(row, date="", robot_min_per_object=None) == Run(
-        date="", command="run", robot="r1", world="lab", seed=0, criterion=DEFAULT_CRITERION, objects=7, handled=2,
+        date="", command="run", robot="r1", world="lab", seed=0, criterion="cs-id3-failure", objects=7, handled=2,
         failed=5, errors=wrong_grasps(read_log(tmp_path / "out" / "episode.jsonl")), robot_min_per_object=None,
         library_size=size, library=str(library.resolve()))
     assert row.robot_min_per_object == pytest.approx(sum(o["robot_s"] for o in doc["objects"]) / 60 / 7)
@@ -47,7 +46,7 @@ def test_a_run_appends_its_row(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert lines[1].split() == ["#", "date", "cmd", "world", "seed", "criterion", "obj", "done", "fail", "err", "min",
                                 "lib"]
     day, time = row.date[:10], row.date[11:16]
-    assert lines[2].split() == ["1", day, time, "run", "lab", "0", DEFAULT_CRITERION, "7", "2", "5", str(row.errors),
+    assert lines[2].split() == ["1", day, time, "run", "lab", "0", "cs-id3-failure", "7", "2", "5", str(row.errors),
                                 f"{row.robot_min_per_object:.1f}", str(size)]
 
 

@@ -26,7 +26,6 @@ from executive.executive import Executive
 from experiments.study_grasp_costs import slowed
 from executive.grasp_attempts import attempt_costs
 from hero_driver.sim_driver import SimulatedHero
-from learner.choosing.criteria import Criterion, criterion
 from learner.choosing.matrix import Test as Column
 from learner.choosing.node import procedure_cost
 from learner.costs import GraspCostRecord
@@ -38,12 +37,11 @@ FILE = load_profile()
 WRAP_AS_FEATURE = Column("Front-Wrap", None, "Front-Wrap", is_grasp=True)  # type: ignore[arg-type]
 
 
-def episode(learner: LocalLearner, world: str | Path, seed: int, truth: RobotProfile, params: Params,
-            chosen: Criterion | None = None) -> Executive:
+def episode(learner: LocalLearner, world: str | Path, seed: int, truth: RobotProfile, params: Params) -> Executive:
     """One episode as ``csl run --driver sim`` wires it: the learner priced by the file's
-    profile, the simulator by ``truth``; ``chosen``: the criterion (None: the default)."""
+    profile, the simulator by ``truth``."""
     hero = SimulatedHero("r1", world=world, seed=seed, profile=truth)
-    executive = Executive(hero, learner, profile=FILE, params=params, criterion=chosen)
+    executive = Executive(hero, learner, profile=FILE, params=params)
     try:
         executive.run()
     finally:
@@ -66,7 +64,7 @@ def test_the_second_episode_prices_the_slow_wrap_by_what_it_cost_in_the_first(tm
     # stream: off, to stay it (docs/executive.md, "Verifying the robot")
     on = Params(use_appearance=False, verify_grasps=False)
     with LocalLearner(tmp_path / "library.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
-        first = episode(learner, "lab", 0, truth, on, criterion("cs-id3-failure"))  # the rule the story was worked with
+        first = episode(learner, "lab", 0, truth, on)
         wraps = [(a.object, a.success, a.seconds) for a in attempt_costs(first.log.events) if a.grasp == "Front-Wrap"]
         # the first object: 240 s each, two also voiding 45 s of sensing; object 2 held by
         # it; objects 3 and 4 try it twice each, nothing voided
@@ -116,13 +114,12 @@ def floor(tmp_path: Path, events: list[dict[str, object]]) -> Path:
 
 def test_a_disturbed_objects_grasps_are_not_recorded(tmp_path: Path) -> None:
     on = Params(use_appearance=False)  # the default: learned costs on  # the grasps the arm-only story tries
-    one_step = criterion("cs-id3-failure")  # the rule the story was worked with (the exact search tries others)
     with LocalLearner(tmp_path / "calm.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
-        episode(learner, floor(tmp_path, []), 0, FILE, on, one_step)
+        episode(learner, floor(tmp_path, []), 0, FILE, on)
         assert learner.grasp_costs() == [GraspCostRecord("Front-Wrap", 1, 60.0, 0, 0.0)]  # the bottle's hold
     nudge = {"at_step": 2, "object": 0, "do": "nudge", "dx_in": -6, "dy_in": 8, "dyaw_deg": 0}
     with LocalLearner(tmp_path / "nudged.sqlite", load_library(defaults.EXAMPLE_LIBRARY)) as learner:
-        executive = episode(learner, floor(tmp_path, [nudge]), 0, FILE, on, one_step)
+        executive = episode(learner, floor(tmp_path, [nudge]), 0, FILE, on)
         attempts = attempt_costs(executive.log.events)
         assert [(a.object, a.grasp, a.success) for a in attempts] == [
             (0, "Front-Wrap", True), (1, "Front-Pinch", False), (1, "Top-Pinch", False)]

@@ -35,7 +35,6 @@ from hero_driver.sim_driver import SimulatedHero
 from hero_driver.zenoh_link.client import ZenohDriver
 from hero_driver.zenoh_link.node import DriverNode
 from hero_driver.zenoh_link.verbs import Verb
-from learner.choosing.criteria import Criterion, criterion
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from robot_profile import load_profile
@@ -137,12 +136,11 @@ class NoEchoAsMinusOne(SimulatedHero):
         return _then(super().sense(procedure), lambda r: replace(r, values={k: -1.0 for k in r.values}))
 
 
-def _episode(driver: Any, folder: Path, params: Params = Params(), chosen: Criterion | None = None
-             ) -> tuple[int, str, list[str], list[dict[str, Any]], list[Any]]:
-    """The lab played to the end with ``driver``: exit status, why, closing lines, events,
-    records; ``chosen``: the criterion (None: the default)."""
+def _episode(driver: Any, folder: Path, params: Params = Params()) -> tuple[int, str, list[str],
+                                                                         list[dict[str, Any]], list[Any]]:
+    """The lab played to the end with ``driver``: exit status, why, closing lines, events, records."""
     learner = LocalLearner(folder / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
-    executive = Executive(driver, learner, profile=PROFILE, params=params, criterion=chosen)
+    executive = Executive(driver, learner, profile=PROFILE, params=params)
     try:
         result = executive.run()
     finally:
@@ -218,11 +216,8 @@ def test_durations_in_milliseconds_are_left_out_of_the_learned_grasp_costs(tmp_p
 
 
 def test_a_deaf_sonar_writing_minus_one_is_implausible_and_never_followed(tmp_path: Path) -> None:
-    # the lab's objects are told apart by the camera alone; without it the robot sweeps them.
-    # The one-step rule: the exact search's path reaches Discriminate, which records its
-    # sweep's -1 unchecked, and a later test re-uses it as a measured value ("unreliable")
-    status, _, lines, events, records = _episode(NoEchoAsMinusOne("r1", world="lab"), tmp_path, ARM_ONLY,
-                                                 criterion("cs-id3-failure"))
+    # the lab's objects are told apart by the camera alone; without it the robot sweeps them
+    status, _, lines, events, records = _episode(NoEchoAsMinusOne("r1", world="lab"), tmp_path, ARM_ONLY)
     implausible = _kinds(events, "implausible")
     sensed = _kinds(events, "sense")
     assert sensed and len(implausible) == len(sensed)  # each sweep yields one feature, each -1

@@ -34,14 +34,13 @@ HAND_WORKED = [
 PRODUCT = ["cs-id3", "id3", "id3-cost-ties", "idx", "eg2", "cs-id3-rollout", "idx-rollout", "cs-id3-failure",
            "cs-id3-failure-search-every-row", "cs-id3-failure-exact"]
 """The paper's baselines, the rollouts (cheapest robot time in the execution study), the
-failure-priced rule, its walk search and its exact search, the default (docs/optimum.md,
-"Which criteria the product offers")."""
+default and its opt-in (docs/optimum.md, "Which criteria the product offers")."""
 
 
 def test_every_entry_is_hand_worked_and_documented() -> None:
     assert list(CRITERIA) == PRODUCT
     assert {name for name, *_ in HAND_WORKED} == set(CRITERIA)
-    assert DEFAULT_CRITERION == "cs-id3-failure-exact" and DEFAULT_CRITERION in CRITERIA  # chosen from the noisy data
+    assert DEFAULT_CRITERION == "cs-id3-failure" and DEFAULT_CRITERION in CRITERIA  # chosen from the noisy data
     for name, spec in CRITERIA.items():
         assert spec.name == name and spec.formula and spec.help and "\n" not in spec.help
         assert all(p.help and p.check(p.default) == p.default for p in spec.parameters)
@@ -109,13 +108,11 @@ def test_each_builder_adds_its_traits_and_no_other() -> None:
     built = with_lookahead(CRITERIA["eg2"]).build(w=2.0)
     assert (built.joint_gain, built.lookahead, built.cost_blind_choices) == (True, True, False)
     assert built.score(2.0, 3.0) == pytest.approx(3 / 16)  # eg2's w reaches its refined forms
-    one_step = criterion("cs-id3-failure")
-    # cs-id3-failure is cs-id3's formula with grasps tried as features priced by their failure share, and nothing else
-    assert one_step.grasp_paid_on_failure and one_step.cost_sensitive
-    assert not (one_step.cost_blind_choices or one_step.joint_gain or one_step.lookahead or one_step.rollout
-                or one_step.rollout_follows_walk or one_step.leaf_every_row or one_step.exact_search)
-    # the default is its exact search (with the walk rollout above), nothing else
-    assert CRITERIA[DEFAULT_CRITERION] == with_exact_search(priced)
+    default = criterion(DEFAULT_CRITERION)
+    # the default is cs-id3's formula with grasps tried as features priced by their failure share, and nothing else
+    assert default.grasp_paid_on_failure and default.cost_sensitive
+    assert not (default.cost_blind_choices or default.joint_gain or default.lookahead or default.rollout
+                or default.rollout_follows_walk or default.leaf_every_row)
 
 
 def test_a_free_test_beats_every_paid_one() -> None:

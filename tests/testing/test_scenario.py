@@ -41,8 +41,7 @@ def test_every_input_reaches_the_episode(tmp_path: Path) -> None:
     known = read_library_json(EXAMPLE_LIBRARY)
     result = Scenario(objects=[("cup-8oz/upright", 110, 80, 20)], seed=5, noise="clean", library=known,
                       driver=recording_driver, robot="r7", max_ticks=2, store=store,
-                      params=Params(use_appearance=False),
-                      criterion="cs-id3-failure").run()  # arm only, the one-step rule: three ticks, so two stop it
+                      params=Params(use_appearance=False)).run()  # arm only: three ticks, so two stop it
     assert [(r, o, s, n.outlier_p) for r, o, s, n in calls] == [
         ("r7", (Placement("cup-8oz/upright", 110.0, 80.0, 20.0),), 5, 0.0)]
     with pytest.raises(DriverError, match="closed"):
