@@ -148,8 +148,8 @@ def _noisy_table(noise: str, seen: bool, seeds: list[int], names: list[str], spe
 
 def _seeds(text: str) -> list[int]:
     """``--noisy``: a count N (seeds 0..N-1), or a range A-B, inclusive."""
-    first, _, last = text.partition("-")
-    if not first.isdigit() or (last and not last.isdigit()):
+    first, dash, last = text.partition("-")
+    if not first.isdigit() or (dash and not last.isdigit()):
         raise argparse.ArgumentTypeError(f"expected a count N or a range A-B of seeds, got {text!r}")
     seeds = list(range(int(first), int(last) + 1)) if last else list(range(int(first)))
     if last and int(last) < int(first):
