@@ -10,12 +10,16 @@ the CPU time of every decision of the timed criteria, each description's session
 deciding alone: the first decision of a session (where a search its later decisions
 share is paid) and the later ones, max and median over every start.
 
-With ``--noisy SEEDS`` it also runs the experiment's execution episodes (the unseen test
-objects, the ``paper`` noise preset, strategies on, the library trained in the
-simulator as ``csl experiment paper`` trains it) for cs-id3 against the failure-priced
-rules, seeds 0..SEEDS-1, and prints mean cost per object and success per criterion.
+With ``--noisy SEEDS`` (a count, or a range A-B) it also runs the experiment's execution
+episodes (the unseen test objects, strategies on, the library trained in the simulator
+as ``csl experiment paper`` trains it) for ``--noisy-criteria`` (default cs-id3 and the
+failure-priced rules) on the same floors, under each ``--noise`` (default ``paper``) with
+the camera's appearance ``--appearance`` on, off or both, and prints per criterion the
+robot minutes per object (sensing, moving, grasping), success, grasps tried as features,
+and the paired difference per seed from the first criterion (mean ± standard error).
 
-    python bench/bench_optimum.py [--synthetic 12] [--seed 0] [--noisy 0] [--jobs 1] [--only-noisy]
+    python bench/bench_optimum.py [--synthetic 12] [--seed 0] [--noisy SEEDS] [--noise NAMES]
+                                  [--appearance on|off|both] [--noisy-criteria NAMES] [--jobs 1] [--only-noisy]
                                   [--study-starts] [--criteria NAMES] [--timed NAMES] [--libraries NAMES]
 """
 
@@ -26,6 +30,7 @@ import statistics
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -39,6 +44,10 @@ from learner.library.format import read_library_json  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
 from learner.optimum import decision_times, optimal_cost, policy_walk  # noqa: E402
 from learner.position import Position  # noqa: E402
+from experiments.conditions import noise_names  # noqa: E402
+
+if TYPE_CHECKING:
+    from experiments.episodes import EpisodeSpec, Results
 
 NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search", "cs-id3-failure-exact",
                   "cs-id3-failure-search-every-row")
@@ -80,9 +89,12 @@ def _ms(seconds: list[float]) -> str:
     return f"{max(seconds) * 1000:.0f} / {statistics.median(seconds) * 1000:.1f}" if seconds else "none"
 
 
-def noisy(seeds: int, jobs: int) -> None:
-    """cs-id3 against the failure-priced rules in the experiment's noisy execution episodes."""
-    from experiments.conditions import EXECUTION_NOISE
+def noisy(seeds: list[int], jobs: int, names: list[str], noises: list[str], appearances: list[bool]) -> None:
+    """``names`` in the experiment's execution episodes (the unseen test objects, the
+    strategies on, the library trained as ``csl experiment paper`` trains it), on the same
+    floors for every criterion, per noise and camera condition: where each spends its
+    robot time, and its paired difference from the first of ``names``."""
+    from experiments.conditions import Control
     from experiments.episodes import EpisodeSpec
     from experiments.worker import install_worker
     from experiments.study import perform
@@ -92,42 +104,72 @@ def noisy(seeds: int, jobs: int) -> None:
 
     profile = load_profile()
     trained = run_training(profile)
-    specs = [EpisodeSpec("noisy", name, seed, criterion=name, noise=EXECUTION_NOISE)
-             for name in NOISY_CRITERIA for seed in range(seeds)]
-    results = run_all(specs, perform, workers=jobs, group=lambda spec: spec.variant, initializer=install_worker,
+    specs = [EpisodeSpec("noisy", f"{name}, {noise}, appearance {'on' if seen else 'off'}", seed, criterion=name,
+                         noise=noise, control=Control(appearance=seen))
+             for noise in noises for seen in appearances for name in names for seed in seeds]
+    results = run_all(specs, perform, workers=jobs, group=lambda spec: spec.criterion, initializer=install_worker,
                       initargs=({"trained": trained.descriptions}, profile))
-    print(f"\nnoisy execution ({EXECUTION_NOISE} preset, test objects, {seeds} seeds, "
-          f"{len(trained.descriptions)} trained descriptions)")
-    print("| criterion | objects | success | mean cost per object, min | against cs-id3 per seed, min "
-          "(mean ± sd) | seeds cheaper / dearer | seeds more / fewer successes |")
-    print("|---|---|---|---|---|---|---|")
+    for noise in noises:
+        for seen in appearances:
+            mine = [spec for spec in specs if spec.noise == noise and spec.control.appearance == seen]
+            _noisy_table(noise, seen, seeds, names, mine, results, len(trained.descriptions))
 
-    def per_seed(name: str) -> list[tuple[float, int]]:
-        """(mean minutes per object, successes) of each seed, in seed order: the same floors
-        for every criterion, so seeds pair up."""
-        return [(statistics.fmean(r.robot_s for r in results[spec]) / 60, sum(r.success for r in results[spec]))
-                for spec in specs if spec.criterion == name]
 
-    base = per_seed(NOISY_CRITERIA[0])
-    for name in NOISY_CRITERIA:
+def _noisy_table(noise: str, seen: bool, seeds: list[int], names: list[str], specs: list[EpisodeSpec],
+                 results: Results, trained: int) -> None:
+    print(f"\nnoisy execution ({noise} noise, camera appearance {'on' if seen else 'off'}, test objects, "
+          f"{len(seeds)} seeds {seeds[0]}-{seeds[-1]}, {trained} trained descriptions; minutes per object; "
+          f"against {names[0]}: the paired difference per seed, mean ± standard error)")
+    print("| criterion | objects | success | robot | sensing | moving | grasping | grasps as features (failed) | "
+          f"against {names[0]} | seeds cheaper / dearer |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+
+    def per_seed(name: str) -> list[float]:
+        """Mean robot minutes per object of each seed, in seed order: the same floors for
+        every criterion, so seeds pair up."""
+        return [statistics.fmean(r.robot_s for r in results[spec]) / 60 for spec in specs if spec.criterion == name]
+
+    base = per_seed(names[0])
+    for name in names:
         rows = [row for spec in specs if spec.criterion == name for row in results[spec]]
-        mine = per_seed(name)
-        diff = [m - b for (m, _), (b, _) in zip(mine, base)]
-        spread = statistics.stdev(diff) if len(diff) > 1 else 0.0
+        diff = [m - b for m, b in zip(per_seed(name), base)]
+        error = statistics.stdev(diff) / len(diff) ** 0.5 if len(diff) > 1 else float("nan")
         cheaper, dearer = sum(d < -1e-9 for d in diff), sum(d > 1e-9 for d in diff)
-        more = sum(m > b for (_, m), (_, b) in zip(mine, base))
-        fewer = sum(m < b for (_, m), (_, b) in zip(mine, base))
-        print(f"| {name} | {len(rows)} | {sum(r.success for r in rows) / len(rows):.1%} | "
-              f"{statistics.fmean(r.robot_s for r in rows) / 60:.2f} | {statistics.fmean(diff):+.2f} ± {spread:.2f} | "
-              f"{cheaper} / {dearer} | {more} / {fewer} |")
+
+        def minutes(field: str) -> str:
+            return f"{statistics.fmean(getattr(r, field) for r in rows) / 60:.2f}"
+
+        print(f"| {name} | {len(rows)} | {statistics.fmean(r.success for r in rows):.1%} | {minutes('robot_s')} | "
+              f"{minutes('sensing_s')} | {minutes('moving_s')} | {minutes('grasping_s')} | "
+              f"{statistics.fmean(r.grasps_as_features for r in rows):.2f} "
+              f"({statistics.fmean(r.failed_features for r in rows):.2f}) | "
+              f"{statistics.fmean(diff):+.2f} ± {error:.2f} | {cheaper} / {dearer} |")
+
+
+def _seeds(text: str) -> list[int]:
+    """``--noisy``: a count N (seeds 0..N-1), or a range A-B, inclusive."""
+    first, dash, last = text.partition("-")
+    if not first.isdigit() or (dash and not last.isdigit()):
+        raise argparse.ArgumentTypeError(f"expected a count N or a range A-B of seeds, got {text!r}")
+    seeds = list(range(int(first), int(last) + 1)) if last else list(range(int(first)))
+    if last and int(last) < int(first):
+        raise argparse.ArgumentTypeError(f"the range {text!r} is empty")
+    return seeds
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--synthetic", type=int, default=12, help="descriptions in the synthetic library (default 12)")
     ap.add_argument("--seed", type=int, default=0, help="seed of the synthetic library and of random ties")
-    ap.add_argument("--noisy", type=int, default=0, metavar="SEEDS",
-                    help="also run noisy execution episodes over this many seeds (default 0: none)")
+    ap.add_argument("--noisy", type=_seeds, default=[], metavar="SEEDS",
+                    help="also run noisy execution episodes over this many seeds, or the seeds A-B (default: none)")
+    ap.add_argument("--noise", default="paper", metavar="NAMES",
+                    help="the noisy episodes' noise, comma-separated (default paper; e.g. clean,paper)")
+    ap.add_argument("--appearance", choices=("on", "off", "both"), default="on",
+                    help="the noisy episodes' camera appearance: on (our defaults), off (the paper's conditions)")
+    ap.add_argument("--noisy-criteria", default=",".join(NOISY_CRITERIA), metavar="NAMES",
+                    help="the criteria of the noisy episodes, the first the others are paired against "
+                         f"(default {','.join(NOISY_CRITERIA)})")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes for the noisy episodes (default 1)")
     ap.add_argument("--only-noisy", action="store_true", help="skip the optimum tables")
     ap.add_argument("--study-starts", action="store_true",
@@ -139,18 +181,25 @@ def main() -> None:
     ap.add_argument("--libraries", default="shipped,synthetic", metavar="NAMES",
                     help="shipped, synthetic or both (default both)")
     args = ap.parse_args()
-    if args.noisy < 0 or args.jobs < 1:
-        ap.error("--noisy must be >= 0 and --jobs >= 1")
+    if args.jobs < 1:
+        ap.error("--jobs must be >= 1")
     names = [n for n in args.criteria.split(",") if n]
     timed = [n for n in args.timed.split(",") if n]
-    unknown = sorted(set(names + timed) - set(MEASURED))
+    noisy_names = [n for n in args.noisy_criteria.split(",") if n]
+    unknown = sorted(set(names + timed + noisy_names) - set(MEASURED))
     if unknown:
         ap.error(f"unknown criterion {', '.join(unknown)} (choose from: {', '.join(MEASURED)})")
     libraries = [n for n in args.libraries.split(",") if n]
     if not libraries or set(libraries) - {"shipped", "synthetic"}:
         ap.error(f"--libraries takes shipped and/or synthetic, got {args.libraries!r}")
+    noises = [n for n in args.noise.split(",") if n]
+    if not noises or set(noises) - set(noise_names()):
+        ap.error(f"--noise takes names from {', '.join(noise_names())}, got {args.noise!r}")
     if args.noisy:
-        noisy(args.noisy, args.jobs)
+        if not noisy_names:
+            ap.error("--noisy-criteria names no criterion")
+        appearances = {"on": [True], "off": [False], "both": [True, False]}[args.appearance]
+        noisy(args.noisy, args.jobs, noisy_names, noises, appearances)
     if args.only_noisy:
         return
     knowledge = load_knowledge(KNOWLEDGE)

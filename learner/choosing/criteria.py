@@ -247,8 +247,9 @@ DEFAULT_CRITERION = "cs-id3-failure"
 noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
 opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
-the optimum noise-free but costs more than this rule on a noisy floor with the camera's
-appearance on (docs/optimum.md, "Exact below, rollout above")."""
+the optimum noise-free and is no dearer than this rule on noisy floors, but whose walk
+rollout above the exact search takes 100 ms and more a decision on libraries of
+thousands of descriptions (docs/optimum.md, "Under noise, measured")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (
