@@ -248,7 +248,7 @@ noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds 
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
 opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
 the optimum noise-free and is no dearer than this rule on noisy floors, but whose walk
-rollout above the exact search takes 100 ms and more a decision on libraries of
+rollout above the exact search is past the learner's decision-time goals on libraries of
 thousands of descriptions (docs/optimum.md, "Under noise, measured")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
