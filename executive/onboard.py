@@ -34,7 +34,10 @@ the object pushed or changed. Each look also fits every region to the returns of
 scan near it (:func:`mapping.scene.refit`), so a push shows as the region moved, its
 size kept, as the camera would see it. A place the latest scan looks through is not there now,
 whatever the map still holds (:func:`mapping.scene.seen_through`): the object was
-taken or moved, and the checks see it so.
+taken or moved, and the checks see it so. When the scan still sees the candidate
+itself, only not where its kept region lies (a failed grasp knocked it over, or it
+rolled), the region is outlined anew from that scan on and settles again: a kept
+region left in place would have made a knocked-over object read as gone.
 
 The matcher must see each scan in the driver's own frame (it applies the odometry's
 step between scans to its last corrected pose), so the perception scans through the
@@ -45,6 +48,7 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import Future
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -129,6 +133,7 @@ class OnboardPerception:
         self.poses: list[tuple[float, Pose, Pose]] = []  # (clock, reported, corrected) of each scan
         self._views: list[_View] = []
         self._regions: dict[int, tuple[int, Region]] = {}  # candidate id -> (times seen, its region)
+        self._since: dict[int, tuple[float, int]] = {}  # candidate id -> (clock, times seen) its outline starts at
         self._refused: list[Pose] = []
         self._goal: Pose | None = None  # the view being driven to
         self._candidates: tuple[Candidate, ...] = ()  # those the latest scan's reading kept
@@ -203,7 +208,14 @@ class OnboardPerception:
         for candidate in self._candidates:
             region = self._region(candidate)
             if seen_through(region, scan, pose):
-                continue  # the map is slow to forget: not there now
+                if candidate.last_seen_s < scan.stamp_s:
+                    continue  # the map is slow to forget: not there now
+                # still seen, but not where its kept region is (knocked over, rolled): outlined anew from now on
+                self._since[candidate.id] = (scan.stamp_s, candidate.times_seen - 1)
+                self._regions.pop(candidate.id, None)
+                region = self._region(candidate)
+                if seen_through(region, scan, pose):
+                    continue
             moved = refit(region, loose)
             if moved is not region:  # pushed: it stays where the scan saw it
                 self._regions[candidate.id] = (self._regions[candidate.id][0], moved)
@@ -213,16 +225,39 @@ class OnboardPerception:
 
     def _region(self, candidate: Candidate) -> Region:
         """The candidate's region, outlined again only when it was seen again, and no more
-        once it was seen ``settled_seen`` times (the module docstring)."""
+        once it was seen ``settled_seen`` times (the module docstring); from the scans
+        since it was last found changed (:meth:`_read`), when it was."""
         kept = self._regions.get(candidate.id)
-        if kept is not None and (kept[0] == candidate.times_seen or kept[0] >= self.settings.settled_seen):
+        since_s, seen_before = self._since.get(candidate.id, (-math.inf, 0))
+        if kept is not None and (kept[0] == candidate.times_seen
+                                 or kept[0] - seen_before >= self.settings.settled_seen):
             return kept[1]
         s = self.settings
         centre = np.array([candidate.x_in, candidate.y_in])
         near = [v for v in self._views
-                if math.hypot(v.pose.x_in - centre[0], v.pose.y_in - centre[1]) <= s.outline_reach_in
+                if v.scan.stamp_s >= since_s
+                and math.hypot(v.pose.x_in - centre[0], v.pose.y_in - centre[1]) <= s.outline_reach_in
                 and len(v.returns) and float(np.min(np.hypot(*(v.returns - centre).T))) <= 12.0]
         views = [(v.scan, v.pose) for v in near[-s.outline_views:]]
+        if candidate.id in self._since:
+            candidate = self._seen_since(candidate, near)
         region = candidate_region(candidate, views, self.finder.settings.range_sigma_in)
         self._regions[candidate.id] = (candidate.times_seen, region)
         return region
+
+    def _seen_since(self, candidate: Candidate, views: list[_View]) -> Candidate:
+        """``candidate`` as ``views`` (those since it changed) see it: its returns in them
+        off the home's structure, within an object's reach of it, for the outline to fall
+        back on when the few views since do not fit one (the track's own outline holds the
+        returns from before the change as well)."""
+        if not views:
+            return candidate
+        points = np.concatenate([v.returns for v in views])
+        points = points[np.hypot(*(points - (candidate.x_in, candidate.y_in)).T) <= self.finder.settings.max_extent_in]
+        if len(points) and len(self.finder.structure):
+            points = points[~self.finder.structure.within(points)]
+        if len(points) < self.finder.settings.min_outline_points:
+            return candidate
+        x, y = points.mean(axis=0)
+        return dataclasses.replace(candidate, x_in=float(x), y_in=float(y),
+                                   outline=tuple((float(a), float(b)) for a, b in points))
