@@ -1,7 +1,7 @@
 """Study: without a ceiling camera — whole onboard episodes in the simulated homes,
 measured against the simulator's truth, beside the ceiling-camera lab.
 
-The paper's closing step (issue 35): the robot maps a home it has never seen from its
+The paper's closing step: the robot maps a home it has never seen from its
 own range scans, finds the objects in it, and handles each by CSL as in the lab. Each
 job is one whole episode (``Executive(..., perception="onboard")``) in a home under one
 noise preset and seed, measured by :mod:`experiments.onboard_truth`: objects present,
@@ -15,7 +15,7 @@ example library (``executive.defaults.EXAMPLE_LIBRARY``, as ``csl demo`` does), 
 from the run's training, so the homes' objects meet the library they would out of the
 box.
 
-Then issue 35's goals under ``paper``, per home, each met or not (never left out): at
+Then the goals under ``paper``, per home, each met or not (never left out): at
 least 95 % of the objects present found, at least 95 % of those handled right, robot
 time per object present at most 1.5x the lab's, surface IoU at least 0.9.
 
@@ -288,7 +288,7 @@ def _g(value: float) -> str:
 
 @dataclass(frozen=True)
 class Goal:
-    """One of issue 35's goals for one home under :data:`GOAL_PRESET`."""
+    """One of the goals for one home under :data:`GOAL_PRESET`."""
 
     home: str
     what: str
@@ -350,7 +350,7 @@ def summarise(results: Mapping[OnboardJob, Episode], homes: Sequence[str], prese
     its robot needed the ceiling camera), the table (one row per home and preset) and the
     map drawn."""
     rows = pooled(results, homes, presets)
-    goal_rows = tuple(ResultRow(f"{g.home} under {GOAL_PRESET}: {g.what} (issue 35's goal: {g.target})", "-",
+    goal_rows = tuple(ResultRow(f"{g.home} under {GOAL_PRESET}: {g.what} (goal: {g.target})", "-",
                                 f"{g.shown}: {'met' if g.met else 'NOT met'}"
                                 + (" (1 seed: a smoke value)" if g.seeds == 1 else "")) for g in goals(rows))
     drawn = tuple(e.drawn for e in results.values() if e.drawn is not None)
