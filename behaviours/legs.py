@@ -16,6 +16,11 @@ The rest is the plan's own waypoints in the map's frame: the path was planned cl
 obstacles there, and a correction of a few inches moves only the start of the next
 leg. (Re-planning after each look would cost a plan's computation per leg for little.)
 The robot time of the looks between legs is the move's: they are how it is driven.
+
+A perception that measures what lies straight ahead (the onboard scan) also checks the
+end of a move to an object's position: one look, and the difference between the
+distance it measures and the position's driven straight on or back
+(:class:`LeggedMove`).
 """
 
 from __future__ import annotations
