@@ -5,8 +5,8 @@ in-process simulator: the exploration branch maps the home from the robot's own 
 then every candidate found is handled by CSL as in the lab. Measured per episode:
 
 - objects present; found: true objects with an object record whose first region's
-  centroid lies within :data:`FOUND_WITHIN_IN` of the object's centre (the record is
-  matched to the truth nearest it, ``reporting.report.match_truth``, as every report of
+  centroid lies within ``reporting.report.FOUND_WITHIN_IN`` of the object's centre
+  (``found_truth``: the record is matched to the truth nearest it, ``reporting.report.match_truth``, as every report of
   the project does); handled right: found objects whose record the report judges
   correct (``reporting.report.rows``); false: records matching no object (nearer than
   the tolerance to none) or a second record of an object already found;

@@ -20,7 +20,6 @@ so that the ceiling camera's path reads as it did:
 from __future__ import annotations
 
 import argparse
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,17 +30,13 @@ from csl_cli.args import CEILING, ONBOARD
 from executive.executive import Executive
 from executive.exit_status import ALL_HANDLED, SOME_FAILED
 from hero_driver.interface import NO_CAMERA, VERB_BY_NAME, Driver, DriverError, Scanner
-from reporting.report import Truth, match_truth
+from reporting.report import Truth, found_truth
 
 SCAN_FEATURE = VERB_BY_NAME["scan"].feature
 """The driver protocol's optional feature that brings the ``scan`` verb."""
 CAMERA_OPTIONS = (("appearance", "--appearance"), ("camera", "--camera"),
                   ("camera_calibration", "--camera-calibration"))
 """The overhead camera's options (namespace field, flag): none goes with onboard."""
-FOUND_WITHIN_IN = 12.0
-"""A placed object counts as found when an object located is nearest to it (the table's
-matching) and was first seen this near it: more than an object's size (the largest
-is 11 in) away, a located object is something else."""
 
 
 def check_options(args: argparse.Namespace) -> None:
@@ -130,13 +125,8 @@ def exploration(events: Sequence[dict[str, object]]) -> Exploration | None:
 
 def never_found(records: Sequence[ObjectRecord], present: Sequence[Truth]) -> list[Truth]:
     """The objects placed (``present``, the simulator's truth at the start) that no
-    located object was matched to within :data:`FOUND_WITHIN_IN`."""
-    found: set[int] = set()
-    for record in records:
-        truth = match_truth(record, present)
-        x, y = (record.first_region or record.region).centroid
-        if truth is not None and math.hypot(truth.x_in - x, truth.y_in - y) <= FOUND_WITHIN_IN:
-            found.add(id(truth))
+    located object found (``reporting.report.found_truth``)."""
+    found = {id(truth) for truth in (found_truth(record, present) for record in records) if truth is not None}
     return [t for t in present if id(t) not in found]
 
 

@@ -156,9 +156,8 @@ class OnboardPerception:
     def distance_ahead(self, observation: RangeScan) -> float | None:
         """The nearest return within :data:`AHEAD_DEG` of the heading, less the sonar's
         offset ahead of the base centre the scan ranges from."""
-        angles = np.abs(np.asarray(observation.angles_deg, dtype=float))
-        ranges = np.array([math.inf if r is None else r for r in observation.ranges_in], dtype=float)
-        ahead = ranges[(angles <= AHEAD_DEG) & np.isfinite(ranges)]
+        scan = planar_scan(observation)
+        ahead = scan.ranges_in[scan.returned & (np.abs(scan.angles_rad) <= math.radians(AHEAD_DEG))]
         if not len(ahead):
             return None
         return float(ahead.min()) - self._navigator.robot.geometry.sensor_offset_in

@@ -9,7 +9,8 @@ measure is written once here:
 
 - **found**: a record finds the true object nearest where it was first seen
   (``reporting.report.match_truth``, as every report of the project matches) when it
-  was seen within :data:`FOUND_WITHIN_IN` of it; further away it found something that
+  was seen within ``reporting.report.FOUND_WITHIN_IN`` of it (``found_truth``); further
+  away it found something that
   is not there, a *false* record, as is a second record of an object already found;
 - **the map**: the built occupancy grid, resampled to the truth's cells, against
   ``hero_driver.sim.truth_map``: the IoU of occupied cells as they are (a robot never
@@ -23,7 +24,6 @@ measure is written once here:
 
 from __future__ import annotations
 
-import math
 import statistics
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Future
@@ -39,12 +39,7 @@ from hero_driver.sim.truth_map import TruthMap
 from hero_driver.sim_driver import SimulatedHero
 from mapping import LocalisationError, OccupancyGrid, localisation_error
 from planner.geometry import Pose
-from reporting.report import Row, Truth, match_truth
-
-FOUND_WITHIN_IN = 12.0
-"""A record first seen this near the object it is matched to found it: more than an
-object's size (the largest is 11 in) away, it located something else."""
-
+from reporting.report import Row, Truth, found_truth
 
 @dataclass(frozen=True)
 class Found:
@@ -63,10 +58,8 @@ def found_and_right(judged: Sequence[tuple[ObjectRecord, Row]], truths: Sequence
     right_by_object: dict[int, bool] = {}
     false = 0
     for record, row in judged:
-        truth = match_truth(record, truths)
-        x, y = (record.first_region or record.region).centroid
-        if truth is None or math.hypot(truth.x_in - x, truth.y_in - y) > FOUND_WITHIN_IN or \
-                id(truth) in right_by_object:
+        truth = found_truth(record, truths)
+        if truth is None or id(truth) in right_by_object:
             false += 1
         else:
             right_by_object[id(truth)] = bool(row.correct)

@@ -39,7 +39,7 @@ from executive.executive import CEILING, ONBOARD, Executive
 from experiments.conditions import noise_config
 from experiments.config import ExperimentConfig
 from experiments.floor import play
-from experiments.onboard_truth import (FOUND_WITHIN_IN, Found, Localisation, MapAccuracy, TruthAtScans,
+from experiments.onboard_truth import (Found, Localisation, MapAccuracy, TruthAtScans,
                                        found_and_right, localisation, map_accuracy)
 from experiments.study import RESULTS_DIR, Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
@@ -49,6 +49,7 @@ from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
 from reporting.built_map import plot_built_map
 from reporting.plots import legs
+from reporting.report import FOUND_WITHIN_IN
 
 TITLE = "Without a ceiling camera: onboard episodes in the simulated homes against the ceiling-camera lab"
 HOMES = ("apartment", "apartment-2")
@@ -159,8 +160,13 @@ def run_job(job: OnboardJob) -> Episode:
 def _explore(executive: Executive, learner: LocalLearner) -> list[dict]:
     """Run ``executive`` until the exploration ends (its ``mapped`` event), then shut
     it down; the events so far."""
+    read = 0  # the events the hook has looked at: a tick may log several after ``mapped``
+
     def stop_when_mapped(tick: int, root: object) -> None:
-        if any(e["event"] == "mapped" for e in executive.log.events[-3:]):
+        nonlocal read
+        events = executive.log.events
+        fresh, read = events[read:], len(events)
+        if any(e["event"] == "mapped" for e in fresh):
             raise _Mapped
     executive.on_tick = stop_when_mapped
     try:

@@ -53,6 +53,21 @@ def match_truth(record: ObjectRecord, truths: Sequence[Truth]) -> Truth | None:
     return min(truths, key=lambda t: math.hypot(t.x_in - x, t.y_in - y))
 
 
+FOUND_WITHIN_IN = 12.0
+"""A record first seen this near the true object it is matched to found it: more than an
+object's size (the largest is 11 in) away, it located something else."""
+
+
+def found_truth(record: ObjectRecord, truths: Sequence[Truth]) -> Truth | None:
+    """The true object ``record`` found: the one it is matched to (:func:`match_truth`),
+    when it was first seen within :data:`FOUND_WITHIN_IN` of it; else None."""
+    truth = match_truth(record, truths)
+    if truth is None:
+        return None
+    x, y = (record.first_region or record.region).centroid
+    return truth if math.hypot(truth.x_in - x, truth.y_in - y) <= FOUND_WITHIN_IN else None
+
+
 def rows(records: Sequence[ObjectRecord], truths: Sequence[Truth] = ()) -> list[Row]:
     out = []
     for r in records:

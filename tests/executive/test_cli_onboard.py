@@ -10,6 +10,8 @@ from __future__ import annotations
 import json
 import math
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -176,16 +178,23 @@ class NoScanner(SimulatedHero):
     scan = None  # type: ignore[assignment]
 
 
-@pytest.mark.zenoh
-def test_run_onboard_refuses_a_driver_without_scans_in_one_line(tmp_path: Path,
-                                                                capsys: pytest.CaptureFixture[str]) -> None:
+@contextmanager
+def served(driver: SimulatedHero) -> Iterator[str]:
+    """``driver`` served over zenoh on a free loopback endpoint, for ``csl run --connect``."""
     from hero_driver.zenoh_link.node import DriverNode
     from tests.zenoh_rpc.support import free_endpoint
     from zenoh_rpc.config import open_session
 
     endpoint = free_endpoint()
     with open_session(listen=[endpoint]) as session, \
-            DriverNode(NoScanner("plain", world="lab"), session, profile=profile_stamp(load_profile())):
+            DriverNode(driver, session, profile=profile_stamp(load_profile())):
+        yield endpoint
+
+
+@pytest.mark.zenoh
+def test_run_onboard_refuses_a_driver_without_scans_in_one_line(tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    with served(NoScanner("plain", world="lab")) as endpoint:
         status = main(["run", "--driver", "zenoh", "--robot", "plain", "--connect", endpoint, "--perception",
                        "onboard", "--out", str(tmp_path / "out"), "--library", str(tmp_path / "lib.sqlite")])
     assert status == 2
@@ -198,13 +207,7 @@ def test_run_onboard_refuses_a_driver_without_scans_in_one_line(tmp_path: Path,
 @pytest.mark.zenoh
 def test_run_with_the_ceiling_camera_against_a_home_says_to_add_onboard(tmp_path: Path,
                                                                          capsys: pytest.CaptureFixture[str]) -> None:
-    from hero_driver.zenoh_link.node import DriverNode
-    from tests.zenoh_rpc.support import free_endpoint
-    from zenoh_rpc.config import open_session
-
-    endpoint = free_endpoint()
-    with open_session(listen=[endpoint]) as session, \
-            DriverNode(SimulatedHero("home", world="two-rooms"), session, profile=profile_stamp(load_profile())):
+    with served(SimulatedHero("home", world="two-rooms")) as endpoint:
         status = main(["run", "--driver", "zenoh", "--robot", "home", "--connect", endpoint,
                        "--out", str(tmp_path / "out"), "--library", str(tmp_path / "lib.sqlite")])
     assert status == 2

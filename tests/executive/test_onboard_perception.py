@@ -13,7 +13,7 @@ import pytest
 from executive.onboard import OnboardPerception, OnboardSettings, planar_scan
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.interface import RangeScan
-from planner import Navigator, Pose
+from planner import Navigator, Pose, Scene
 from robot_profile import load_profile
 from tests.mapping.synthetic import Lidar, box
 
@@ -49,6 +49,14 @@ def perception() -> tuple[OnboardPerception, Scans, Navigator]:
     return OnboardPerception(scans, navigator, OnboardSettings(half_extent_in=300.0)), scans, navigator
 
 
+def look_from(seen: OnboardPerception, scans: Scans, *at: tuple[float, float]) -> Scene:
+    """Scans from each of ``at`` (facing +x) read in turn; the last one's scene."""
+    for x, y in at:
+        scans.pose = DriverPose(x, y, 0.0)
+        scene = seen.scene(seen.look().result())
+    return scene
+
+
 def test_a_driver_scan_in_degrees_with_no_echo_as_none_or_inf() -> None:
     scan = RangeScan(DriverPose(1.0, 2.0, 90.0), 3.0, (-90.0, 0.0, 90.0), (10.0, None, math.inf), 0.5, 100.0)  # type: ignore[arg-type]
     planar = planar_scan(scan)
@@ -59,9 +67,7 @@ def test_a_driver_scan_in_degrees_with_no_echo_as_none_or_inf() -> None:
 
 def test_scans_make_a_scene_of_the_box_and_a_map_the_planner_plans_on() -> None:
     seen, scans, navigator = perception()
-    for x, y in ((30.0, 70.0), (90.0, 70.0)):  # a candidate is reported once seen twice
-        scans.pose = DriverPose(x, y, 0.0)
-        scene = seen.scene(seen.look().result())
+    scene = look_from(seen, scans, (30.0, 70.0), (90.0, 70.0))  # a candidate is reported once seen twice
     robot = scene.robot
     assert navigator.scene is scene and robot is not None
     assert (robot.x_in, robot.y_in, robot.heading_deg) == pytest.approx((90.0, 70.0, 0.0), abs=0.1)
@@ -77,9 +83,7 @@ def test_scans_make_a_scene_of_the_box_and_a_map_the_planner_plans_on() -> None:
 
 def test_the_next_view_looks_through_the_doorway_and_a_refused_one_is_not_offered_again() -> None:
     seen, scans, _ = perception()
-    for x, y in ((30.0, 70.0), (90.0, 50.0)):
-        scans.pose = DriverPose(x, y, 0.0)
-        seen.scene(seen.look().result())
+    look_from(seen, scans, (30.0, 70.0), (90.0, 50.0))
     view = seen.next_view(Pose(90.0, 50.0, 0.0))
     assert view is not None and view.x_in > 60.0, "toward the unknown second room"
     seen.unreachable(view)
@@ -96,9 +100,7 @@ def test_settings_are_checked_in_one_line() -> None:
 
 def test_the_view_driven_to_is_kept_until_reached() -> None:
     seen, scans, _ = perception()
-    for x, y in ((30.0, 70.0), (90.0, 50.0)):
-        scans.pose = DriverPose(x, y, 0.0)
-        seen.scene(seen.look().result())
+    look_from(seen, scans, (30.0, 70.0), (90.0, 50.0))
     view = seen.next_view(Pose(90.0, 50.0, 0.0))
     assert view is not None
     assert seen.next_view(Pose(80.0, 50.0, 0.0)) == view  # on the way (the costs shifted): the same view
@@ -117,11 +119,8 @@ def test_an_object_seen_again_off_its_kept_region_is_outlined_anew_not_lost() ->
     room = np.array(box(0.0, 0.0, 240.0, 100.0) + [(120.0, 0.0, 120.0, 32.0), (120.0, 68.0, 120.0, 100.0)],
                     dtype=float)
     scans.walls = np.concatenate([room, np.array(box(59.0, 29.0, 61.0, 31.0), dtype=float)])
-    for k in range(8):
-        scans.pose = DriverPose(40.0 + 40.0 * (k % 2), 70.0, 0.0)
-        scene = seen.scene(seen.look().result())
+    scene = look_from(seen, scans, *[(40.0 + 40.0 * (k % 2), 70.0) for k in range(8)])
     assert [r.centroid for r in scene.regions] == [pytest.approx((60.0, 30.0), abs=1.5)]
     scans.walls = np.concatenate([room, np.array(box(64.0, 29.0, 66.0, 31.0), dtype=float)])
-    scans.pose = DriverPose(60.0, 70.0, 0.0)
-    scene = seen.scene(seen.look().result())
+    scene = look_from(seen, scans, (60.0, 70.0))
     assert [r.centroid for r in scene.regions] == [pytest.approx((65.0, 30.0), abs=1.5)]

@@ -9,14 +9,14 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from experiments.onboard_truth import (FOUND_WITHIN_IN, Found, TruthAtScans, found_and_right, localisation,
+from experiments.onboard_truth import (Found, TruthAtScans, found_and_right, localisation,
                                        map_accuracy, on_truth_cells)
 from hero_driver.interface import Pose as DriverPose
 from hero_driver.sim.noise import NoiseConfig
 from hero_driver.sim.truth_map import TruthMap
 from mapping import OccupancyGrid
 from planner.geometry import Pose
-from reporting.report import Truth
+from reporting.report import FOUND_WITHIN_IN, Truth
 
 TRUTHS = [Truth("box", ("Grab",), 0.0, 0.0), Truth("cup", ("Grab",), 100.0, 0.0), Truth("can", ("Grab",), 0.0, 100.0)]
 
