@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from zenoh_rpc.config import UserConfig, close_session, open_session
-from zenoh_rpc.serving import stop_on_signals
+from zenoh_rpc.serving import stop_on_signals, wait_for_stop
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -35,7 +35,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             session = open_session(user=config)
             try:
                 print(f"routing on {config.load().get_json('listen/endpoints')}", flush=True)
-                stop.wait()
+                wait_for_stop(stop)
             finally:
                 close_session(session)
     except (ValueError, OSError) as exc:

@@ -38,6 +38,25 @@ def stop_on_signals(signals: Sequence[signal.Signals] = STOP_SIGNALS) -> Iterato
             signal.signal(sig, handler)
 
 
+SIGNAL_POLL_S = 0.2
+"""How often :func:`wait_for_stop` returns to the interpreter to run pending signal handlers."""
+
+
+def wait_for_stop(stop: threading.Event) -> None:
+    """Block until ``stop`` is set, waking every :data:`SIGNAL_POLL_S` seconds.
+
+    Why not ``stop.wait()``: the kernel delivers a process signal to any thread that does
+    not block it, and zenoh runs a dozen threads of its own. When SIGTERM lands on one of
+    them, Python only notes it as pending; the handler that sets ``stop`` runs when the
+    main thread next executes bytecode, and a main thread asleep in an untimed wait never
+    does, so the process hangs until it is killed (seen on the loaded CI machine: a
+    service that ignored SIGTERM for 30 s). A timed wait returns to the interpreter, which
+    runs the handler within one poll.
+    """
+    while not stop.wait(SIGNAL_POLL_S):
+        pass
+
+
 HEADER_ROOM = 64 * 1024
 """Bytes a server accepts beyond its request cap: zenoh's own headers and the key; a
 request within the cap is always received whole, and refused by the server in one line."""
@@ -64,6 +83,6 @@ def serve_until(stop: threading.Event, listen: Sequence[str],
         with declare(session):
             if on_ready is not None:
                 on_ready()
-            stop.wait()
+            wait_for_stop(stop)
     finally:
         close_session(session)
