@@ -89,6 +89,32 @@ def implausible_values(values: Mapping[str, float | None], knowledge: Knowledge,
     return out
 
 
+class LibraryRanges:
+    """:func:`library_ranges` of the library a behaviour reads, made again only when the
+    library changed (a new matrix object): a check per sensing must not walk every
+    description each time."""
+
+    def __init__(self) -> None:
+        self._cached: tuple[object, dict[str, tuple[float, float]]] | None = None
+
+    def of(self, matrix: object, descriptions: Iterable[ObjectDescription]) -> dict[str, tuple[float, float]]:
+        """The ranges of ``descriptions``, those of ``matrix`` (its identity is the key)."""
+        if self._cached is None or self._cached[0] is not matrix:
+            self._cached = (matrix, library_ranges(descriptions))
+        return self._cached[1]
+
+
+def values_checked(behaviour: CslBehaviour, ranges: LibraryRanges, test: str,
+                   values: Mapping[str, float | None]) -> dict[str, str]:
+    """:func:`implausible_values` of what ``behaviour`` sensed for ``test``, each noted as
+    an ``implausible`` event; the features that failed, with why (empty: all plausible)."""
+    matrix = behaviour.services.library.current()
+    bad = implausible_values(values, behaviour.services.knowledge, ranges.of(matrix, matrix.descriptions))
+    for feature, why in bad.items():
+        behaviour.note(Event.IMPLAUSIBLE, test=test, feature=feature, value=values[feature], why=why)
+    return bad
+
+
 class Plausible(CslBehaviour):
     """Condition ``Plausible?``: every value the step's sensing yielded is plausible
     (module docstring); else ``implausible`` events, the test unusable here, and it
@@ -96,7 +122,7 @@ class Plausible(CslBehaviour):
 
     def __init__(self, robot: str, name: str = "Plausible?") -> None:
         super().__init__(name, robot)
-        self._ranges: tuple[object, dict[str, tuple[float, float]]] | None = None
+        self._ranges = LibraryRanges()
 
     def update(self) -> Status:
         step = self.step
@@ -104,19 +130,10 @@ class Plausible(CslBehaviour):
         if test is None or test.test.is_grasp or not step.values:
             self.feedback_message = "nothing sensed"
             return Status.SUCCESS
-        bad = implausible_values(step.values, self.services.knowledge, self._library_ranges())
+        bad = values_checked(self, self._ranges, str(test.test), step.values)
         if not bad:
             self.feedback_message = "plausible"
             return Status.SUCCESS
-        for feature, why in bad.items():
-            self.note(Event.IMPLAUSIBLE, test=str(test.test), feature=feature, value=step.values[feature], why=why)
         self.obj.session.unusable(test)
         self.feedback_message = f"implausible: {', '.join(bad)}"
         return Status.FAILURE
-
-    def _library_ranges(self) -> dict[str, tuple[float, float]]:
-        """The library's ranges, made again only when the library changed."""
-        matrix = self.services.library.current()
-        if self._ranges is None or self._ranges[0] is not matrix:
-            self._ranges = (matrix, library_ranges(matrix.descriptions))
-        return self._ranges[1]

@@ -23,6 +23,7 @@ from behaviours.actions import MoveTo, pose_json
 from behaviours.appearance import appearance_of
 from behaviours.base import CslBehaviour, LookAction
 from behaviours.legs import LeggedMove
+from behaviours.plausible import LibraryRanges, values_checked
 from behaviours.bridge import other_end
 from behaviours.choosing import Choose
 from behaviours.events import Event
@@ -285,7 +286,12 @@ class Discriminate(LeggedMove):
     value the object would be learned with none, nothing would tell it from the wrongly
     predicted descriptions next time, and the same grasp would fail again
     (docs/method.md §5.8). The move is one more driver verb before the sense (or more: a
-    long one is driven in legs, ``behaviours.legs``)."""
+    long one is driven in legs, ``behaviours.legs``).
+
+    Its values are checked as ``Plausible?`` checks a test's (``behaviours.plausible``):
+    an implausible one is an ``implausible`` event and is not recorded, since a value
+    recorded here is believed by every later test of the object (a deaf sonar's -1
+    would be followed, or called unreliable, at the next node)."""
 
     POSE_ACCESS = Access.WRITE  # the move to a discriminating test changes where the robot stands
 
@@ -299,6 +305,7 @@ class Discriminate(LeggedMove):
         self._silent: set[str] = set()  # procedures that gave no value on this object
         self._tried_on: ObjectRecord | None = None
         self._may_move = False
+        self._ranges = LibraryRanges()
 
     def start(self) -> Future[SenseResult] | Status:
         obj, attempt = self.obj, self.step.attempt
@@ -350,6 +357,12 @@ class Discriminate(LeggedMove):
         obj = self.obj
         assert self._test is not None and self._wrong is not None
         obj.ledger.sensing_s += result.duration_s
+        bad = values_checked(self, self._ranges, str(self._test.test), result.values)
+        if bad:  # checked as Plausible? checks a test's values: never recorded, never asked again here
+            self.note(Event.DISCRIMINATE, procedure=result.procedure, values=dict(result.values.items()),
+                      seconds=round(result.duration_s, 1), told_apart=False, implausible=sorted(bad))
+            self._silent.add(result.procedure)
+            return Status.SUCCESS
         obj.session.record(result.values, self._test.target)
         told_apart = obj.session.discriminates(self._test, self._wrong)
         self.note(Event.DISCRIMINATE, procedure=result.procedure, values=dict(result.values.items()),

@@ -78,3 +78,20 @@ def test_no_path_to_the_value_gives_it_up(services, driver, nav, log) -> None:  
     nav.block(REGION, P(6, 90))
     assert run(Discriminate(ROBOT), services) == Status.SUCCESS
     assert driver.calls == [] and [e["event"] for e in log.events] == ["no_path"]
+
+
+def test_an_implausible_discriminating_value_is_an_event_and_not_recorded(services, driver, log) -> None:  # noqa: ANN001
+    """A deaf sonar whose driver writes "no echo" as -1: the width sweep's -1 degrees lies
+    outside the feature's span [0, 180]. Failed at (24,0), the sweep there (100 s) is
+    cheaper than the height at (6,0) (36 s + 84 s). The value is not recorded (a later test would believe
+    it), the sweep is not asked again on this object, and the time it took is charged."""
+    record, step = _failed_with_nothing_sensed(services, at=P(24, 0))  # where the box's width is swept
+    driver.script("sense", SenseResult("H-Sweep-1°", {"Width-Degree-1°": -1.0}, 100.0, 6.0))
+    behaviour = setup(Discriminate(ROBOT), services)
+    assert tick(behaviour) == Status.SUCCESS
+    assert driver.verbs() == ["sense"] and driver.calls[0][1] == "H-Sweep-1°"
+    assert record.session.measurements == {} and record.ledger.sensing_s == 100.0
+    implausible, discriminate = [e for e in log.events if e["event"] in ("implausible", "discriminate")]
+    assert implausible["feature"] == "Width-Degree-1°" and implausible["value"] == -1.0
+    assert implausible["why"] == "outside the feature's span [0, 180] deg"
+    assert discriminate["implausible"] == ["Width-Degree-1°"] and discriminate["told_apart"] is False
