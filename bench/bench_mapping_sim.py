@@ -21,7 +21,7 @@ Reported per home and noise preset:
 - the share of the truly free floor the grid knows to be free (coverage);
 - wall time per scan (matching and integrating).
 
-Then issue 35's goals for the map, checked per home, one line each and a non-zero exit
+Then the goals for the map, checked per home, one line each and a non-zero exit
 when one is missed: under ``clean`` (exact odometry) the matcher's largest error is
 within :data:`CLEAN_TOLERANCE_IN` of the odometry's on every seed (it must not move a
 pose the odometry had right), and under ``paper`` the median surface IoU is at least

@@ -1,5 +1,5 @@
 """Training objects from their outlines as the robot's own scans see them: training
-without the ceiling camera (issue 35, the paper's closing step).
+without the ceiling camera (the paper's closing step).
 
 The paper finds each training object's faces from its footprint as the ceiling camera
 sees it, and stands the robot square to each (docs/method.md §4). Here the footprint is

@@ -5,7 +5,7 @@ An object's attempt was disturbed, for this count, when the simulator disturbed 
 (nudged, swapped) more often than the executive's camera check found it moved or
 changed: at least one disturbance went unnoticed, so some value the session kept was
 measured on an object that was no longer where, or what, the session believed. Such
-a description is wrong and must never be saved (issue 15 §1); with the check on the
+a description is wrong and must never be saved; with the check on the
 count is 0 by construction of the tree, and the experiment measures it with the check
 off.
 """

@@ -15,8 +15,8 @@ measure is written once here:
 - **the map**: the built occupancy grid, resampled to the truth's cells, against
   ``hero_driver.sim.truth_map``: the IoU of occupied cells as they are (a robot never
   sees inside a wall or behind it, so a perfect one scores below 1) and the *surface*
-  IoU, the true cells a robot can see against the built ones, which is what issue 35's
-  goal reads;
+  IoU, the true cells a robot can see against the built ones, which is what the
+  onboard page's goal reads;
 - **localisation**: each scan's corrected pose against where the simulator really had
   the robot when the scan was taken (:class:`TruthAtScans` notes it, keyed by the
   scan's clock), and the raw odometry's beside it.

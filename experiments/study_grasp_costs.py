@@ -1,4 +1,4 @@
-"""Study: grasp costs learned from what grasps cost (issue 15 §6, docs/method.md §5.7).
+"""Study: grasp costs learned from what grasps cost (docs/method.md §5.7).
 
 The knowledge file prices each grasp once; the real robot may disagree. Here the
 simulated robot's Front-Wrap takes :data:`FACTOR` times the file's 60 s (a slow wrap: the

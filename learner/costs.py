@@ -109,7 +109,7 @@ def implausible_attempt(knowledge: Knowledge, grasp: str, seconds: float, succes
     of ``time_s`` either way) and, for a failure that knocked the object over, the
     sensing that must be paid again: at most every sensing procedure the robot has,
     :data:`DURATION_FACTOR` times over. So one client cannot price a grasp for every
-    robot with a day per attempt (issue 33: 1,000 x 86,400 s were accepted). A grasp the
+    robot with a day per attempt (once, 1,000 x 86,400 s were accepted). A grasp the
     profile prices at 0 s, or does not know, takes no judging."""
     if not knowledge.has_grasp(grasp):
         return None

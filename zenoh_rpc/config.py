@@ -93,7 +93,7 @@ def make_config(listen: Sequence[str] = (), connect: Sequence[str] = (),
     With ``max_message_bytes`` (a server's: its largest request and room for zenoh's
     own headers), zenoh drops any larger message it receives as it reassembles it,
     before the whole is held: a service that refused an oversized request only after
-    zenoh had built it grew by the request's size for each one at once (issue 33: 4 x
+    zenoh had built it grew by the request's size for each one at once (once, 4 x
     100 MB took the learner from 53 to 265 MB, and it kept 219 MB).
     """
     ours = {

@@ -1,5 +1,5 @@
 """Training without a teacher: find each training object's grasp by trying grasps
-(docs/method.md §4.1, issue 15 §5).
+(docs/method.md §4.1).
 
 The paper's training objects come labelled with their grasp, noting that the grasps
 "could be determined by the robot by conducting grasping experiments". Here they are:

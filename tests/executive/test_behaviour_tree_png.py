@@ -1,5 +1,5 @@
 """``behaviour-tree.png`` is readable on a screen: drawn left to right, its width is
-bounded by the tree's depth, not its breadth (issue 34: it was 3,941 px wide)."""
+bounded by the tree's depth, not its breadth (it was once 3,941 px wide)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``--perception onboard`` through the real command line (issue 35, "One command"): the
+"""``--perception onboard`` through the real command line: the
 tree with its exploration branch, the small home to try it in, the one-line refusals
 (a home with the ceiling camera's perception, the camera's options with onboard, a
 driver without scans), an episode that writes the built map beside the true one and

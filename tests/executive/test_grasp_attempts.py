@@ -1,5 +1,5 @@
 """What each grasp attempt cost, read from an episode's events, and which attempts the
-learner may count (issue 15 §6)."""
+learner may count (docs/method.md §5.7)."""
 
 from __future__ import annotations
 

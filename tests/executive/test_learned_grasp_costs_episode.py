@@ -1,4 +1,4 @@
-"""Learned grasp costs in whole episodes (issue 15 §6, docs/method.md §5.7): the
+"""Learned grasp costs in whole episodes (docs/method.md §5.7): the
 executive records each object's grasp attempts in the library store and prices the
 learner's choices by them, as ``csl run`` does by default (``Params()``).
 

@@ -1,4 +1,4 @@
-"""Moving obstacles on the everyday commands (issue 15 §4): ``csl run`` says in one
+"""Moving obstacles on the everyday commands: ``csl run`` says in one
 line when the driver lacks the ``blocked_moves`` feature, and ``--movers N[:SPEED]``
 puts people and carts into the in-process simulator as ``csl driver sim --movers``
 does."""

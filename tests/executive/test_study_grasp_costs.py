@@ -1,5 +1,5 @@
 """The learned-grasp-costs study: the simulated robot's truth, the learner's prices, and
-a short chain (issue 15 §6)."""
+a short chain (docs/method.md §5.7)."""
 
 from __future__ import annotations
 

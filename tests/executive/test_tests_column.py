@@ -1,6 +1,6 @@
 """The report's ``tests`` column counts every test applied to recognize the object: the
 paid sensing procedures and the grasps tried as binary features, whether they held or not
-(issue 34: an object whose tree showed three grasps tried as tests read 0)."""
+(once, an object whose tree showed three grasps tried as tests read 0)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """``csl train --sim --no-teacher``: training objects' grasps found by trying grasps in
-the simulator, next to the catalogue's labels (issue 15 §5)."""
+the simulator, next to the catalogue's labels (docs/method.md §4.1)."""
 
 from __future__ import annotations
 

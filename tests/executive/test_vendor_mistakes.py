@@ -1,4 +1,4 @@
-"""Every vendor mistake a fixture (issue 31, items 5 and 7): a driver written from the
+"""Every vendor mistake a fixture: a driver written from the
 docs with one realistic mistake in it must end its run non-zero with the reason.
 
 Each mistake is the simulator altered the way a vendor's driver would get it wrong

@@ -1,5 +1,5 @@
 """What the fuzzers found, each reduced to its smallest example and kept as a
-regression test once fixed (issue 12 §7; ``docs/reliability.md``, Findings).
+regression test once fixed (``docs/reliability.md``, Findings).
 
 Each test states the documented behaviour: a one-line ``ValueError``, ``bad_request``
 or exit status 2, never a traceback or a hang. A new finding joins them as

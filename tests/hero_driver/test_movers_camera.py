@@ -1,5 +1,5 @@
-"""The overhead camera draws the movers (issue 15 §4: "the planner's map updated from a
-new camera image"): a person or cart on the floor is a blob in the walls' band where
+"""The overhead camera draws the movers ("the planner's map updated
+from a new camera image"): a person or cart on the floor is a blob in the walls' band where
 it stands, which vision maps as an obstacle and never takes for an object to grasp,
 and a plan on a new image goes round it with no disc reported for it."""
 

@@ -1,4 +1,4 @@
-"""The simple paths the faster ones of issue 13 replaced, kept for the tests and benches
+"""The simple paths the faster ones replaced, kept for the tests and benches
 that compare them (tests/learner/test_fast_paths.py, bench/bench_choice_paths.py):
 
 - the partition entry by entry over every known value of the node's rows, each
@@ -102,7 +102,7 @@ def entry_partition(rows: Sequence[int], matrix: DescriptionMatrix, columns: np.
 
 
 def simple_grasp_options(node: Node, current: Position, ctx: Context) -> list[GraspLeaf]:
-    """The row-by-row reading the array path replaced (as it was before issue 13's work)."""
+    """The row-by-row reading the array path replaced (as it was before the array path)."""
     genuine = [r for r, c in zip(node.rows, node.carried) if not c]
     by_grasp: dict[str, list[int]] = {}
     for r in genuine or list(node.rows):

@@ -1,4 +1,4 @@
-"""The faster paths of issue 13 give the simple paths' answers.
+"""The faster paths (BENCHMARKS.md, "The learner") give the simple paths' answers.
 
 A leaf's grasp options and object ids are read as arrays (``DescriptionMatrix.labels``)
 instead of description by description; a partition works on each column's distinct

@@ -1,4 +1,4 @@
-"""Grasp costs learned from what attempts cost (docs/method.md §5.7, issue 15 §6).
+"""Grasp costs learned from what attempts cost (docs/method.md §5.7).
 
 The HERO's file prices Front-Wrap at 60 s (+30 s side-effect penalty: 90 s a failure)
 and Top-Pinch at 63 s (+40 s: 103 s). A grasp's learned cost is the Bayesian mean of

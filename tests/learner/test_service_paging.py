@@ -1,6 +1,6 @@
 """Start-up fetches the library page by page: each reply small enough to come inside a
 client's timeout however large the library and however many robots start together
-(issue 33: 7 of 16 robots starting at once against a 2,716-description library timed
+(once, 7 of 16 robots starting at once against a 2,716-description library timed
 out on the whole-library reply)."""
 
 from __future__ import annotations

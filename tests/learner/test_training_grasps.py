@@ -1,5 +1,5 @@
 """Training without a teacher: each object's grasp found by trying grasps, most likely
-to hold per expected second first (docs/method.md §4.1, issue 15 §5).
+to hold per expected second first (docs/method.md §4.1).
 
 HERO grasps: Front-Pinch 45 s (+30 penalty), Front-Wrap 60 (+30), Top-Pinch 63 (+40), the
 top grips 80 (+30). An attempt's expected cost is ``p * time + (1 - p) * (time +

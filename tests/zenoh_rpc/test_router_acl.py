@@ -1,6 +1,6 @@
 """docs/security.md's router deployment, run as written: TLS with a certificate made
 by the page's own openssl commands, a password per process and access control on a
-router (issue 12 §1). Every file comes from the page (``7447`` replaced by a free port),
+router. Every file comes from the page (``7447`` replaced by a free port),
 the router, ``csl driver sim`` and ``csl learner serve`` are real processes on
 127.0.0.1, and the test's own sessions play the stranger, the monitor and the
 executive. What must hold: a session without credentials, and the read-only monitor,
