@@ -276,6 +276,7 @@ class ExactSearch:
         self._made_free = self.table.made_free
         self._cheapest: dict[tuple[int, int], tuple[float, list[float]]] = {}
         self._cheapest_at: dict[int, list[float | None]] = {}  # per position, each column's cheapest try
+        self._splits: dict[tuple[int, Weights], list[list[tuple[int, float, Weights]] | None]] = {}
 
     # -- ids ------------------------------------------------------------------------
     def place(self, position: Position) -> int:
@@ -379,24 +380,30 @@ class ExactSearch:
         found: list[tuple[float, list[tuple[int, float, Weights]], int, int, int]] = []
         some = False
         limit = budget - _EPS
-        for b in self.branchings(node):
+        branchings = self.branchings(node)
+        # each test's children under these weights, whatever the position: worked out once
+        split = self._splits.get((node, weights))
+        if split is None:
+            split = self._splits[node, weights] = [None] * len(branchings)
+        for j, b in enumerate(branchings):
             c = b.column
             if taken >> c & 1:
                 continue
             some = True
+            children = split[j]
             if free >> c & 1:  # re-used where the robot stands; the session records it there too
-                found.append((0.0, self._children(b, weights), at, free | self._frees(c, "feature", at),
-                              taken | (1 << c)))
+                if children is None:
+                    children = split[j] = self._children(b, weights)
+                found.append((0.0, children, at, free | self._frees(c, "feature", at), taken | (1 << c)))
                 continue
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
-            children = None
             for base, target in self._offers(c, at):
                 cost = paid * base
                 if cost >= limit:
                     break  # the offers are cheapest first
                 if children is None:
-                    children = self._children(b, weights)
+                    children = split[j] = self._children(b, weights)
                 now_free = free if grasp else free | self._frees(c, "procedure", target)
                 found.append((cost, children, target, now_free, taken | (1 << c)))
         for grasp in facts.grasps:
