@@ -38,6 +38,7 @@ each column's cheapest try.
 
 from __future__ import annotations
 
+import heapq
 import math
 import threading
 import weakref
@@ -311,26 +312,36 @@ class ExactSearch:
         known = self.memo.get(key)
         if known is not None and (known[1] or known[0] >= budget):
             return known[0]
-        actions = []
         # an action that alone costs the budget is left out: bounding its children would not save it
         found, some = self.actions(node, weights, at, free, taken, budget)
-        for cost, children, target, now_free, now_taken in found:
-            bound, bounds = cost, []
-            for child, mass, child_weights in children:
-                bounds.append(self._bound(child, child_weights, target, now_free))
-                bound += mass * bounds[-1]
-                if bound >= budget - _EPS:
-                    break  # it cannot come in under the budget: no need to bound the rest
-            else:
-                actions.append((bound, cost, children, bounds, target, now_free, now_taken))
         if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
-        actions.sort(key=lambda a: a[0])
+        # Actions are searched in the order of their lower bounds (its cost plus, per child,
+        # the child's bound), ties in the order they were found; an action whose bound
+        # reaches the best found is not searched. A child's bound is worked out only when
+        # the action's cost alone is below the best, from a heap keyed by what is known of
+        # each action's bound (its cost, then its whole bound): the same order as sorting
+        # them all by their whole bounds, without bounding the children of those never reached.
+        heap: list[tuple[float, int, list[float] | None]] = [(a[0], i, None) for i, a in enumerate(found)]
+        heapq.heapify(heap)
         best, chosen = math.inf, (0, at)
-        for bound, cost, children, bounds, target, now_free, now_taken in actions:
+        while heap:
+            bound, i, bounds = heap[0]
             limit = min(best, budget)
             if bound >= limit - _EPS:
-                break  # sorted: no later action can do better
+                break  # no action left can do better
+            heapq.heappop(heap)
+            cost, children, target, now_free, now_taken = found[i]
+            if bounds is None:
+                bound, bounds = cost, []
+                for child, mass, child_weights in children:
+                    bounds.append(self._bound(child, child_weights, target, now_free))
+                    bound += mass * bounds[-1]
+                    if bound >= limit - _EPS:
+                        break  # it cannot come in under the best: no need to bound the rest
+                else:
+                    heapq.heappush(heap, (bound, i, bounds))
+                continue
             total = self.below(cost, children, bounds, target, now_free, now_taken, limit)
             if total < best:
                 best, chosen = total, (now_taken & ~taken, target)
