@@ -249,9 +249,9 @@ DEFAULT_CRITERION = "cs-id3-failure"
 noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
 opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
-the optimum noise-free and is no dearer than this rule on noisy floors, but whose walk
-rollout above the exact search is past the learner's decision-time goals on libraries of
-thousands of descriptions (docs/optimum.md, "Under noise, measured")."""
+the optimum noise-free and is no dearer than this rule on noisy floors, but whose first
+decision over a fresh library and later decisions under noise are still past the
+learner's decision-time goals (docs/optimum.md, "A rule above the exact search")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (

@@ -42,9 +42,10 @@ COLD_ROWS = 8
 node as large yet starts the search there; above it the walk rollout chooses."""
 ROLLOUT_ROWS = 50
 """The most descriptions at a node where the exact search does not choose for which the
-walk rollout chooses; above it the one-step ranking alone (milliseconds at any library
-size, where the rollout's finishing walks grow with the library: docs/optimum.md, "A
-rule above the exact search")."""
+walk rollout chooses; above it the one-step ranking alone, whose decisions stay fast at
+any library size where the rollout's do not. Above the largest node the rollout met in
+the paper's conditions, so the rule there is unchanged (docs/optimum.md, "A rule above
+the exact search")."""
 
 
 def searched(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
