@@ -82,7 +82,7 @@ class _NodeFacts:
     useful: int
     columns: tuple[int, ...] = ()
     grasp_of: tuple[int, ...] = ()  # per row, the index of its grasp in ``grasps``
-    sensing: tuple[int, ...] = ()  # the splitting sensing tests (columns)
+    sensing: tuple[int, ...] = ()  # the splitting sensing tests (columns), cheapest procedure first
     grasp_tests: tuple[tuple[int, ...], ...] = ()  # per grasp, the splitting tests of it as a feature
     useful_columns: np.ndarray | None = None  # the useful columns, as an array (its children's hint)
 
@@ -98,6 +98,7 @@ class NodeTable:
         self._matrix = weakref.ref(matrix)  # the table lives as long as its matrix, not longer
         self._errors = matrix.errors
         self._all = np.arange(len(matrix.tests))
+        self._price = [procedure_cost(t, matrix.knowledge) for t in matrix.tests]
         self.rows: list[Rows] = []
         self.facts: list[_NodeFacts | None] = []
         # per node, columns that include every one that could split it: its parent's useful
@@ -155,7 +156,7 @@ class NodeTable:
             columns = useful[n_ranges >= 2].tolist()
             grasp_of = tuple(grasps.index(matrix.classes[c]) for c in matrix.class_of[rows].tolist())
             tests = matrix.tests
-            sensing = tuple(c for c in columns if not tests[c].is_grasp)
+            sensing = tuple(sorted((c for c in columns if not tests[c].is_grasp), key=lambda c: (self._price[c], c)))
             grasp_tests = tuple(tuple(c for c in columns if tests[c].is_grasp and tests[c].feature == g)
                                 for g in grasps)
             found = _NodeFacts(grasps, _mask(columns), _mask(useful.tolist()), tuple(columns), grasp_of, sensing,
@@ -245,6 +246,9 @@ class ExactSearch:
     (their cost plus, per branch, the cheapest next test or blind grasp), and an action
     stops being expanded as soon as its bound reaches the best. The rows' probabilities
     say all the search needs of the learner's carried marks, so its nodes keep none.
+    A move costs nothing or more (the estimator's seconds, or ``inf``), so a test costs at
+    least its procedure's time: where that alone cannot beat what is found, the search
+    prices none of its moves (a planner's estimates are the dearest part of a decision).
     """
 
     def __init__(self, matrix: DescriptionMatrix, estimator: MoveCostEstimator, ctx: Context) -> None:
@@ -409,6 +413,8 @@ class ExactSearch:
                 continue
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
+            if paid * self.price[c] >= limit:
+                continue  # every offer costs at least the procedure: none is below the budget
             for base, target in self._offers(c, at):
                 cost = paid * base
                 if cost >= limit:
@@ -549,19 +555,36 @@ class ExactSearch:
         cheapest = self._cheapest_at.get(at)
         if cheapest is None:
             cheapest = self._cheapest_at[at] = [None] * len(self.price)
-        for c in facts.columns:  # each column's cheapest way from ``at``, worked out once
-            if cheapest[c] is None:
-                cheapest[c] = (self._sensing_from(c, at) if not self.is_grasp[c]
-                               else min((self._move(at, t) + self.price[c] for t in self._targets_for(c, at)),
-                                        default=math.inf))
-        sensing = min(map(cheapest.__getitem__, facts.sensing), default=math.inf)
+        # each column's cheapest way from ``at``, worked out once and only where it could be
+        # the least: a try costs at least its procedure's time (a move costs nothing or
+        # more), so the columns are looked at cheapest procedure first (facts.sensing is
+        # in that order) and no further once that time alone reaches the least found;
+        # the least is the same, with fewer moves priced (a planner's are dear)
+        sensing = math.inf
+        for c in facts.sensing:
+            if self.price[c] >= sensing:
+                break
+            found = cheapest[c]
+            if found is None:
+                found = cheapest[c] = self._sensing_from(c, at)
+            if found < sensing:
+                sensing = found
         per_grasp = []
         for g, tests in zip(facts.grasps, facts.grasp_tests):
             if not self.verifiable[g]:
                 per_grasp.append(math.inf)
                 continue
-            blind = self._move(at, self._grasp_place(node, at, g)) + self.failure_s[g]
-            per_grasp.append(min(blind, *map(cheapest.__getitem__, tests)) if tests else blind)
+            least = self._move(at, self._grasp_place(node, at, g)) + self.failure_s[g]
+            for c in tests:
+                if self.price[c] >= least:
+                    continue
+                found = cheapest[c]
+                if found is None:
+                    found = cheapest[c] = min((self._move(at, t) + self.price[c] for t in self._targets_for(c, at)),
+                                              default=math.inf)
+                if found < least:
+                    least = found
+            per_grasp.append(least)
         return sensing, per_grasp
 
     # -- facts, worked out once per node -------------------------------------------------
