@@ -335,7 +335,8 @@ class ExactSearch:
             if bound >= limit - _EPS:
                 break  # no action left can do better
             heapq.heappop(heap)
-            cost, children, target, now_free, now_taken = found[i]
+            cost, kids, target, now_free, now_taken = found[i]
+            children = kids if not isinstance(kids, int) else self.children_of(node, weights, kids)
             if bounds is None:
                 bound, bounds = cost, []
                 for child, mass, child_weights in children:
@@ -383,33 +384,28 @@ class ExactSearch:
         return total
 
     def actions(self, node: int, weights: Weights, at: int, free: int, taken: int,
-                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]], int, int, int]],
-                                                   bool]:
+                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]] | int, int, int,
+                                                              int]], bool]:
         """Every action from ``at`` that costs less than ``budget`` by itself, and whether
         there is any action at all: (its expected cost now, its children as (node,
-        probability, their rows' probabilities), where the robot ends, free tests after,
-        tests taken after). A test is paid whatever comes of it; a grasp only when it
+        probability, their rows' probabilities), or for a test the index of its branching
+        (:meth:`children_of` works them out when they are needed), where the robot ends,
+        free tests after, tests taken after). A test is paid whatever comes of it; a grasp only when it
         is wrong (the right one ends recognition, not counted), and then, as a failed
         attempt, its move and ``feature_cost_s``: time plus side-effect penalty."""
         facts = self.facts(node)
-        found: list[tuple[float, list[tuple[int, float, Weights]], int, int, int]] = []
+        found: list[tuple[float, list[tuple[int, float, Weights]] | int, int, int, int]] = []
         some = False
         limit = budget - _EPS
         branchings = self.branchings(node)
         # each test's children under these weights, whatever the position: worked out once
-        split = self._splits.get((node, weights))
-        if split is None:
-            split = self._splits[node, weights] = [None] * len(branchings)
         for j, b in enumerate(branchings):
             c = b.column
             if taken >> c & 1:
                 continue
             some = True
-            children = split[j]
             if free >> c & 1:  # re-used where the robot stands; the session records it there too
-                if children is None:
-                    children = split[j] = self._children(b, weights)
-                found.append((0.0, children, at, free | self._frees(c, "feature", at), taken | (1 << c)))
+                found.append((0.0, j, at, free | self._frees(c, "feature", at), taken | (1 << c)))
                 continue
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
@@ -419,10 +415,8 @@ class ExactSearch:
                 cost = paid * base
                 if cost >= limit:
                     break  # the offers are cheapest first
-                if children is None:
-                    children = split[j] = self._children(b, weights)
                 now_free = free if grasp else free | self._frees(c, "procedure", target)
-                found.append((cost, children, target, now_free, taken | (1 << c)))
+                found.append((cost, j, target, now_free, taken | (1 << c)))
         for grasp in facts.grasps:
             if not self.verifiable[grasp]:
                 continue  # "executing" it means moving on: the robot would never learn it was wrong
@@ -437,6 +431,17 @@ class ExactSearch:
                     found.append((cost, [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k))],
                                   target, free, taken))
         return found, some
+
+    def children_of(self, node: int, weights: Weights, j: int) -> list[tuple[int, float, Weights]]:
+        """The children of the node's ``j``-th branching under ``weights``: the same at
+        every position, so worked out once per node and weights."""
+        split = self._splits.get((node, weights))
+        if split is None:
+            split = self._splits[node, weights] = [None] * len(self.branchings(node))
+        children = split[j]
+        if children is None:
+            children = split[j] = self._children(self.branchings(node)[j], weights)
+        return children
 
     def test_action(self, node: int, weights: Weights, b: _Branching, at: int, target: int, free: int, taken: int,
                     children: list[tuple[int, float, Weights]] | None = None
