@@ -218,13 +218,21 @@ _tables: weakref.WeakKeyDictionary[DescriptionMatrix, NodeTable] = weakref.WeakK
 _tables_lock = threading.Lock()
 
 
+TABLE_ENTRIES = 200_000
+"""The most nodes, or positions, a :class:`NodeTable` holds before the next search over
+its matrix starts a new one: the nodes of a library are few, but every session adds the
+positions the robot really stood at, and a robot may meet thousands of objects with one
+library. (A search under way keeps the table it started with.)"""
+
+
 def node_table(matrix: DescriptionMatrix) -> NodeTable:
-    """The matrix's :class:`NodeTable`, made when first asked for."""
+    """The matrix's :class:`NodeTable`, made when first asked for (and anew past
+    :data:`TABLE_ENTRIES`)."""
     table = _tables.get(matrix)
-    if table is None:
+    if table is None or len(table.rows) > TABLE_ENTRIES or len(table.positions) > TABLE_ENTRIES:
         with _tables_lock:
             table = _tables.get(matrix)
-            if table is None:
+            if table is None or len(table.rows) > TABLE_ENTRIES or len(table.positions) > TABLE_ENTRIES:
                 table = _tables[matrix] = NodeTable(matrix)
     return table
 

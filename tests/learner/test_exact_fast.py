@@ -104,3 +104,20 @@ def test_the_walk_rollout_prices_a_later_decision_as_a_fresh_one() -> None:
                 again = rank(child, at, session, measured, frozenset({first[0].test}))
                 assert again == rank(child, at, fresh, measured, frozenset({first[0].test}))
     assert checked
+
+
+def test_a_table_past_its_size_is_started_anew(monkeypatch) -> None:  # noqa: ANN001
+    # every session adds the positions the robot stood at: a table grown past
+    # TABLE_ENTRIES is replaced at the next search, a search under way keeps its own
+    lib = [d("a", "A", ("W", P(20, 0), 10)), d("b", "B", ("W", P(20, 0), 30))]
+    m, est = matrix(lib), ModelMoveCost(MoveModel(2.0, 0.0, 0.0))
+    ctx = Context(m, criterion("cs-id3-failure-exact"), est)
+    monkeypatch.setattr(exact, "TABLE_ENTRIES", 3)
+    first = exact.ExactSearch(m, est, ctx)
+    for k in range(3):
+        first.place(P(6 + k, 0))
+    assert exact.ExactSearch(m, est, ctx).table is first.table  # three positions: not past it yet
+    first.place(P(30, 0))
+    later = exact.ExactSearch(m, est, ctx)
+    assert later.table is not first.table and later.table.positions == []
+    assert first.expected(first.node_id((0, 1)), (0.5, 0.5), first.place(P(20, 0)), 0, 0) == 10.0  # W(20,0) alone
