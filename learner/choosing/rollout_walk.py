@@ -167,15 +167,7 @@ def walk_finishing_cost(node: Node, current: Position, ctx: Context, measurement
 class WalkRollout:
     """The one-step rule's expected cost as the session would walk it (searched over the
     first :attr:`depth` nodes for a ``rollout_searches`` criterion), memoised per (node,
-    weights, position, measured, excluded, failed grasps, depth left).
-
-    The memo outlives the decision where nothing else decides a value: the one-step
-    ranking at a node (per node, position, measured and excluded tests) and, for a
-    rollout that does not search, the finishing costs (per the descriptions a rebuild
-    starts from, :attr:`universe`) are kept in the context's scratch for the session's
-    later decisions, whose rollouts walk much of the same tree again. A searching
-    rollout's values also depend on its budget of searched nodes, so its memo stays the
-    decision's."""
+    weights, position, measured, excluded, failed grasps, depth left) for one decision."""
 
     def __init__(self, ctx: Context, decision_node: Node) -> None:
         self.depth = SEARCH_DEPTH if ctx.criterion.rollout_searches else 0
@@ -184,14 +176,7 @@ class WalkRollout:
         matrix = ctx.matrix
         grasps = {matrix.descriptions[r].grasp for r in decision_node.rows}
         self.universe = tuple(r for r, d in enumerate(matrix.descriptions) if d.grasp in grasps)
-        ranks = ctx.scratch.setdefault("walk_ranks", {})
-        assert isinstance(ranks, dict)
-        self.ranks: dict[tuple[object, ...], list[ScoredTest]] = ranks
         self.memo: dict[tuple[object, ...], float] = {}
-        if not self.depth:
-            finishing = ctx.scratch.setdefault("walk_finishing", {})
-            assert isinstance(finishing, dict)
-            self.memo = finishing.setdefault(self.universe, self.memo)
 
     def finish(self, node: Node, weights: Weights, at: Position, measured: _Measured, exclude: frozenset[Test],
                failed: frozenset[str], depth: int = 0) -> float:
@@ -206,10 +191,7 @@ class WalkRollout:
                 failed: frozenset[str], depth: int) -> float:
         leaf = leaf_at(node, at, self.ctx)
         if leaf is None:
-            ranked = self.ranks.get((node, at, measured, exclude))
-            if ranked is None:
-                ranked = self.ranks[node, at, measured, exclude] = rank_by_score(
-                    node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
+            ranked = rank_by_score(node, at, self.ctx, dict.fromkeys(measured, math.nan), exclude)
             if ranked and depth > 0 and self.searched < SEARCH_BUDGET:
                 self.searched += 1
                 return min(self.after(node, weights, test, measured, exclude, failed, depth - 1)

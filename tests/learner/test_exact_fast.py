@@ -1,13 +1,11 @@
-"""The exact search made faster (issue 32) finds what it found before; so does the rollout.
+"""The exact search made faster (issue 32) finds what it found before.
 
 Its nodes' facts and branchings are worked out once per matrix and shared by every
 search over it, a child's from its parent's useful columns only, and a node's bound is
 priced from per-position tables; none of it may change a price. Compared with the
 search as it was (tests/learner/reference_exact.py) on random small libraries: the same
 optimum, and at the root the same candidates in the same order at the same prices (the
-head is the choice; the rest is the reselection order). The walk rollout above the
-search keeps its rankings and finishing costs for a session's later decisions, which
-must price as a fresh session would."""
+head is the choice; the rest is the reselection order)."""
 
 from __future__ import annotations
 
@@ -73,37 +71,6 @@ def test_searches_over_one_matrix_share_its_nodes_and_let_it_go() -> None:
     del m, first, second
     gc.collect()
     assert gone() is None
-
-
-def test_the_walk_rollout_prices_a_later_decision_as_a_fresh_one() -> None:
-    # The walk rollout keeps the one-step rankings and finishing costs of a session's
-    # decisions for its later ones (the context's scratch): a later decision, priced with
-    # what the first left there, ranks its tests as a session starting there would.
-    from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
-    from experiments.ablations import criterion as ablation
-    from learner.choosing.matrix import DescriptionMatrix
-    from learner.choosing.node import split
-    from learner.library.format import read_library_json
-    from learner.library.synthetic import synthetic_library
-    from robot_profile import load_knowledge
-
-    knowledge = load_knowledge(KNOWLEDGE)
-    m = DescriptionMatrix(synthetic_library(knowledge, 18, 0, base=read_library_json(EXAMPLE_LIBRARY)), knowledge)
-    est = ModelMoveCost(knowledge.move)
-    session = Context(m, ablation("cs-id3-failure-rollout"), est)
-    root = Node.root(18)
-    first = rank(root, P(24, 0), session, {})
-    assert session.scratch["walk_ranks"]  # the first decision left its rankings
-    measured = {(first[0].test.feature, first[0].target): float("nan")}
-    checked = 0
-    for child in split(root, first[0], m):
-        if len({m.descriptions[r].grasp for r in child.rows}) > 1:
-            checked += 1
-            for at in (first[0].target, P(60, 90)):  # where the first decision's rollout went, and elsewhere
-                fresh = Context(m, ablation("cs-id3-failure-rollout"), est)
-                again = rank(child, at, session, measured, frozenset({first[0].test}))
-                assert again == rank(child, at, fresh, measured, frozenset({first[0].test}))
-    assert checked
 
 
 def test_a_table_past_its_size_is_started_anew(monkeypatch) -> None:  # noqa: ANN001
