@@ -5,16 +5,17 @@ library's, perturbed within its features' errors, so the structure (which featur
 which positions, what is missing, the few grasps) stays the robot's. Per size, medians of:
 
 - building the ``DescriptionMatrix`` (once per library change);
-- one test choice at the root (``rank`` on ``Node.root``, the criterion, ``ModelMoveCost``):
-  the first, worked out (the matrix's memo of the root's partition cleared each time),
-  and a repeated one (memoised: what every object after the first pays);
+- one test choice at the root (``rank`` on ``Node.root``, the criterion, ``ModelMoveCost``),
+  each in a session's own context: the first, worked out (the matrix's memo of the
+  root's partition and the exact search's nodes cleared each time), and a repeated one
+  (the matrix's memos kept: what every object after the first pays);
 - one object's whole run-time tree: a ``RecognitionSession`` driven noise-free with a
   description's own values until it executes that description's grasp (a value the
   description lacks takes the first branch; a wrong grasp is dropped and the session
   goes on), for a few descriptions chosen at random as the object: "alone", each as
   if the first of its kind (the matrix's memo of nodes below the root cleared before
-  it), and "in a run", one after another as a robot meets them (a node an earlier
-  object reached is memoised);
+  it, and the exact search's nodes forgotten), and "in a run", one after another as a
+  robot meets them (a node an earlier object reached is memoised);
 - loading the library from JSON (``read_library_json``; the row layout, version 2, and
   the columnar one, version 3) and from a SQLite store (``LibraryStore.descriptions``);
 - peak memory (tracemalloc) of loading the JSON, building the matrix and one choice,
@@ -56,6 +57,7 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE  # noqa: E402
 from robot_profile import load_knowledge  # noqa: E402
 from experiments.ablations import MEASURED, criterion  # noqa: E402
 from learner.choosing.criteria import DEFAULT_CRITERION, Criterion  # noqa: E402
+from learner.choosing.exact import forget_nodes  # noqa: E402
 from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf  # noqa: E402
 from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.choosing.node import Context, Node, ScoredTest, measured_value  # noqa: E402
@@ -173,23 +175,27 @@ def measure(label: str, library: list[ObjectDescription], knowledge, crit: Crite
     reps = repeats_for(len(library))
     build = median_time(lambda: DescriptionMatrix(library, knowledge), reps.build)
     matrix = DescriptionMatrix(library, knowledge)
-    ctx = Context(matrix, crit, estimator)
     root = Node.root(len(library))
 
     def first_choice() -> None:
         matrix.root_splits.clear()
-        rank(root, START, ctx, {})
+        forget_nodes(matrix)
+        rank(root, START, Context(matrix, crit, estimator), {})
 
     first = median_time(first_choice, reps.choice)
-    choice = median_time(lambda: rank(root, START, ctx, {}), reps.choice)
+    # a new object's session: its own context (a chooser's scratch is per session), the
+    # matrix's memos kept
+    choice = median_time(lambda: rank(root, START, Context(matrix, crit, estimator), {}), reps.choice)
     matrix.labels  # the leaves' per-row labels, made once per matrix as the root's memo is
     alone, decisions = [], []
     for row in objects:  # each as if the first object of its kind: nothing below the root memoised
         matrix.node_splits.clear()
+        forget_nodes(matrix)  # nor the exact search's nodes (cs-id3-failure-exact)
         began = CLOCK()
         decisions.append(recognise(matrix, crit, estimator, row))
         alone.append(CLOCK() - began)
     matrix.node_splits.clear()
+    forget_nodes(matrix)
     per_object = []
     for row in objects:  # one after another, as a robot meets them: a node met before is memoised
         began = CLOCK()

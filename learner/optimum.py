@@ -60,7 +60,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 from learner.choosing.criteria import DEFAULT_CRITERION, Criterion, criterion
-from learner.choosing.exact import ExactSearch
+from learner.choosing.exact import ExactSearch, forget_nodes
 from learner.choosing.leaf import AmbiguousLeaf, GraspLeaf
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.node import Context, ScoredTest, measured_value
@@ -169,14 +169,19 @@ class _TimedSession(RecognitionSession):
 
 
 def decision_times(matrix: DescriptionMatrix, criterion: Criterion, estimator: MoveCostEstimator, start: Position,
-                   *, seed: int = 0) -> DecisionTimes:
+                   *, seed: int = 0, cold: bool = False) -> DecisionTimes:
     """The CPU time of every decision of :func:`policy_walk`'s walks, each description's
     session deciding for itself (no decision shared between them, as a robot's session
     for one object decides alone): what a criterion costs a robot per decision, and at
-    the first decision of a session, where a search shared by its later ones is paid."""
+    the first decision of a session, where a search shared by its later ones is paid.
+    The sessions over one matrix share the exact search's nodes (``exact.NodeTable``), as
+    a robot's do while its library is unchanged; ``cold``: each session as the first over
+    the library, those nodes forgotten before it."""
     first: list[float] = []
     later: list[float] = []
     for row in range(len(matrix.descriptions)):
+        if cold:
+            forget_nodes(matrix)
         session = _TimedSession(matrix, criterion, estimator, start, seed=seed)
         session.clock = _Clock()
         _walk(session, row)

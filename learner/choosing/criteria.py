@@ -72,8 +72,9 @@ class Traits:
     (docs/optimum.md, "Carried rows decide the leaf").
     ``exact_search``: at a node of few descriptions (``exact_choice.EXACT_ROWS``) every
     test is priced exactly, its cost plus the optimal expected cost below each branch
-    (learner/choosing/exact.py); above it the walk rollout chooses
-    (learner/choosing/exact_choice.py, docs/optimum.md, "Exact below, rollout above").
+    (learner/choosing/exact.py); above it the walk rollout chooses at a node of tens of
+    descriptions, the one-step ranking at larger ones (learner/choosing/exact_choice.py,
+    docs/optimum.md, "Exact below, rollout above" and "A rule above the exact search").
     """
 
     cost_blind_choices: bool = False
@@ -230,8 +231,9 @@ def with_leaf_every_row(searched: CriterionSpec) -> CriterionSpec:
 
 def with_exact_search(priced: CriterionSpec) -> CriterionSpec:
     """``priced`` (a failure-priced rule) choosing by the exact search at nodes of few
-    descriptions and by its walk rollout above (``exact_search``), a node a leaf only
-    when every row at it shares a grasp (``leaf_every_row``: where the search stops)."""
+    descriptions, by its walk rollout above at nodes of tens and by itself beyond
+    (``exact_search``), a node a leaf only when every row at it shares a grasp
+    (``leaf_every_row``: where the search stops)."""
     return dataclasses.replace(with_walk_rollout(priced), name=f"{priced.name}-exact",
                                formula=f"{priced.formula}, exact search at small nodes",
                                help="exact below a few descriptions, walk rollout above", leaf_every_row=True,
@@ -247,9 +249,9 @@ DEFAULT_CRITERION = "cs-id3-failure"
 noise"); ``cs-id3-failure-search-every-row`` is cheaper still but takes seconds where
 this takes milliseconds per object, beyond the learner's decision-time goals, so it is
 opt-in (docs/optimum.md, "The default stays"); so is ``cs-id3-failure-exact``, which walks
-the optimum noise-free and is no dearer than this rule on noisy floors, but whose walk
-rollout above the exact search is past the learner's decision-time goals on libraries of
-thousands of descriptions (docs/optimum.md, "Under noise, measured")."""
+the optimum noise-free and is no dearer than this rule on noisy floors, but whose first
+decision over a fresh library and later decisions under noise are still past the
+learner's decision-time goals (docs/optimum.md, "A rule above the exact search")."""
 
 CRITERIA: Mapping[str, CriterionSpec] = MappingProxyType({
     spec.name: spec for spec in (

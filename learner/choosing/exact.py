@@ -26,14 +26,22 @@ accounting is docs/optimum.md's ("The accounting"), the same for both:
 
 Nodes, positions and test sets are small integers (ids and bitmasks over the matrix's
 columns) so that states hash fast. A node's facts (its grasps, its splitting tests and
-their children) are worked out the first time the search reaches it, in plain Python on
-its few rows: the search touches only the nodes the bound does not prune.
+their children) are worked out the first time a search reaches it, with a few array
+operations on its few rows and only the columns useful at its parent (a subset of rows
+spans no more of a column): the search touches only the nodes the bound does not prune.
+They depend on the matrix alone, not on where the robot stands or what a move costs, so
+every search over a matrix shares them (:class:`NodeTable`): a session's search starts
+from the nodes earlier sessions reached, whatever estimator prices its moves (the
+executive's is made per object). A node's bound is read from per-position tables of
+each column's cheapest try.
 """
 
 from __future__ import annotations
 
+import heapq
 import math
-from bisect import bisect_right
+import threading
+import weakref
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -42,7 +50,6 @@ import numpy as np
 from learner.choosing.matrix import DescriptionMatrix, Test
 from learner.choosing.node import Context, Measurements, ScoredTest, measured_value, procedure_cost, \
     procedure_range, target_for
-from learner.choosing.partition import partition
 from learner.costs import MoveCostEstimator, sensing_cost
 from learner.position import Position
 
@@ -75,6 +82,166 @@ class _NodeFacts:
     useful: int
     columns: tuple[int, ...] = ()
     grasp_of: tuple[int, ...] = ()  # per row, the index of its grasp in ``grasps``
+    sensing: tuple[int, ...] = ()  # the splitting sensing tests (columns), cheapest procedure first
+    grasp_tests: tuple[tuple[int, ...], ...] = ()  # per grasp, the splitting tests of it as a feature
+    useful_columns: np.ndarray | None = None  # the useful columns, as an array (its children's hint)
+
+
+class NodeTable:
+    """What the search knows of one matrix's nodes whatever the robot's position and the
+    move costs: each node's rows, its facts, its tests' branchings and the node a failed
+    grasp leaves. Shared by every search over the matrix (:func:`node_table`), so a
+    session's search starts from the nodes earlier sessions worked out; the matrix's rows
+    never change (a grown library is a new matrix, with a table of its own)."""
+
+    def __init__(self, matrix: DescriptionMatrix) -> None:
+        self._matrix = weakref.ref(matrix)  # the table lives as long as its matrix, not longer
+        self._errors = matrix.errors
+        self._all = np.arange(len(matrix.tests))
+        self._price = [procedure_cost(t, matrix.knowledge) for t in matrix.tests]
+        self.rows: list[Rows] = []
+        self.facts: list[_NodeFacts | None] = []
+        # per node, columns that include every one that could split it: its parent's useful
+        # ones (a subset of rows spans no more of a column than its superset), or all
+        self.hints: list[np.ndarray] = []
+        self.ids: dict[Rows, int] = {}
+        self.branchings: dict[int, tuple[_Branching, ...]] = {}
+        self.without: dict[tuple[int, str], tuple[int, tuple[bool, ...]]] = {}
+        self.recorded: dict[tuple[int, str], tuple[Position, ...]] = {}
+        self.positions: list[Position] = []
+        self.position_ids: dict[Position, int] = {}
+        self.targets: dict[tuple[int, int], tuple[int, ...]] = {}  # where a test can be made, from a position
+        self.slot_targets: dict[tuple[object, ...], tuple[int, ...]] = {}  # the same, per slots and range
+        self.made_free: dict[tuple[str, str, int], int] = {}  # the columns a measurement there makes free
+        self._lock = threading.Lock()  # sessions in several threads may add nodes at once
+
+    @property
+    def matrix(self) -> DescriptionMatrix:
+        matrix = self._matrix()
+        assert matrix is not None, "a node table outlived its matrix"
+        return matrix
+
+    def node_id(self, rows: Rows, hint: np.ndarray | None = None) -> int:
+        """The id of the node holding ``rows``; ``hint``: columns that include every one
+        useful at it (a parent's useful columns), else every column is looked at."""
+        known = self.ids.get(rows)
+        if known is None:
+            with self._lock:
+                known = self.ids.get(rows)
+                if known is None:
+                    self.rows.append(rows)
+                    self.facts.append(None)
+                    self.hints.append(self._all if hint is None else hint)
+                    known = self.ids[rows] = len(self.rows) - 1
+        return known
+
+    def work_out(self, node: int) -> _NodeFacts:
+        """The node's facts, with a few array operations over its rows and the columns
+        its hint leaves."""
+        matrix, rows, hint = self.matrix, list(self.rows[node]), self.hints[node]
+        grasps = tuple(sorted({matrix.classes[c] for c in matrix.class_of[rows].tolist()}))
+        if len(grasps) < 2:
+            found = _NodeFacts(grasps, 0, 0)
+        else:
+            values = matrix.values[np.ix_(rows, hint)]
+            known = ~np.isnan(values)
+            high = np.where(known, values, -np.inf).max(axis=0)
+            low = np.where(known, values, np.inf).min(axis=0)
+            spans = known.any(axis=0) & (high - low > self._errors[hint] + _EPS)
+            useful = hint[spans]
+            # chain-merged ranges (partition, as gain.partition_columns): a new range wherever
+            # two sorted known values are more than the error apart (NaN sorts last, never apart)
+            ordered = np.sort(values[:, spans], axis=0)
+            n_ranges = 1 + (np.diff(ordered, axis=0) > self._errors[useful] + _EPS).sum(axis=0)
+            columns = useful[n_ranges >= 2].tolist()
+            grasp_of = tuple(grasps.index(matrix.classes[c]) for c in matrix.class_of[rows].tolist())
+            tests = matrix.tests
+            sensing = tuple(sorted((c for c in columns if not tests[c].is_grasp), key=lambda c: (self._price[c], c)))
+            grasp_tests = tuple(tuple(c for c in columns if tests[c].is_grasp and tests[c].feature == g)
+                                for g in grasps)
+            found = _NodeFacts(grasps, _mask(columns), _mask(useful.tolist()), tuple(columns), grasp_of, sensing,
+                               grasp_tests, useful)
+        self.facts[node] = found
+        return found
+
+    def work_out_branchings(self, node: int) -> tuple[_Branching, ...]:
+        """Each splitting test's children and shares (``node.split``: a value within two
+        ranges goes to the first; a row lacking the value goes down every branch). Each
+        column's ranges are its sorted known values chain-merged (a new range where two
+        neighbours are more than the error apart), so a known value's branch is the
+        number of such gaps below it. Columns that part the rows alike share children."""
+        facts = self.facts[node] or self.work_out(node)
+        rows, columns = self.rows[node], list(facts.columns)
+        if not columns:
+            self.branchings[node] = ()
+            return ()
+        values = self.matrix.values[np.ix_(list(rows), columns)]
+        order = np.argsort(values, axis=0, kind="stable")  # NaN last
+        ordered = np.take_along_axis(values, order, axis=0)
+        gaps = np.diff(ordered, axis=0) > self._errors[columns] + _EPS
+        index = np.zeros(values.shape, dtype=np.int64)
+        np.put_along_axis(index, order, np.vstack([np.zeros((1, len(columns)), dtype=np.int64),
+                                                   np.cumsum(gaps, axis=0)]), axis=0)
+        index[np.isnan(values)] = -1
+        parted: dict[tuple[int, ...], tuple[tuple[int, ...], tuple[tuple[tuple[int, float], ...], ...]]] = {}
+        out = []
+        for c, branch in zip(columns, map(tuple, index.T.tolist())):
+            found = parted.get(branch)
+            if found is None:
+                k = max(branch) + 1
+                members: list[list[tuple[int, float]]] = [[] for _ in range(k)]
+                for i, j in enumerate(branch):
+                    if j < 0:
+                        for m in members:
+                            m.append((i, 1.0 / k))
+                    else:
+                        members[j].append((i, 1.0))
+                children = tuple(self.node_id(tuple(rows[i] for i, _ in m), facts.useful_columns) for m in members)
+                found = parted[branch] = (children, tuple(tuple(m) for m in members))
+            out.append(_Branching(c, *found))
+        self.branchings[node] = tuple(out)
+        return self.branchings[node]
+
+    def place(self, position: Position) -> int:
+        """The id of a concrete position."""
+        known = self.position_ids.get(position)
+        if known is None:
+            with self._lock:
+                known = self.position_ids.get(position)
+                if known is None:
+                    self.positions.append(position)
+                    known = self.position_ids[position] = len(self.positions) - 1
+        return known
+
+
+_tables: weakref.WeakKeyDictionary[DescriptionMatrix, NodeTable] = weakref.WeakKeyDictionary()
+_tables_lock = threading.Lock()
+
+
+TABLE_ENTRIES = 200_000
+"""The most nodes, or positions, a :class:`NodeTable` holds before the next search over
+its matrix starts a new one: the nodes of a library are few, but every session adds the
+positions the robot really stood at, and a robot may meet thousands of objects with one
+library. (A search under way keeps the table it started with.)"""
+
+
+def node_table(matrix: DescriptionMatrix) -> NodeTable:
+    """The matrix's :class:`NodeTable`, made when first asked for (and anew past
+    :data:`TABLE_ENTRIES`)."""
+    table = _tables.get(matrix)
+    if table is None or len(table.rows) > TABLE_ENTRIES or len(table.positions) > TABLE_ENTRIES:
+        with _tables_lock:
+            table = _tables.get(matrix)
+            if table is None or len(table.rows) > TABLE_ENTRIES or len(table.positions) > TABLE_ENTRIES:
+                table = _tables[matrix] = NodeTable(matrix)
+    return table
+
+
+def forget_nodes(matrix: DescriptionMatrix) -> None:
+    """Drop what searches over ``matrix`` shared (for a bench that times a search as the
+    first ever made over its library)."""
+    with _tables_lock:
+        _tables.pop(matrix, None)
 
 
 class ExactSearch:
@@ -87,6 +254,9 @@ class ExactSearch:
     (their cost plus, per branch, the cheapest next test or blind grasp), and an action
     stops being expanded as soon as its bound reaches the best. The rows' probabilities
     say all the search needs of the learner's carried marks, so its nodes keep none.
+    A move costs nothing or more (the estimator's seconds, or ``inf``), so a test costs at
+    least its procedure's time: where that alone cannot beat what is found, the search
+    prices none of its moves (a planner's estimates are the dearest part of a decision).
     """
 
     def __init__(self, matrix: DescriptionMatrix, estimator: MoveCostEstimator, ctx: Context) -> None:
@@ -99,7 +269,6 @@ class ExactSearch:
         self.price = [procedure_cost(t, matrix.knowledge) for t in matrix.tests]
         self.reach = [procedure_range(t, matrix.knowledge) for t in matrix.tests]
         self.is_grasp = [t.is_grasp for t in matrix.tests]
-        self.errors = matrix.errors.tolist()
         # the slot values the library uses: every test's position and every grasp position
         places = [t.position for t in matrix.tests] + list(matrix.labels.positions)
         self.distances = sorted({p.distance_in for p in places if p.distance_in is not None})
@@ -108,44 +277,32 @@ class ExactSearch:
         self.failure_s = {g: matrix.knowledge.grasp(g).feature_cost_s for g in matrix.classes}
         self.memo: dict[tuple[object, ...], tuple[float, bool]] = {}
         self.choices: dict[tuple[object, ...], tuple[int, int]] = {}  # a solved state's best action: (its bit, target)
-        self.rows: list[Rows] = []
-        self._facts: list[_NodeFacts | None] = []
-        self._branchings: dict[int, tuple[_Branching, ...]] = {}
-        self._node_ids: dict[Rows, int] = {}
+        self.table = node_table(matrix)
+        self.rows = self.table.rows
+        self._facts = self.table.facts
         self._grasp_places: dict[tuple[object, int, str], int] = {}
-        self._recorded: dict[tuple[int, str], tuple[Position, ...]] = {}
         self._column_from: dict[tuple[int, int], float] = {}
         self._offered: dict[tuple[int, int], tuple[tuple[float, int], ...]] = {}
-        self._without: dict[tuple[int, str], tuple[int, tuple[bool, ...]]] = {}
-        self.positions: list[Position] = []
-        self._position_ids: dict[Position, int] = {}
+        self.positions = self.table.positions
         self._moves: dict[tuple[int, int, bool], float] = {}
-        self._targets: dict[tuple[int, int], tuple[int, ...]] = {}
-        self._made_free: dict[tuple[str, str, int], int] = {}
+        self._targets = self.table.targets
+        self._made_free = self.table.made_free
         self._cheapest: dict[tuple[int, int], tuple[float, list[float]]] = {}
+        self._cheapest_at: dict[int, list[float | None]] = {}  # per position, each column's cheapest try
+        self._splits: dict[tuple[int, Weights], list[list[tuple[int, float, Weights]] | None]] = {}
 
     # -- ids ------------------------------------------------------------------------
     def place(self, position: Position) -> int:
         """The id of a concrete position."""
-        if position not in self._position_ids:
-            self._position_ids[position] = len(self.positions)
-            self.positions.append(position)
-        return self._position_ids[position]
+        return self.table.place(position)
 
     def node_id(self, rows: Rows) -> int:
         """The id of the node holding ``rows`` (its facts are worked out when first needed)."""
-        known = self._node_ids.get(rows)
-        if known is None:
-            known = self._node_ids[rows] = len(self.rows)
-            self.rows.append(rows)
-            self._facts.append(None)
-        return known
+        return self.table.node_id(rows)
 
     def facts(self, node: int) -> _NodeFacts:
         found = self._facts[node]
-        if found is None:
-            found = self._facts[node] = self._work_out(self.rows[node])
-        return found
+        return found if found is not None else self.table.work_out(node)
 
     def free_mask(self, measurements: Measurements) -> int:
         """The sensing tests a session's ``measurements`` make free."""
@@ -167,26 +324,37 @@ class ExactSearch:
         known = self.memo.get(key)
         if known is not None and (known[1] or known[0] >= budget):
             return known[0]
-        actions = []
         # an action that alone costs the budget is left out: bounding its children would not save it
         found, some = self.actions(node, weights, at, free, taken, budget)
-        for cost, children, target, now_free, now_taken in found:
-            bound, bounds = cost, []
-            for child, mass, child_weights in children:
-                bounds.append(self._bound(child, child_weights, target, now_free))
-                bound += mass * bounds[-1]
-                if bound >= budget - _EPS:
-                    break  # it cannot come in under the budget: no need to bound the rest
-            else:
-                actions.append((bound, cost, children, bounds, target, now_free, now_taken))
         if not some:
             return 0.0  # nothing splits and no grasp may be tried blind: a last guess ends it
-        actions.sort(key=lambda a: a[0])
+        # Actions are searched in the order of their lower bounds (its cost plus, per child,
+        # the child's bound), ties in the order they were found; an action whose bound
+        # reaches the best found is not searched. A child's bound is worked out only when
+        # the action's cost alone is below the best, from a heap keyed by what is known of
+        # each action's bound (its cost, then its whole bound): the same order as sorting
+        # them all by their whole bounds, without bounding the children of those never reached.
+        heap: list[tuple[float, int, list[float] | None]] = [(a[0], i, None) for i, a in enumerate(found)]
+        heapq.heapify(heap)
         best, chosen = math.inf, (0, at)
-        for bound, cost, children, bounds, target, now_free, now_taken in actions:
+        while heap:
+            bound, i, bounds = heap[0]
             limit = min(best, budget)
             if bound >= limit - _EPS:
-                break  # sorted: no later action can do better
+                break  # no action left can do better
+            heapq.heappop(heap)
+            cost, kids, target, now_free, now_taken = found[i]
+            children = kids if not isinstance(kids, int) else self.children_of(node, weights, kids)
+            if bounds is None:
+                bound, bounds = cost, []
+                for child, mass, child_weights in children:
+                    bounds.append(self._bound(child, child_weights, target, now_free))
+                    bound += mass * bounds[-1]
+                    if bound >= limit - _EPS:
+                        break  # it cannot come in under the best: no need to bound the rest
+                else:
+                    heapq.heappush(heap, (bound, i, bounds))
+                continue
             total = self.below(cost, children, bounds, target, now_free, now_taken, limit)
             if total < best:
                 best, chosen = total, (now_taken & ~taken, target)
@@ -224,38 +392,39 @@ class ExactSearch:
         return total
 
     def actions(self, node: int, weights: Weights, at: int, free: int, taken: int,
-                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]], int, int, int]],
-                                                   bool]:
+                budget: float = math.inf) -> tuple[list[tuple[float, list[tuple[int, float, Weights]] | int, int, int,
+                                                              int]], bool]:
         """Every action from ``at`` that costs less than ``budget`` by itself, and whether
         there is any action at all: (its expected cost now, its children as (node,
-        probability, their rows' probabilities), where the robot ends, free tests after,
-        tests taken after). A test is paid whatever comes of it; a grasp only when it
+        probability, their rows' probabilities), or for a test the index of its branching
+        (:meth:`children_of` works them out when they are needed), where the robot ends,
+        free tests after, tests taken after). A test is paid whatever comes of it; a grasp only when it
         is wrong (the right one ends recognition, not counted), and then, as a failed
         attempt, its move and ``feature_cost_s``: time plus side-effect penalty."""
         facts = self.facts(node)
-        found: list[tuple[float, list[tuple[int, float, Weights]], int, int, int]] = []
+        found: list[tuple[float, list[tuple[int, float, Weights]] | int, int, int, int]] = []
         some = False
         limit = budget - _EPS
-        for b in self.branchings(node):
+        branchings = self.branchings(node)
+        # each test's children under these weights, whatever the position: worked out once
+        for j, b in enumerate(branchings):
             c = b.column
             if taken >> c & 1:
                 continue
             some = True
             if free >> c & 1:  # re-used where the robot stands; the session records it there too
-                found.append((0.0, self._children(b, weights), at, free | self._frees(c, "feature", at),
-                              taken | (1 << c)))
+                found.append((0.0, j, at, free | self._frees(c, "feature", at), taken | (1 << c)))
                 continue
             grasp = self.is_grasp[c]
             paid = sum(weights[i] for i, _ in b.members[0]) if grasp else 1.0
-            children = None
+            if paid * self.price[c] >= limit:
+                continue  # every offer costs at least the procedure: none is below the budget
             for base, target in self._offers(c, at):
                 cost = paid * base
                 if cost >= limit:
                     break  # the offers are cheapest first
-                if children is None:
-                    children = self._children(b, weights)
                 now_free = free if grasp else free | self._frees(c, "procedure", target)
-                found.append((cost, children, target, now_free, taken | (1 << c)))
+                found.append((cost, j, target, now_free, taken | (1 << c)))
         for grasp in facts.grasps:
             if not self.verifiable[grasp]:
                 continue  # "executing" it means moving on: the robot would never learn it was wrong
@@ -270,6 +439,17 @@ class ExactSearch:
                     found.append((cost, [(rest, wrong, tuple(w / wrong for w, k in zip(weights, keep) if k))],
                                   target, free, taken))
         return found, some
+
+    def children_of(self, node: int, weights: Weights, j: int) -> list[tuple[int, float, Weights]]:
+        """The children of the node's ``j``-th branching under ``weights``: the same at
+        every position, so worked out once per node and weights."""
+        split = self._splits.get((node, weights))
+        if split is None:
+            split = self._splits[node, weights] = [None] * len(self.branchings(node))
+        children = split[j]
+        if children is None:
+            children = split[j] = self._children(self.branchings(node)[j], weights)
+        return children
 
     def test_action(self, node: int, weights: Weights, b: _Branching, at: int, target: int, free: int, taken: int,
                     children: list[tuple[int, float, Weights]] | None = None
@@ -323,12 +503,14 @@ class ExactSearch:
         """The node left when ``grasp`` failed (its rows dropped) and which of this
         node's rows it keeps."""
         key = (node, grasp)
-        if key not in self._without:
+        found = self.table.without.get(key)
+        if found is None:
             rows = self.rows[node]
             classes = self.matrix.classes
             keep = tuple(classes[self.matrix.class_of[r]] != grasp for r in rows)
-            self._without[key] = (self.node_id(tuple(r for r, k in zip(rows, keep) if k)), keep)
-        return self._without[key]
+            found = self.table.without[key] = (
+                self.table.node_id(tuple(r for r, k in zip(rows, keep) if k), self.facts(node).useful_columns), keep)
+        return found
 
     def _grasp_place(self, node: int, at: int, grasp: str) -> int:
         """Where the learner would execute ``grasp`` from ``at`` (``grasp_options``: the
@@ -336,10 +518,10 @@ class ExactSearch:
         key = (node, at, grasp)
         if key in self._grasp_places:
             return self._grasp_places[key]
-        recorded = self._recorded.get((node, grasp))
+        recorded = self.table.recorded.get((node, grasp))
         if recorded is None:
             labels = self.matrix.labels
-            recorded = self._recorded[node, grasp] = tuple(sorted(
+            recorded = self.table.recorded[node, grasp] = tuple(sorted(
                 {labels.positions[labels.grasp_position[r]] for r in self.rows[node]
                  if self.matrix.classes[self.matrix.class_of[r]] == grasp}))
         chosen = self._grasp_places.get((recorded, at, grasp))
@@ -383,63 +565,46 @@ class ExactSearch:
         paid sensing test, and per grasp of the node the cheapest try of it when it fails
         (``inf`` for one the finger sensor cannot confirm)."""
         facts = self.facts(node)
-        sensing = min((self._sensing_from(c, at) for c in facts.columns if not self.is_grasp[c]), default=math.inf)
+        cheapest = self._cheapest_at.get(at)
+        if cheapest is None:
+            cheapest = self._cheapest_at[at] = [None] * len(self.price)
+        # each column's cheapest way from ``at``, worked out once and only where it could be
+        # the least: a try costs at least its procedure's time (a move costs nothing or
+        # more), so the columns are looked at cheapest procedure first (facts.sensing is
+        # in that order) and no further once that time alone reaches the least found;
+        # the least is the same, with fewer moves priced (a planner's are dear)
+        sensing = math.inf
+        for c in facts.sensing:
+            if self.price[c] >= sensing:
+                break
+            found = cheapest[c]
+            if found is None:
+                found = cheapest[c] = self._sensing_from(c, at)
+            if found < sensing:
+                sensing = found
         per_grasp = []
-        for g in facts.grasps:
+        for g, tests in zip(facts.grasps, facts.grasp_tests):
             if not self.verifiable[g]:
                 per_grasp.append(math.inf)
                 continue
-            tries = [self._move(at, self._grasp_place(node, at, g)) + self.failure_s[g]]
-            tries += [self._move(at, t) + self.price[c] for c in facts.columns
-                      if self.is_grasp[c] and self.matrix.tests[c].feature == g for t in self._targets_for(c, at)]
-            per_grasp.append(min(tries))
+            least = self._move(at, self._grasp_place(node, at, g)) + self.failure_s[g]
+            for c in tests:
+                if self.price[c] >= least:
+                    continue
+                found = cheapest[c]
+                if found is None:
+                    found = cheapest[c] = min((self._move(at, t) + self.price[c] for t in self._targets_for(c, at)),
+                                              default=math.inf)
+                if found < least:
+                    least = found
+            per_grasp.append(least)
         return sensing, per_grasp
 
     # -- facts, worked out once per node -------------------------------------------------
-    def _work_out(self, rows: Rows) -> _NodeFacts:
-        matrix = self.matrix
-        grasps = tuple(sorted({matrix.classes[c] for c in matrix.class_of[list(rows)].tolist()}))
-        if len(grasps) < 2:
-            return _NodeFacts(grasps, 0, 0)
-        values = matrix.values[list(rows)]
-        known = ~np.isnan(values)
-        high = np.where(known, values, -np.inf).max(axis=0)
-        low = np.where(known, values, np.inf).min(axis=0)
-        useful = np.flatnonzero(known.any(axis=0) & (high - low > matrix.errors + _EPS))
-        # chain-merged ranges (partition, as gain.partition_columns): a new range wherever
-        # two sorted known values are more than the error apart (NaN sorts last, never apart)
-        ordered = np.sort(values[:, useful], axis=0)
-        n_ranges = 1 + (np.diff(ordered, axis=0) > matrix.errors[useful] + _EPS).sum(axis=0)
-        columns = useful[n_ranges >= 2].tolist()
-        grasp_of = tuple(grasps.index(matrix.classes[c]) for c in matrix.class_of[list(rows)].tolist())
-        return _NodeFacts(grasps, _mask(columns), _mask(useful.tolist()), tuple(columns), grasp_of)
-
     def branchings(self, node: int) -> tuple[_Branching, ...]:
-        """Each splitting test's children and shares (``node.split``: a value within two
-        ranges goes to the first; a row lacking the value goes down every branch)."""
-        found = self._branchings.get(node)
-        if found is not None:
-            return found
-        rows, columns = self.rows[node], list(self.facts(node).columns)
-        out = []
-        for c, values in zip(columns, self.matrix.values[list(rows)][:, columns].T.tolist()):
-            ranges = partition([v for v in values if v == v], self.errors[c])
-            k = len(ranges)
-            lows = [lo - _EPS for lo, _ in ranges]
-            # each known value lies in one range (they were made from these values): the
-            # last range starting at or below it; -1: lacking, down every branch
-            branch = [bisect_right(lows, v) - 1 if v == v else -1 for v in values]
-            members: list[list[tuple[int, float]]] = [[] for _ in range(k)]
-            for i, j in enumerate(branch):
-                if j < 0:
-                    for m in members:
-                        m.append((i, 1.0 / k))
-                else:
-                    members[j].append((i, 1.0))
-            children = tuple(self.node_id(tuple(rows[i] for i, _ in m)) for m in members)
-            out.append(_Branching(c, children, tuple(tuple(m) for m in members)))
-        found = self._branchings[node] = tuple(out)
-        return found
+        """Each splitting test's children and shares (:meth:`NodeTable.branchings`)."""
+        found = self.table.branchings.get(node)
+        return found if found is not None else self.table.work_out_branchings(node)
 
     def _offers(self, column: int, at: int) -> tuple[tuple[float, int], ...]:
         """Where test ``column`` can be made from ``at``, cheapest first: (move plus the
@@ -480,17 +645,23 @@ class ExactSearch:
         """Where a test can be made: its own slots, or for a ``*`` every in-range value the
         library uses plus the learner's own fill from ``at``."""
         key = (column, at)
-        if key not in self._targets:
+        found = self._targets.get(key)
+        if found is None:
             test = self.matrix.tests[column]
-            lo, hi = self.reach[column]
-            own = target_for(test, self.positions[at], self.ctx)
-            distances = ([test.position.distance_in] if test.position.distance_in is not None
-                         else [d for d in self.distances if lo - _EPS <= d <= hi + _EPS] + [own.distance_in])
-            orientations = ([test.position.orientation_deg] if test.position.orientation_deg is not None
-                            else self.orientations + [own.orientation_deg])
-            self._targets[key] = tuple(self.place(p) for p in sorted({Position(d, o) for d in distances
-                                                                     for o in orientations}))
-        return self._targets[key]
+            # the same for every test whose slots and range are these (target_for reads no more)
+            alike = (test.position, self.reach[column], at)
+            found = self.table.slot_targets.get(alike)
+            if found is None:
+                lo, hi = self.reach[column]
+                own = target_for(test, self.positions[at], self.ctx)
+                distances = ([test.position.distance_in] if test.position.distance_in is not None
+                             else [d for d in self.distances if lo - _EPS <= d <= hi + _EPS] + [own.distance_in])
+                orientations = ([test.position.orientation_deg] if test.position.orientation_deg is not None
+                                else self.orientations + [own.orientation_deg])
+                found = self.table.slot_targets[alike] = tuple(
+                    self.place(p) for p in sorted({Position(d, o) for d in distances for o in orientations}))
+            self._targets[key] = found
+        return found
 
     def _move(self, start: int, goal: int, sensing: bool = False) -> float:
         """The move, to sense at ``goal`` (``sensing``: priced as ``rank`` prices a sensing

@@ -1,4 +1,4 @@
-"""Choosing by the exact search where few descriptions are left, by the walk rollout above.
+"""Choosing by the exact search where few descriptions are left, the walk rollout above, one step beyond.
 
 The exact search (:mod:`learner.choosing.exact`) prices a test at a node at what it
 costs plus the least expected cost below each of its branches: the optimal choice, under
@@ -7,10 +7,12 @@ docs/optimum.md's accounting. Its work grows steeply with the descriptions at th
 it found serves the session's later decisions. So a criterion with the ``exact_search``
 trait (``cs-id3-failure-exact``) chooses by the search where it is cheap enough
 (:func:`exact_here`), every test the one-step ranking offers priced exactly (a ``*``
-test also at each other fill of its slots the library uses, ``rollout_walk.star_fills``),
-and elsewhere by its walk rollout (learner/choosing/rollout_walk.py), whose estimate
-follows the session's walk. A state an earlier decision searched to the end keeps its
-best action, which a later decision there takes at once.
+test also at each other fill of its slots the library uses, ``rollout_walk.star_fills``);
+above it, at a node of tens of descriptions, by its walk rollout
+(learner/choosing/rollout_walk.py), whose estimate follows the session's walk; at a node
+of more (:data:`ROLLOUT_ROWS`), where the rollout's walks would take hundreds of
+milliseconds, by the one-step ranking alone. A state an earlier decision searched to
+the end keeps its best action, which a later decision there takes at once.
 
 The search works from the session's state only: the node's rows and how likely each
 came this way (``Node.weights``), where the robot stands, which tests its measurements
@@ -38,13 +40,22 @@ search chooses there (its whole search then serves the session's later decisions
 COLD_ROWS = 8
 """The most descriptions at a later node for which a session that has not searched a
 node as large yet starts the search there; above it the walk rollout chooses."""
+ROLLOUT_ROWS = 50
+"""The most descriptions at a node where the exact search does not choose for which the
+walk rollout chooses; above it the one-step ranking alone, whose decisions stay fast at
+any library size where the rollout's do not. Above the largest node the rollout met in
+the paper's conditions, so the rule there is unchanged (docs/optimum.md, "A rule above
+the exact search")."""
 
 
 def searched(node: Node, ranked: list[ScoredTest], current: Position, ctx: Context, measurements: Measurements,
              exclude: frozenset[Test]) -> list[ScoredTest]:
     """``ranked`` (one-step order) reordered by expected total cost: exactly where the
-    search is cheap (:func:`exact_here`), by the walk rollout elsewhere."""
+    search is cheap (:func:`exact_here`), by the walk rollout at a node of up to
+    :data:`ROLLOUT_ROWS` descriptions, left in its one-step order above."""
     if not exact_here(len(node.rows), ctx):
+        if len(node.rows) > ROLLOUT_ROWS:
+            return ranked
         return rolled_out(node, ranked, current, ctx, measurements, exclude)
     return shared((ctx.criterion, node, current, frozenset(measurements), exclude),
                   lambda: _searched(node, ranked, current, ctx, measurements, exclude))

@@ -2,7 +2,8 @@
 
 Its walk reaches the optimum where the one-step rule does not; the search splits a node
 exactly as the learner does; where it chooses is bounded by the descriptions at the node
-and what the session already searched; and a forked session keeps the search. (That no
+and what the session already searched, above it the walk rollout up to a size and the
+one-step ranking beyond; and a forked session keeps the search. (That no
 walk of it beats the optimum is test_optimum.py's property, which walks every measured
 criterion, this one included.)"""
 
@@ -18,10 +19,13 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.exact import ExactSearch
-from learner.choosing.exact_choice import COLD_ROWS, EXACT_ROWS, exact_here
+from learner.choosing.exact_choice import COLD_ROWS, EXACT_ROWS, ROLLOUT_ROWS, exact_here, searched
 from learner.choosing.node import Context, Node, ScoredTest, split
+from learner.choosing.rollout_walk import rolled_out
+from learner.choosing.scoring import rank_by_score
 from learner.costs import ModelMoveCost
 from learner.library.format import read_library_json
+from learner.library.synthetic import synthetic_library
 from learner.optimum import optimal_cost, policy_walk
 from learner.position import Position
 from robot_profile import load_knowledge
@@ -74,6 +78,25 @@ def test_where_the_search_chooses() -> None:
     assert exact_here(EXACT_ROWS, small)
     assert exact_here(EXACT_ROWS - 1, small)  # below a node already searched
     assert not exact_here(EXACT_ROWS + 1, small)
+
+
+def test_above_the_search_the_walk_rollout_chooses_up_to_its_rows_and_one_step_beyond() -> None:
+    # A root of ROLLOUT_ROWS descriptions (past EXACT_ROWS: no search) is ranked by the
+    # walk rollout; one of ROLLOUT_ROWS + 1 keeps the one-step ranking as it is (the
+    # rollout's list differs from it at least in its scores, -expected cost)
+    knowledge = load_knowledge(KNOWLEDGE)
+    base = read_library_json(EXAMPLE_LIBRARY)
+    est = ModelMoveCost(knowledge.move)
+    for n, by_rollout in ((ROLLOUT_ROWS, True), (ROLLOUT_ROWS + 1, False)):
+        ctx = Context(DescriptionMatrix(synthetic_library(knowledge, n, 0, base=base), knowledge),
+                      criterion(EXACT), est)
+        root = Node.root(n)
+        ranked = rank_by_score(root, P(60, 0), ctx, {})
+        chosen = searched(root, ranked, P(60, 0), ctx, {}, frozenset())
+        if by_rollout:
+            assert chosen == rolled_out(root, ranked, P(60, 0), ctx, {}, frozenset()) != ranked
+        else:
+            assert chosen == ranked
 
 
 def test_a_forked_session_keeps_the_search() -> None:
