@@ -66,10 +66,14 @@ class PlannerMoveCost:
         self._cache: dict[tuple[Position, Position], float] = {}
         self._blocked: dict[Position, bool] = {}
         self._stood: dict[Position, PlannerPose] = {}
+        self.generation = 0  # learner.costs.MoveCostEstimator: changes with every retarget
 
     def retarget(self, region: Region) -> None:
-        """The object moved (pushed, knocked over): price positions around where it is now."""
+        """The object moved (pushed, knocked over): price positions around where it is now.
+        ``generation`` changes, so the learner's searches that keep prices from one
+        decision to the next start afresh instead of choosing on the old ones."""
         self.region = region
+        self.generation += 1
         self._cache.clear()
         self._blocked.clear()
         self._stood.clear()

@@ -33,9 +33,18 @@ class MoveCostEstimator(Protocol):
     Optionally also ``sensing_move_cost(start, goal) -> float``: the move to *sense* from
     ``goal``, ``inf`` when a reading there would not be the object's alone (its sound
     meets a neighbour). Optional, so not a protocol member: :func:`sensing_cost` asks.
+    And optionally ``generation``, an int that changes whenever the estimator's prices
+    change (the object was pushed or knocked over): work kept from one decision to the
+    next on its prices is dropped when it does (:func:`estimator_generation`).
     """
 
     def move_cost(self, start: Position, goal: Position) -> float: ...
+
+
+def estimator_generation(estimator: MoveCostEstimator) -> int:
+    """The estimator's optional ``generation`` (0 without one: its prices never change)."""
+    generation = getattr(estimator, "generation", 0)  # optional: see MoveCostEstimator
+    return generation if isinstance(generation, int) else 0
 
 
 def sensing_cost(estimator: MoveCostEstimator, start: Position, goal: Position) -> float:

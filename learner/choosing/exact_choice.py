@@ -29,6 +29,7 @@ from __future__ import annotations
 import dataclasses
 
 from learner.choosing.exact import ExactSearch, priced_all
+from learner.costs import estimator_generation
 from learner.choosing.matrix import Test
 from learner.choosing.node import Context, Measurements, Node, ScoredTest
 from learner.choosing.rollout_walk import rolled_out, shared, star_fills
@@ -99,10 +100,15 @@ def session_search(ctx: Context) -> ExactSearch:
     """The exact search this context's decisions share (``ctx.scratch``): what one
     decision searched, the next re-uses, so a session pays for the search below its
     first exact decision once. (A context's library and estimator are fixed; a forked
-    session's copy of the estimator prices as the original does.)"""
+    session's copy of the estimator prices as the original does.) An estimator whose
+    prices changed (its ``generation``: the object moved) gets a search afresh, since the
+    old one's subtrees are priced with the old moves."""
     search = ctx.scratch.get("exact")
-    if not isinstance(search, ExactSearch) or search.matrix is not ctx.matrix:
+    generation = estimator_generation(ctx.estimator)
+    if not isinstance(search, ExactSearch) or search.matrix is not ctx.matrix \
+            or ctx.scratch.get("exact_generation") != generation:
         search = ctx.scratch["exact"] = ExactSearch(ctx.matrix, ctx.estimator, ctx)
+        ctx.scratch["exact_generation"] = generation
     return search
 
 

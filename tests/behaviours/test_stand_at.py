@@ -66,3 +66,11 @@ def test_retarget_forgets_the_real_pose() -> None:
     here = estimator.stand_at(REAL)
     estimator.retarget(target)  # the object moved: its positions mean other poses now
     assert estimator.move_cost(here, TEST_AT) == math.inf
+
+
+def test_a_retarget_tells_the_learner_every_price_changed() -> None:
+    nav, target = _room()
+    costs = PlannerMoveCost(nav, target)
+    before = costs.generation
+    costs.retarget(target)
+    assert costs.generation == before + 1  # learner.costs.estimator_generation reads it

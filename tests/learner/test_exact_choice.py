@@ -19,7 +19,7 @@ from executive.defaults import EXAMPLE_LIBRARY, KNOWLEDGE
 from learner.choosing.criteria import criterion
 from learner.choosing.matrix import DescriptionMatrix
 from learner.choosing.exact import ExactSearch
-from learner.choosing.exact_choice import COLD_ROWS, EXACT_ROWS, ROLLOUT_ROWS, exact_here, searched
+from learner.choosing.exact_choice import COLD_ROWS, EXACT_ROWS, ROLLOUT_ROWS, exact_here, searched, session_search
 from learner.choosing.node import Context, Node, ScoredTest, split
 from learner.choosing.rollout_walk import rolled_out
 from learner.choosing.scoring import rank_by_score
@@ -136,3 +136,20 @@ def _chained(points: list[tuple[float, float]], error: float) -> list[tuple[floa
         else:
             out.append((lo, hi))
     return out
+
+
+class Repriced(ModelMoveCost):
+    """The model's moves, with a ``generation`` a test changes as a retarget would."""
+
+    generation = 0
+
+
+def test_a_session_keeps_its_search_until_the_estimator_reprices() -> None:
+    lib = [d("a", "A", ("W", P(20, 0), 10)), d("b", "B", ("W", P(20, 0), 30))]
+    est = Repriced(EST.model)
+    ctx = Context(matrix(lib), criterion(EXACT), est)
+    first = session_search(ctx)
+    assert session_search(ctx) is first  # the next decision re-uses what the first searched
+    est.generation += 1  # the object was pushed: every move is priced anew
+    again = session_search(ctx)
+    assert again is not first and session_search(ctx) is again
