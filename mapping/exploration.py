@@ -1,12 +1,16 @@
 """Where to explore next, and when the home is mapped.
 
 The next exploration goal is a frontier region (:mod:`mapping.frontiers`) and a pose to
-look at it from. Each region large enough to matter (``min_frontier_in`` of frontier,
-counted in cells: a gap behind furniture or between table legs is not worth a trip)
-gets a *viewing pose*: the known-free cell nearest the frontier's middle (its cell
-nearest its centroid) that leaves the base ``clearance_in`` from every occupied and
-unknown cell and from every candidate not yet handled, lies within ``view_range_in`` of
-the frontier's middle, and sees it (no occupied cell on the line between), facing it.
+look at it from. Only unknown space more than ``surface_in`` from every occupied cell
+makes a frontier: the inside of a wall, of furniture or of a box, and the noise round a
+surface, are unknown for good, and chasing them cost most of the exploration under
+range noise (docs/mapping.md, "Exploration time"). Each region large enough to matter
+(``min_frontier_in`` of frontier, counted in cells: a gap behind furniture or between
+table legs is not worth a trip) gets a *viewing pose*: the known-free cell nearest the
+frontier's middle (its cell nearest its centroid) that leaves the base ``clearance_in``
+from every occupied and unknown cell and from every candidate not yet handled, lies
+within ``view_range_in`` of the frontier's middle, and sees it (no occupied cell on the
+line between), facing it.
 So the goal never lies in unknown space, and standing there the range finder looks
 straight into what is unknown.
 
@@ -18,10 +22,10 @@ and ``inf`` for a pose it cannot reach. A viewing pose within ``arrived_in`` of 
 robot is skipped: the robot is there already, and what it cannot see from there (beyond
 the range, behind glass) it will not see by standing still.
 
-The home is mapped when no frontier region of at least ``min_frontier_in`` has a
-viewing pose the robot can reach. Pure functions of their inputs; ties go to the
-frontiers' own order (largest first, then by first cell), so the result is the same run
-to run.
+The home is mapped when no frontier region of at least ``min_frontier_in`` (beside
+unknown space beyond ``surface_in``) has a viewing pose the robot can reach. Pure
+functions of their inputs; ties go to the frontiers' own order (largest first, then by
+first cell), so the result is the same run to run.
 """
 
 from __future__ import annotations
@@ -46,6 +50,7 @@ class ExplorationSettings:
     """The rules' numbers (inches); docs/mapping.md says why."""
 
     min_frontier_in: float = 12.0  # frontier regions shorter than this are not worth a trip
+    surface_in: float = 6.0  # unknown this near an occupied cell is a surface's inside or noise, not space
     clearance_in: float = 12.0  # viewing pose from occupied and unknown cells (base radius 9 in + 3 in)
     candidate_clearance_in: float = 12.0  # ... and from a candidate's outline (not on top of an object)
     view_range_in: float = 60.0  # viewing pose within this of the frontier's middle
@@ -53,7 +58,8 @@ class ExplorationSettings:
     size_exponent: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("min_frontier_in", "clearance_in", "candidate_clearance_in", "view_range_in", "arrived_in"):
+        for name in ("min_frontier_in", "surface_in", "clearance_in", "candidate_clearance_in", "view_range_in",
+                     "arrived_in"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"exploration setting {name} must be finite and not negative, got {value}")
@@ -154,7 +160,7 @@ def exploration_goals(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Can
     room = standing_room(grid, candidates, settings)
     occupied = grid.occupied
     goals = []
-    for frontier in frontiers(grid, settings.min_cells(grid.inches_per_cell)):
+    for frontier in frontiers(grid, settings.min_cells(grid.inches_per_cell), settings.surface_in):
         pose = viewing_pose(grid, frontier, room, settings, occupied=occupied)
         if pose is None or math.dist((pose.x_in, pose.y_in), (robot.x_in, robot.y_in)) <= settings.arrived_in:
             continue
@@ -176,5 +182,6 @@ def next_goal(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Candidate],
 
 def is_mapped(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Candidate], move_cost: MoveCost,
               settings: ExplorationSettings = ExplorationSettings()) -> bool:
-    """No frontier region of at least ``min_frontier_in`` has a viewing pose the robot can reach."""
+    """No frontier region of at least ``min_frontier_in`` (beside unknown space beyond
+    ``surface_in``) has a viewing pose the robot can reach."""
     return next_goal(grid, robot, candidates, move_cost, settings) is None
