@@ -134,6 +134,26 @@ def test_small_frontiers_do_not_count() -> None:
     assert is_mapped(grid, robot, (), straight_line(robot), ExplorationSettings(min_frontier_in=2.0))
 
 
+def test_a_frontier_whose_middle_no_pose_sees_is_looked_at_from_its_end() -> None:
+    """The corner known, and of the right room only a 16 in strip seen straight through
+    the doorway (y 52-68, up to the far wall): two frontiers along the strip's edges, the
+    top one 57 cells (centres x = 121-233, y = 67: the cells beyond lie within 6 in of
+    the far wall) and 3 in the doorway beside it (x = 119, y = 69-73), 60 cells centred
+    on (174.1, 67.2). Its middle (175, 67) lies in the strip, where no cell is 12 in from
+    the unknown, and the left room's cells are more than 60 in from it. Its cell nearest
+    the robot at (60, 64) is (119, 69), 59.2 in away: seen from (109, 69), 49.2 in from the
+    robot (4.9 s). The bottom edge's, mirrored, is (119, 51), seen from (109, 51), 50.7 in
+    from the robot (5.1 s): the top one is chosen."""
+    grid = two_rooms(corner_known=True)
+    fill(grid, 120.0, 52.0, 240.0, 68.0, MISS)
+    robot = Pose(60.0, 64.0, 0.0)
+    goal = next_goal(grid, robot, (), straight_line(robot))
+    assert goal is not None and goal.frontier.size == 60
+    assert (goal.target_x_in, goal.target_y_in) == (119.0, 69.0)
+    assert (goal.pose.x_in, goal.pose.y_in, goal.pose.heading_deg) == (109.0, 69.0, 0.0)
+    assert goal.cost_s == pytest.approx(math.hypot(49.0, 5.0) / SPEED_IN_S)
+
+
 def speckled_wall() -> OccupancyGrid:
     """60 x 40 in of 1 in cells, cell (row, col) centred on x = col + 0.5, y = 39.5 - row:
     a room (rows 9-39 free) whose top wall a noisy range finder left speckled. Its face,
