@@ -13,7 +13,8 @@ is left, or the bound on views was spent). Measured against the simulator's trut
 - the objects the exploration left a candidate for: a true object with a candidate
   within ``reporting.report.FOUND_WITHIN_IN`` of its centre (the study's "found"
   reads the records of handled objects; exploration alone has none, and an object
-  with no candidate after the exploration is one the robot will not approach).
+  with no candidate after the exploration is one the robot will not approach); and the
+  false candidates, near no object (each would cost the executive an approach).
 
 ``--trace`` prints each exploration choice (robot, frontier size, its middle and the
 viewing pose), to see which frontiers are chased and how often.
@@ -68,6 +69,7 @@ class Explored:
     located_max_in: float
     present: int
     with_candidate: int
+    false_candidates: int
     wall_s: float
     trace: tuple[str, ...]
 
@@ -130,11 +132,13 @@ def explore(world: str, preset: str, seed: int, trace: bool = False) -> Explored
     objects = hero.truth()
     covered = sum(1 for o in objects
                   if any(math.hypot(c.x_in - o.x_in, c.y_in - o.y_in) <= FOUND_WITHIN_IN for c in candidates))
+    false = sum(1 for c in candidates
+                if all(math.hypot(c.x_in - o.x_in, c.y_in - o.y_in) > FOUND_WITHIN_IN for o in objects))
     hero.close()
     return Explored(world, preset, seed, int(mapped["views"]), float(mapped["seconds"]) / 60.0, str(mapped["reason"]),
                     accuracy.iou, accuracy.surface_iou, accuracy.coverage,
                     max(located.corrected.position_in) if located is not None else math.nan, len(objects), covered,
-                    wall_s, tuple(lines))
+                    false, wall_s, tuple(lines))
 
 
 def _run(job: tuple[str, str, int, bool]) -> Explored:
@@ -159,12 +163,12 @@ def main(argv: list[str] | None = None) -> int:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         done = list(pool.map(_run, jobs))
     print("| home | preset | seed | views | exploration min | ended | IoU | surface IoU | free floor known "
-          "| localisation max in | objects with a candidate | wall s |")
-    print("|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|")
+          "| localisation max in | objects with a candidate | false candidates | wall s |")
+    print("|---|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|")
     for e in done:
         print(f"| {e.world} | {e.preset} | {e.seed} | {e.views} | {e.explore_min:.1f} | {e.reason} | {e.iou:.3f} "
               f"| {e.surface_iou:.3f} | {e.coverage:.3f} | {e.located_max_in:.1f} | {e.with_candidate}/{e.present} "
-              f"| {e.wall_s:.0f} |")
+              f"| {e.false_candidates} | {e.wall_s:.0f} |")
     for e in done:
         if e.trace:
             print(f"\n{e.world} {e.preset} {e.seed}:")
