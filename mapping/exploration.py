@@ -1,14 +1,18 @@
 """Where to explore next, and when the home is mapped.
 
 The next exploration goal is a frontier region (:mod:`mapping.frontiers`) and a pose to
-look at it from. Each region large enough to matter (``min_frontier_in`` of frontier,
-counted in cells: a gap behind furniture or between table legs is not worth a trip)
-gets a *viewing pose*: the known-free cell nearest the frontier's middle (its cell
-nearest its centroid) that leaves the base ``clearance_in`` from every occupied and
-unknown cell and from every candidate not yet handled, lies within ``view_range_in`` of
-the frontier's middle, and sees it (no occupied cell on the line between), facing it.
-So the goal never lies in unknown space, and standing there the range finder looks
-straight into what is unknown.
+look at it from. Only unknown space more than ``surface_in`` from every occupied cell
+makes a frontier: the inside of a wall, of furniture or of a box, and the noise round a
+surface, are unknown for good, and chasing them cost most of the exploration under
+range noise (docs/mapping.md, "Exploration time"). Each region large enough to matter
+(``min_frontier_in`` of frontier, counted in cells: a gap behind furniture or between
+table legs is not worth a trip) gets a *viewing pose*: the known-free cell nearest the
+frontier's middle (its cell nearest its centroid) that leaves the base ``clearance_in``
+from every occupied and unknown cell and from every candidate not yet handled, lies
+within ``view_range_in`` of the frontier's middle, and sees it (no occupied cell on the
+line between), facing it; when the middle has none, the same for the frontier's cell
+nearest the robot (:func:`targets`). So the goal never lies in unknown space, and
+standing there the range finder looks straight into what is unknown.
 
 The goal is the region whose viewing pose is cheapest to reach, weighted by its size:
 ``move_cost(pose) / size ** size_exponent`` (with the exponent 0.5 a frontier four times
@@ -18,10 +22,10 @@ and ``inf`` for a pose it cannot reach. A viewing pose within ``arrived_in`` of 
 robot is skipped: the robot is there already, and what it cannot see from there (beyond
 the range, behind glass) it will not see by standing still.
 
-The home is mapped when no frontier region of at least ``min_frontier_in`` has a
-viewing pose the robot can reach. Pure functions of their inputs; ties go to the
-frontiers' own order (largest first, then by first cell), so the result is the same run
-to run.
+The home is mapped when no frontier region of at least ``min_frontier_in`` (beside
+unknown space beyond ``surface_in``) has a viewing pose the robot can reach. Pure
+functions of their inputs; ties go to the frontiers' own order (largest first, then by
+first cell), so the result is the same run to run.
 """
 
 from __future__ import annotations
@@ -46,6 +50,7 @@ class ExplorationSettings:
     """The rules' numbers (inches); docs/mapping.md says why."""
 
     min_frontier_in: float = 12.0  # frontier regions shorter than this are not worth a trip
+    surface_in: float = 6.0  # unknown this near an occupied cell is a surface's inside or noise, not space
     clearance_in: float = 12.0  # viewing pose from occupied and unknown cells (base radius 9 in + 3 in)
     candidate_clearance_in: float = 12.0  # ... and from a candidate's outline (not on top of an object)
     view_range_in: float = 60.0  # viewing pose within this of the frontier's middle
@@ -53,7 +58,8 @@ class ExplorationSettings:
     size_exponent: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("min_frontier_in", "clearance_in", "candidate_clearance_in", "view_range_in", "arrived_in"):
+        for name in ("min_frontier_in", "surface_in", "clearance_in", "candidate_clearance_in", "view_range_in",
+                     "arrived_in"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"exploration setting {name} must be finite and not negative, got {value}")
@@ -67,8 +73,9 @@ class ExplorationSettings:
 
 @dataclass(frozen=True)
 class ExplorationGoal:
-    """Where to go next: a viewing pose facing the frontier's middle, its cost (seconds)
-    and score (cost over size to the exponent: lower is better)."""
+    """Where to go next: a viewing pose facing the frontier cell it looks at (``target``:
+    the middle, or the cell nearest the robot), its cost (seconds) and score (cost over
+    size to the exponent: lower is better)."""
 
     pose: Pose
     frontier: Frontier
@@ -124,11 +131,12 @@ def _sees(grid: OccupancyGrid, start: tuple[float, float], end: tuple[float, flo
 
 def viewing_pose(grid: OccupancyGrid, frontier: Frontier, room: np.ndarray,
                  settings: ExplorationSettings = ExplorationSettings(), *,
-                 occupied: np.ndarray | None = None) -> Pose | None:
-    """The cell of ``room`` nearest the frontier's middle, within ``view_range_in`` and
-    seeing it, as a pose facing it; None when there is none. ``occupied``: the grid's,
-    when the caller has it already (it is computed once per question, not per cell)."""
-    middle = grid.grid.to_world(*frontier_middle(grid, frontier))[0]
+                 occupied: np.ndarray | None = None, target: tuple[int, int] | None = None) -> Pose | None:
+    """The cell of ``room`` nearest the frontier's ``target`` cell (default: its middle),
+    within ``view_range_in`` and seeing it, as a pose facing it; None when there is none.
+    ``occupied``: the grid's, when the caller has it already (it is computed once per
+    question, not per cell)."""
+    middle = grid.grid.to_world(*(frontier_middle(grid, frontier) if target is None else target))[0]
     occupied = grid.occupied if occupied is None else occupied
     reach = math.ceil(settings.view_range_in / grid.inches_per_cell) + 1
     (row0, col0), = np.floor(np.array([grid.grid.to_cell(float(middle[0]), float(middle[1]))])).astype(int)
@@ -148,21 +156,37 @@ def viewing_pose(grid: OccupancyGrid, frontier: Frontier, room: np.ndarray,
     return None
 
 
+def targets(grid: OccupancyGrid, frontier: Frontier, robot: Pose) -> tuple[tuple[int, int], ...]:
+    """The frontier's cells to look at, in turn: its middle, then its cell nearest the
+    robot. A long frontier bent round a room seen only through its doorway has its
+    middle deep in that room, where no viewing pose may see it; its end at the doorway
+    can be looked at from this side."""
+    middle = frontier_middle(grid, frontier)
+    cells = np.array(frontier.cells)
+    centres = grid.grid.to_world(cells[:, 0], cells[:, 1])
+    k = int(np.argmin(np.hypot(centres[:, 0] - robot.x_in, centres[:, 1] - robot.y_in)))
+    nearest = (int(cells[k, 0]), int(cells[k, 1]))
+    return (middle,) if nearest == middle else (middle, nearest)
+
+
 def exploration_goals(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Candidate], move_cost: MoveCost,
                       settings: ExplorationSettings = ExplorationSettings()) -> list[ExplorationGoal]:
     """Every frontier region worth a trip with a reachable viewing pose, best first."""
     room = standing_room(grid, candidates, settings)
     occupied = grid.occupied
     goals = []
-    for frontier in frontiers(grid, settings.min_cells(grid.inches_per_cell)):
-        pose = viewing_pose(grid, frontier, room, settings, occupied=occupied)
+    for frontier in frontiers(grid, settings.min_cells(grid.inches_per_cell), settings.surface_in):
+        for target in targets(grid, frontier, robot):
+            pose = viewing_pose(grid, frontier, room, settings, occupied=occupied, target=target)
+            if pose is not None:
+                break
         if pose is None or math.dist((pose.x_in, pose.y_in), (robot.x_in, robot.y_in)) <= settings.arrived_in:
             continue
         cost = float(move_cost(pose))
         if not math.isfinite(cost):
             continue
-        middle = grid.grid.to_world(*frontier_middle(grid, frontier))[0]
-        goals.append(ExplorationGoal(pose, frontier, float(middle[0]), float(middle[1]), cost,
+        looked_at = grid.grid.to_world(*target)[0]
+        goals.append(ExplorationGoal(pose, frontier, float(looked_at[0]), float(looked_at[1]), cost,
                                      cost / frontier.size ** settings.size_exponent))
     return sorted(goals, key=lambda g: g.score)  # stable: ties keep the frontiers' order
 
@@ -176,5 +200,6 @@ def next_goal(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Candidate],
 
 def is_mapped(grid: OccupancyGrid, robot: Pose, candidates: Sequence[Candidate], move_cost: MoveCost,
               settings: ExplorationSettings = ExplorationSettings()) -> bool:
-    """No frontier region of at least ``min_frontier_in`` has a viewing pose the robot can reach."""
+    """No frontier region of at least ``min_frontier_in`` (beside unknown space beyond
+    ``surface_in``) has a viewing pose the robot can reach."""
     return next_goal(grid, robot, candidates, move_cost, settings) is None

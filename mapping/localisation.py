@@ -32,7 +32,11 @@ An alignment the matcher cannot vouch for — too few returns, too few of them m
 the map, or a correction larger than the odometry could have drifted in one step — is not
 used: the pose is the odometry's step from the last corrected pose, and the correction
 says so (``matched`` False). The scan is then not added to the map either, so a bad pose
-does not spoil it.
+does not spoil it. Too few matched is not enough to refuse a placing the odometry's own
+step vouches for (within its uncertainty, :attr:`MatcherSettings.odometry_vouches_chi2`)
+when some of the scan is matched: a scan taken in a doorway sees mostly the room the map
+does not know yet, and refused, it would keep that room out of the map, and every scan
+after it there as well (docs/mapping.md, "Exploration time").
 
 Such a scan, and one placed with less than :attr:`MatcherSettings.reset_inlier_share` of
 its returns matched, is aligned once more from the reported pose as it is: the
@@ -114,6 +118,10 @@ class MatcherSettings:
     odometry_sigma_deg: float = 0.5
     odometry_sigma_turn_frac: float = 0.05
     odometry_sigma_deg_per_in: float = 0.01
+    # A placing with fewer than min_inlier_share of its returns matched (but min_points or more) is
+    # still used when it lies this close to the odometry's prediction: the squared Mahalanobis
+    # distance under the step's sigmas above (3 degrees of freedom: 11.34 holds 99 % of steps).
+    odometry_vouches_chi2: float = 11.34
 
     def __post_init__(self) -> None:
         if not (self.voxel_in > 0 and self.downsample_in > 0 and self.max_correspondence_in > 0):
@@ -134,6 +142,9 @@ class MatcherSettings:
                 and self.odometry_sigma_deg > 0):
             raise ValueError("matcher huber_in, range_sigma_in, odometry_sigma_in and odometry_sigma_deg "
                              "must be positive")
+        if not (math.isfinite(self.odometry_vouches_chi2) and self.odometry_vouches_chi2 >= 0):
+            raise ValueError(f"matcher odometry_vouches_chi2 must be finite and not negative, "
+                             f"got {self.odometry_vouches_chi2}")
 
 
 def _transform(x_in: float, y_in: float, heading_rad: float) -> np.ndarray:
@@ -337,10 +348,22 @@ class ScanMatcher:
         if not self._within_a_step(coarse, predicted):
             coarse = predicted  # VGICP slid (along a corridor, say): refine from the odometry's prediction
         refined, information, inliers = _refine(self._floor, points, normals, tuple(coarse), s)
-        x, y, heading = _with_odometry(refined, information, predicted, self._prior_information(step))
-        if inliers < s.min_inlier_share * len(points) or not self._within_a_step(np.array([x, y, heading]), predicted):
+        prior = self._prior_information(step)
+        placed = _with_odometry(refined, information, predicted, prior)
+        x, y, heading = placed
+        few = inliers < s.min_inlier_share * len(points)
+        if few and (inliers < s.min_points or not self._vouched(placed, predicted, prior)):
+            return guess, False, inliers
+        if not self._within_a_step(placed, predicted):
             return guess, False, inliers
         return _transform(x, y, heading), True, inliers
+
+    def _vouched(self, pose: np.ndarray, predicted: np.ndarray, prior_information: np.ndarray) -> bool:
+        """Whether ``pose`` (x, y, heading rad) lies within the odometry step's own
+        uncertainty of its prediction (the module docstring)."""
+        off = pose - predicted
+        off[2] = math.remainder(off[2], 2 * math.pi)
+        return float(off @ prior_information @ off) <= self.settings.odometry_vouches_chi2
 
     def _realign(self, reported: np.ndarray, step: np.ndarray, cloud: small_gicp.PointCloud, points: np.ndarray,
                  normals: np.ndarray, first: tuple[np.ndarray, bool, int]) -> tuple[np.ndarray, bool, int]:

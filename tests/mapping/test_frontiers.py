@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from mapping import OccupancyGrid, frontiers
+from mapping.frontiers import open_unknown
 from mapping.occupancy import HIT, MISS
 
 
@@ -41,3 +44,35 @@ def test_a_fully_explored_room_has_none() -> None:
     grid = half_explored()
     grid.log_odds[1:10, 5:10] = MISS
     assert frontiers(grid) == []
+
+
+def wall_with_an_opening() -> OccupancyGrid:
+    """30 x 12 in of 1 in cells (cell (row, col) centred on x = col + 0.5, y = 11.5 - row):
+    rows 4-11 free; row 3 a wall's face, occupied in columns 0-14 but for column 5 (a
+    return measured long cleared it), unknown in columns 15-29 (an opening); rows 0-2
+    unknown (the wall's inside, and what lies beyond the opening)."""
+    grid = OccupancyGrid(0.0, 0.0, 30.0, 12.0, 1.0)
+    grid.log_odds[4:, :] = MISS
+    grid.log_odds[3, :15] = HIT
+    grid.log_odds[3, 5] = MISS
+    return grid
+
+
+def test_unknown_hugging_a_surface_opens_nothing() -> None:
+    """Every unknown cell counted: the opening's edge (row 4, columns 15-29: 15 cells,
+    centroid x = 22.5, y = 7.5) and the cleared face cell (3, 5) at (5.5, 8.5), beside
+    the wall's inside. Only unknown cells more than 3 in from every occupied cell: the
+    cell above the face's gap is 1.4 in from the face cells beside it, and the opening's
+    cells in columns 15-17 lie 1-3 in from the face's end (3, 14): the opening's edge from
+    column 18 on, 12 cells centred on x = 24.0."""
+    grid = wall_with_an_opening()
+    assert [(f.size, f.centroid_x_in, f.centroid_y_in) for f in frontiers(grid)] == [(15, 22.5, 7.5), (1, 5.5, 8.5)]
+    found = frontiers(grid, surface_in=3.0)
+    assert [(f.size, f.centroid_x_in, f.centroid_y_in) for f in found] == [(12, 24.0, 7.5)]
+    assert found[0].cells == tuple((4, col) for col in range(18, 30))
+
+
+def test_with_no_occupied_cell_all_unknown_is_open() -> None:
+    grid = OccupancyGrid(0.0, 0.0, 10.0, 10.0, 1.0)
+    grid.log_odds[5:, :] = MISS
+    assert np.array_equal(open_unknown(grid, 6.0), grid.unknown)

@@ -110,6 +110,38 @@ def test_an_odometry_reset_is_placed_at_the_reported_pose() -> None:
     assert correction.matched and math.dist((correction.pose.x_in, correction.pose.y_in), (100.0, 40.0)) < TOLERANCE_IN
 
 
+def two_rooms_and_a_narrow_doorway() -> np.ndarray:
+    """Room A, 60 x 60 in, and room B beyond its right wall (x = 60), 200 x 140 in
+    (x 60-260, y -40-100), with a cupboard face in it; a 12 in doorway (y 24-36) between."""
+    return np.array([(0, 0, 60, 0), (0, 60, 60, 60), (0, 0, 0, 60), (60, -40, 60, 24), (60, 36, 60, 100),
+                     (60, -40, 260, -40), (60, 100, 260, 100), (260, -40, 260, 100), (160, 50, 200, 50)],
+                    dtype=float)
+
+
+@pytest.mark.parametrize("vouches", [True, False])
+def test_a_scan_into_a_room_the_map_does_not_know_is_placed_by_the_odometrys_step(vouches: bool) -> None:
+    """The map holds one scan from the middle of room A. The robot drives 40 in and
+    stands 10 in inside room B (odometry exact): through the doorway it sees A over
+    ±31° (atan 6/10), a sixth of its beams, and the wall it has just passed from its far
+    side (a face the map does not hold), so less than 30 % of the scan can be matched
+    and the placing alone would be refused. The odometry's step vouches for it (the
+    placing lies within the step's sigmas of the prediction): the scan is placed and
+    room B enters the map, so the next scan, 80 in on and reported 3 in off, is
+    matched and put back. Without the step's say (``odometry_vouches_chi2`` 0) both
+    are refused and the 3 in stay."""
+    walls, rng = two_rooms_and_a_narrow_doorway(), np.random.default_rng(13)
+    matcher = ScanMatcher(MatcherSettings() if vouches else MatcherSettings(odometry_vouches_chi2=0.0))
+    matcher.update(scan_at(walls, Pose(30.0, 30.0, 0.0), Pose(30.0, 30.0, 0.0), rng))
+    doorway = scan_at(walls, Pose(70.0, 30.0, 0.0), Pose(70.0, 30.0, 0.0), rng, 1.0)
+    placed = matcher.update(doorway)
+    assert placed.inliers < 0.3 * np.isfinite(doorway.ranges_in).sum()
+    assert placed.matched is vouches
+    on = matcher.update(scan_at(walls, Pose(150.0, 30.0, 0.0), Pose(153.0, 30.0, 0.0), rng, 2.0))
+    assert on.matched is vouches
+    error_in = math.dist((on.pose.x_in, on.pose.y_in), (150.0, 30.0))
+    assert error_in < TOLERANCE_IN if vouches else error_in == pytest.approx(3.0)
+
+
 def test_the_reset_share_may_not_be_below_the_matching_share() -> None:
     with pytest.raises(ValueError, match="reset_inlier_share"):
         MatcherSettings(min_inlier_share=0.5, reset_inlier_share=0.4)
