@@ -178,6 +178,15 @@ class Candidate:
     first_seen_s: float
     last_seen_s: float
 
+    def core(self) -> np.ndarray:
+        """The outline's points within the distance from its median that holds
+        :data:`CORE_SHARE` of them (Nx2): the outline with a stray return or two left out."""
+        points = np.asarray(self.outline, dtype=float).reshape(-1, 2)
+        if len(points) < 2:
+            return points
+        radii = np.hypot(*(points - np.median(points, axis=0)).T)
+        return points[radii <= np.quantile(radii, CORE_SHARE)]
+
     @property
     def core_extent_in(self) -> float:
         """Twice the distance from the outline's median within which :data:`CORE_SHARE`
@@ -723,11 +732,13 @@ def continues_structure(grid: OccupancyGrid, candidate: Candidate,
     """The candidate's outline is a straight piece of a longer face of the home: it is
     straight and at least ``face_min_in`` long (:func:`mapping.faces.straight_face`), and
     the occupied cells it lies on run on straight, beyond its ends, to at least
-    ``structure_min_in`` (:func:`mapping.faces.run_along`): longer than any object's face.
+    ``face_run_min_in`` (:func:`mapping.faces.run_along`): longer than any object's face.
+    The outline's core is asked (:meth:`Candidate.core`): a stray return of the wall
+    beside a can would give the can a straight "face" along the wall.
     A nook's back wall seen between a wall and a wardrobe, or a counter's end face seen
     past its corner, is object-sized in every scan, and is a piece of wall in the map."""
     s = settings
-    face = straight_face(np.array(candidate.outline), s.face_min_in, s.face_straight_in)
+    face = straight_face(candidate.core(), s.face_min_in, s.face_straight_in)
     if face is None:
         return False
     if face.length_in >= s.face_run_min_in:

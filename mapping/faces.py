@@ -55,7 +55,7 @@ def straight_face(points: np.ndarray, min_length_in: float, straight_in: float) 
 
 
 def run_along(grid: OccupancyGrid, face: Face, band_in: float, gap_in: float, reach_in: float,
-              side_in: float) -> float:
+              side_in: float, max_turn_deg: float = 10.0) -> float:
     """The length (inches) of the straight run of occupied cells ``face`` lies on: the
     face itself and, beyond each end up to ``reach_in``, as far as the line meets
     occupied cells within ``band_in`` of it with no stretch longer than ``gap_in``
@@ -63,7 +63,10 @@ def run_along(grid: OccupancyGrid, face: Face, band_in: float, gap_in: float, re
     A place where occupied cells fill at least half of the ``side_in`` beyond the band
     on *both* sides of the line is a wall crossing it, not the face going on (the
     returns a wall's range noise puts behind it, never crossed by a beam, are a cell
-    or two, not a wall)."""
+    or two, not a wall). Nor does a wall met at a shallow angle (the occupied cells
+    beyond an end lie along a line more than ``max_turn_deg`` off the face's): the arc
+    of a can against a wall, seen as a short straight outline at 20° to the wall, meets
+    the wall within the band for inches on end."""
     a, b = np.array(face.a), np.array(face.b)
     length = float(np.hypot(*(b - a)))
     if length <= 0.0:
@@ -88,8 +91,26 @@ def run_along(grid: OccupancyGrid, face: Face, band_in: float, gap_in: float, re
                 break
             if seen:
                 last = float(distance)
+        if last > 0.0 and _turns_away(occupied[:, in_band] & hit[:, None] & (steps <= last)[:, None],
+                                      steps, across[in_band], max_turn_deg):
+            last = 0.0
         total += last
     return total
+
+
+def _turns_away(cells: np.ndarray, steps: np.ndarray, across: np.ndarray, max_turn_deg: float) -> bool:
+    """Whether the occupied samples ``cells[step, offset]`` found beyond an end lie along
+    a line more than ``max_turn_deg`` off the face's (fitted by least squares, offset on
+    distance, when they span 3 in or more along it): a wall met at a shallow angle runs
+    across the band, where the face going on stays in it at one offset."""
+    rows, cols = np.nonzero(cells)
+    if len(rows) < 3:
+        return False
+    along, off = steps[rows], across[cols]
+    if along.max() - along.min() < 3.0:
+        return False
+    slope = np.polyfit(along, off, 1)[0]
+    return bool(math.degrees(math.atan(abs(slope))) > max_turn_deg)
 
 
 def _occupied_at(grid: OccupancyGrid, points: np.ndarray) -> np.ndarray:
