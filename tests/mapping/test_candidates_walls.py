@@ -14,7 +14,7 @@ import numpy as np
 
 from mapping import OccupancyGrid, PlanarScan
 from mapping.candidates import Candidate, CandidateFinder, CandidateSettings, continues_structure
-from mapping.faces import Face, run_along, straight_face
+from mapping.faces import run_along, straight_face
 from tests.mapping.synthetic import Lidar, box, circle, rect
 
 ONBOARD = CandidateSettings(range_sigma_in=1.0)
@@ -122,38 +122,46 @@ def face(x0: float, y0: float, x1: float, y1: float) -> Candidate:
 
 def test_a_counter_end_face_is_not_a_candidate() -> None:
     """A counter (x 120-200, y 0-24) against the bottom wall: its end face x = 120 is
-    24 in long; seen 8 in of it (y 14.5-22.5), the piece is straight and 8 in long, and
-    in the map the face runs on 1.5 in up to the counter's front (whose cells turn off
-    to one side) and down 14.5 in to the wall, where the wall crosses the line (cells
-    on both sides, not counted) and ends it: 24 in in all, more than any object's face."""
+    24 in long. Seen 8 in of it (y 14.5-22.5, points every half inch), the outline's core
+    (the 15 of 17 points nearest its median) is straight and 7 in long (y 15-22); in the
+    map the face runs on 2 in up to the counter's front row (whose cells turn off to one
+    side) and 13.5 in down to the wall's row, which crosses the line (cells on both
+    sides, not counted): 22.5 in in all, more than the 14 in of any object's face."""
     grid = occupied(line(0.5, 0.5, 199.5, 0.5) + line(120.5, 0.5, 120.5, 23.5) + line(120.5, 23.5, 199.5, 23.5))
     end = face(120.5, 14.5, 120.5, 22.5)
-    found = straight_face(np.array(end.outline), 5.0, 2.0)
-    assert found is not None and np.allclose([found.a, found.b], [(120.5, 14.5), (120.5, 22.5)])
-    assert run_along(grid, Face((120.5, 14.5), (120.5, 22.5)), 2.0, 5.0, 14.0, 3.0) >= 14.0
+    found = straight_face(end.core(), 5.0, 2.0)
+    assert found is not None and np.allclose([found.a, found.b], [(120.5, 15.0), (120.5, 22.0)])
+    assert run_along(grid, found, 2.0, 5.0, 14.0, 3.0) == 22.5
     assert continues_structure(grid, end, ONBOARD)
 
 
 def test_a_box_face_square_to_a_wall_is_not_structure() -> None:
-    """A 9 x 4 in box standing square against the bottom wall, its 9 in side face seen:
-    the face's line meets the wall, which crosses it (cells on both sides) and so does
-    not continue it, and beyond its top end nothing is occupied: 9 in and the half inch
-    of the box's back corner, less than 14 in. The box is a candidate."""
+    """A 9 x 4 in box standing square against the bottom wall, its side face seen (cells
+    y 1.5-9.5): the core of its outline is 7 in (y 2-9); beyond its top end only the
+    box's back corner cell (1 in), beyond its bottom end half an inch of face and then
+    the wall, which crosses the line (cells on both sides) and does not continue it:
+    8.5 in, less than 14. The box is a candidate."""
     grid = occupied(line(0.5, 0.5, 199.5, 0.5) + line(120.5, 1.5, 120.5, 9.5) + line(120.5, 9.5, 124.5, 9.5))
     side = face(120.5, 1.5, 120.5, 9.5)
+    found = straight_face(side.core(), 5.0, 2.0)
+    assert found is not None and run_along(grid, found, 2.0, 5.0, 14.0, 3.0) == 8.5
     assert not continues_structure(grid, side, ONBOARD)
 
 
 def test_the_nook_back_in_the_map_by_hand() -> None:
-    """The nook's back (y = 149.5, x 62.5-75.5) seen 8 in (x 66-74): to the left it runs
-    3.5 in to the partition's face (which turns down, one side only), over the
-    partition's 4 in inside no beam reaches (a gap of 4 in, under the 5 allowed) and on
-    along the top wall of the left room; 14 in is met within a few inches. A can's arc
-    has no direction to follow (its points span under 5 in)."""
+    """The nook's back (y = 149.5, x 62.5-75.5) seen 8 in (x 66-74; its core 7 in, x
+    66.5-73.5): to the right it runs 2 in to the wardrobe's side (which turns down, one
+    side only); to the left 4 in to the partition's face (one side), over the
+    partition's inside no beam reaches (a gap of 4 in, under the 5 allowed) and on
+    along the top wall of the left room, as far as it is followed (14 in): 23 in, where
+    14 is structure. A can's arc has no direction to follow (its points span under 5 in)."""
     cells = (line(0.5, 149.5, 57.5, 149.5) + line(57.5, 90.5, 57.5, 149.5) + line(62.5, 90.5, 62.5, 149.5)
              + line(62.5, 149.5, 75.5, 149.5) + line(75.5, 126.5, 75.5, 149.5) + line(75.5, 126.5, 124.5, 126.5))
     grid = occupied(cells)
-    assert continues_structure(grid, face(66.0, 149.5, 74.0, 149.5), ONBOARD)
+    back = face(66.0, 149.5, 74.0, 149.5)
+    found = straight_face(back.core(), 5.0, 2.0)
+    assert found is not None and run_along(grid, found, 2.0, 5.0, 14.0, 3.0) == 23.0
+    assert continues_structure(grid, back, ONBOARD)
     arc = [(100.0 + 1.3 * math.cos(a), 3.3 + 1.3 * math.sin(a)) for a in np.linspace(math.pi, 2 * math.pi, 9)]
     assert straight_face(np.array(arc), ONBOARD.face_min_in, ONBOARD.face_straight_in) is None
 
