@@ -584,7 +584,7 @@ class CandidateFinder:
                     math.dist(centroid, track.centre) <= s.associate_centroid_in
                     and _extent(np.vstack([track.points, observation.points])) <= s.max_extent_in):
                 matches.append((gap, track.id, track))
-        proud = set()
+        proud: set[tuple[int, int]] = set()
         if observation.proud is not None and observation.proud.any():
             keys = np.floor(observation.points[observation.proud] / s.outline_voxel_in).astype(np.int64)
             proud = {(int(a), int(b)) for a, b in keys}
