@@ -37,21 +37,18 @@ class Face:
         return math.dist(self.a, self.b)
 
 
-def straight_face(points: np.ndarray, min_length_in: float, straight_in: float, aspect: float = 4.0) -> Face | None:
+def straight_face(points: np.ndarray, min_length_in: float, straight_in: float) -> Face | None:
     """The face ``points`` lie along: their principal axis between their extreme
     projections on it, when they are at least ``min_length_in`` long along it and nine in
-    ten lie within ``straight_in`` of it, or within ``1 / aspect`` of their length (a
-    wall seen from afar, its returns inches off with the range noise, still has its
-    direction); None otherwise (too short to have a direction a round object's arc could
-    not have, or not straight: a can)."""
+    ten lie within ``straight_in`` of it; None otherwise (too short to have a direction a
+    round object's arc could not have, or not straight: two faces of a box, a can)."""
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     if len(points) < 2:
         return None
     centre = points.mean(axis=0)
     _, _, vt = np.linalg.svd(points - centre, full_matrices=False)
     along, across = (points - centre) @ vt[0], (points - centre) @ vt[1]
-    length = float(along.max() - along.min())
-    if length < min_length_in or float(np.quantile(np.abs(across), 0.9)) > max(straight_in, length / aspect):
+    if along.max() - along.min() < min_length_in or float(np.quantile(np.abs(across), 0.9)) > straight_in:
         return None
     a, b = centre + along.min() * vt[0], centre + along.max() * vt[0]
     return Face((float(a[0]), float(a[1])), (float(b[0]), float(b[1])))
