@@ -19,11 +19,18 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    taken to go on ``extend_in`` beyond its ends (over the stretch of wall an object
    against it hides). A return within a line's band (``band_min_in``) is structure, the
    lines of earlier scans included, so a piece of wall seen short between two
-   occluders is still known to be wall.
+   occluders is still known to be wall — unless it stands *proud* of a line this scan
+   fitted (:meth:`CandidateFinder._proud`): in front of it by more than
+   ``proud_sigmas`` times the noise of that line's own returns, in a run of
+   ``proud_min_returns``. The band is wide enough for a far wall's noise and so
+   swallows a can 0.7 in from a wall; the wall beside the can in the same scan is
+   known far better than that.
 3. **Observations**: the returns left, in runs of consecutive returns no more than
    ``run_gap_in`` apart (a segment may join a table leg to a bottle beyond it), are an
    object seen once when the run is no wider than ``max_extent_in`` (the largest
-   catalogue object's diagonal, with noise) and is not *attached* to structure: a run
+   catalogue object's diagonal, with noise), does not lie mostly *behind* a structure
+   line its beams crossed (a far wall's noise: nothing is seen through a wall), and is
+   not *attached* to structure: a run
    that touches a structure line and does not stand in front of it (towards the robot)
    by ``front_min_in`` is the end face of a wall at a doorway or of a cabinet between
    its front and the wall. An object against a wall stands in front of it and is kept.
@@ -34,13 +41,16 @@ alone, in four steps (the numbers are :class:`CandidateSettings`; docs/mapping.m
    wider than an object) is that track seen again, as long as it does not widen the
    track beyond an object; otherwise it starts a new track with the next id. A track is
    reported as a :class:`Candidate` once seen ``min_seen`` times, cut to the part of
-   its outline off the structure lines (those found since included), unless fewer than
+   its outline off the structure lines (those found since included; what was seen
+   proud of a wall stays), unless fewer than
    ``min_outline_points`` are left of it, or it is wider than any object
    (``max_extent_in`` and ``widen_sigmas`` of noise), or it is one of four small tracks
    standing at the corners of a rectangle of table size (a table's legs; a planar scan
    cannot see that a leg is tall), or — when the occupancy grid is given — none of its
    outline's cells is occupied any more (the object was moved) or too little free space
-   has been seen around it.
+   has been seen around it, or its outline is a straight piece of a longer face in the
+   map (:func:`continues_structure`: a nook's back wall, a counter's end face, a bed's
+   side seen a piece at a time).
 
 The distances that stand for range noise (``split_in``, ``band_min_in``,
 ``lone_near_in``) are multiples of the range finder's noise, ``range_sigma_in``, which the
@@ -56,6 +66,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mapping.faces import run_along, straight_face
 from mapping.occupancy import OccupancyGrid
 from mapping.scan import PlanarScan
 from planner.geometry import Pose
@@ -84,6 +95,14 @@ class CandidateSettings:
     max_extent_in: float = 16.0  # an object seen once is at most this wide (11 x 9 in box: 14.2 in diagonal)
     widen_sigmas: float = 6.0  # ... and a track, whose outline noise widens, this many sigma more
     front_min_in: float = 1.0  # a run touching a structure line stands in front of it by at least this
+    proud_sigmas: float = 4.0  # a return stands proud of its scan's wall line by this many of the line's own noise
+    proud_min_returns: int = 2  # ... in a run of at least this many neighbouring returns
+    face_min_in: float = 5.0  # grid: a straight outline this long (wider than any round object) has a direction
+    face_straight_in: float = 2.0  # ... when nine in ten of its points lie this close to its line
+    face_band_in: float = 2.0  # ... and it is structure where occupied cells this close to its line
+    face_gap_in: float = 5.0  # ... go on beyond its ends with gaps no longer than this (a 4 in wall's end)
+    face_run_min_in: float = 14.0  # ... to this length in all (an 11 in face and a cell beyond each end is less)
+    face_side_in: float = 3.0  # ... not where cells fill half of this beyond the band on both sides (a wall crossing it)
     associate_in: float = 3.0  # an observation this close to a track's outline is that track
     associate_centroid_in: float = 6.0  # ... or with its centroid this close to the track's, when the two
     # together are no wider than max_extent_in
@@ -105,12 +124,15 @@ class CandidateSettings:
                     "break_spacings", "max_step_deg", "structure_min_in", "run_gap_in", "max_extent_in", "widen_sigmas",
                     "associate_in",
                     "associate_centroid_in",
-                    "outline_voxel_in", "leg_max_extent_in", "table_min_in", "table_max_in",
+                    "outline_voxel_in", "proud_sigmas", "face_min_in", "face_straight_in", "face_band_in",
+                    "face_gap_in", "face_side_in", "face_run_min_in", "leg_max_extent_in", "table_min_in", "table_max_in",
                     "table_tolerance_in")
         for name in positive:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"candidate setting {name} must be positive and finite, got {value}")
+        if self.proud_min_returns < 1:
+            raise ValueError(f"candidate setting proud_min_returns must be >= 1, got {self.proud_min_returns}")
         if self.min_seen < 1 or self.structure_min_points < 2 or self.min_outline_points < 1:
             raise ValueError("candidate settings min_seen and min_outline_points must be >= 1, "
                              "structure_min_points >= 2")
@@ -156,6 +178,15 @@ class Candidate:
     first_seen_s: float
     last_seen_s: float
 
+    def core(self) -> np.ndarray:
+        """The outline's points within the distance from its median that holds
+        :data:`CORE_SHARE` of them (Nx2): the outline with a stray return or two left out."""
+        points = np.asarray(self.outline, dtype=float).reshape(-1, 2)
+        if len(points) < 2:
+            return points
+        radii = np.hypot(*(points - np.median(points, axis=0)).T)
+        return points[radii <= np.quantile(radii, CORE_SHARE)]
+
     @property
     def core_extent_in(self) -> float:
         """Twice the distance from the outline's median within which :data:`CORE_SHARE`
@@ -173,10 +204,13 @@ class Candidate:
 
 @dataclass(frozen=True)
 class Observation:
-    """One run of returns in one scan judged object-like (world inches)."""
+    """One run of returns in one scan judged object-like (world inches); ``proud``: which
+    of them lie in a structure line's band but stand proud of it (an object against a
+    wall, :meth:`CandidateFinder.observe`)."""
 
     points: np.ndarray = field(compare=False)
     stamp_s: float
+    proud: np.ndarray | None = field(default=None, compare=False)
 
     @property
     def centroid(self) -> np.ndarray:
@@ -190,6 +224,7 @@ class _Track:
     seen: int
     first_s: float
     last_s: float
+    proud: set[tuple[int, int]] = field(default_factory=set)  # outline squares seen standing proud of a wall
     # The outline's mean and bounding box, kept with it: association asks them of every
     # track for every observation, and only a new outline changes them.
     centre: np.ndarray = field(init=False, repr=False)
@@ -291,9 +326,13 @@ class StructureLines:
 
     def within(self, points: np.ndarray) -> np.ndarray:
         """Which points lie in some segment's band."""
+        return self.within_each(points).any(axis=1)
+
+    def within_each(self, points: np.ndarray) -> np.ndarray:
+        """(N, M): whether each point lies in each segment's band."""
         if len(self._segments) == 0 or len(points) == 0:
-            return np.zeros(len(points), dtype=bool)
-        return (self.distances(points) <= self._segments[None, :, 4]).any(axis=1)
+            return np.zeros((len(points), len(self._segments)), dtype=bool)
+        return self.distances(points) <= self._segments[None, :, 4]
 
 
 def _breakpoints(points: np.ndarray, ranges: np.ndarray, angles: np.ndarray, s: CandidateSettings) -> np.ndarray:
@@ -341,6 +380,37 @@ def _line_fit(points: np.ndarray, s: CandidateSettings) -> np.ndarray | None:
     if math.dist(a, b) < s.structure_min_in:
         return None
     return np.array([a[0], a[1], b[0], b[1], band])
+
+
+def _across(segments: np.ndarray, segment: np.ndarray) -> np.ndarray:
+    """Which of ``segments`` meet ``segment``'s direction at 45° or more."""
+    if len(segments) == 0:
+        return np.zeros(0, dtype=bool)
+    d = segments[:, 2:4] - segments[:, 0:2]
+    e = segment[2:4] - segment[0:2]
+    cos = np.abs(d @ e) / np.maximum(np.hypot(d[:, 0], d[:, 1]) * math.hypot(*e), 1e-12)
+    return cos < math.cos(math.radians(45.0))
+
+
+def _behind(points: np.ndarray, robot: np.ndarray, lines: np.ndarray) -> np.ndarray:
+    """Which returns lie behind a structure line their beam crossed, farther than the
+    line's band beyond it: a far wall's noise (at 300 in a range finder with 1 % error is
+    3 in off, and now and then three times that), for nothing seen through a wall is
+    there. The lines are taken as they were seen, not extended (a doorway beside a
+    wall's end is open)."""
+    behind = np.zeros(len(points), dtype=bool)
+    if len(lines) == 0 or len(points) == 0:
+        return behind
+    beam = points - robot  # (N, 2)
+    a, edge = lines[:, 0:2], lines[:, 2:4] - lines[:, 0:2]  # (M, 2)
+    q = a - robot
+    denominator = beam[:, None, 0] * edge[None, :, 1] - beam[:, None, 1] * edge[None, :, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (q[None, :, 0] * edge[None, :, 1] - q[None, :, 1] * edge[None, :, 0]) / denominator
+        u = (q[None, :, 0] * beam[:, None, 1] - q[None, :, 1] * beam[:, None, 0]) / denominator
+    length = np.hypot(beam[:, 0], beam[:, 1])[:, None]
+    crossed = (np.abs(denominator) > 1e-12) & (u >= 0.0) & (u <= 1.0) & (t > 0.0)
+    return (crossed & ((1.0 - t) * length > lines[None, :, 4])).any(axis=1)
 
 
 def _signed_offset(points: np.ndarray, segment: np.ndarray, towards: np.ndarray) -> np.ndarray:
@@ -405,24 +475,78 @@ class CandidateFinder:
         lines = self.structure.segments
         distances = self.structure.distances(points, lines)
         on_line = distances <= lines[None, :, 4]
-        structural = on_line.any(axis=1)
+        proud = self._proud(points, clusters, scan_lines, robot)
+        structural = on_line.any(axis=1) & ~proud
         line_of = np.full(len(points), -1)
         if len(lines):
             line_of[structural] = np.argmin(np.where(on_line, distances, np.inf)[structural], axis=1)
         near = (distances <= s.lone_near_in).any(axis=1)
 
+        behind = _behind(points, robot, lines)
         observations = []
         for cluster in clusters:
             for run in _runs(cluster, structural, points, s.run_gap_in):
                 run_points = points[run]
                 if _extent(run_points) > s.max_extent_in:
                     continue
+                if 2 * int(behind[run].sum()) > len(run):
+                    continue
                 if len(run) == 1 and near[run[0]]:
                     continue
                 if self._attached(run, cluster, structural, line_of, points, lines, robot):
                     continue
-                observations.append(Observation(run_points, scan.stamp_s))
+                observations.append(Observation(run_points, scan.stamp_s, proud[run]))
         return observations
+
+    def _proud(self, points: np.ndarray, clusters: list[np.ndarray], scan_lines: np.ndarray,
+               robot: np.ndarray) -> np.ndarray:
+        """Which returns stand proud of a wall they lie against: within twice the band of
+        a line this scan fitted (an object against a wall is no deeper than that where the
+        band could take it), in front of it (towards the robot) by more than
+        ``proud_sigmas`` times the noise of that line's own returns (and never less than
+        ``front_min_in``), and so in front of every other line of this scan whose band
+        they lie in, and in front by ``front_min_in`` of every known line at 45° or more
+        to it whose band they lie in (a wall meeting it at a corner is not proud of it),
+        in runs of at least ``proud_min_returns`` neighbours. Known lines nearer its
+        direction are not asked: one fitted from afar across a wall and the object
+        against it (a chord from the wall to the object's front, within the band of both)
+        would hide the object for good.
+
+        A band wide enough to take in a far wall's noise swallows a can 0.7 in from the
+        wall; the wall beside the can, measured in the same scan, is known to a small
+        part of that (the pose's error is the same for both, the noise is the range
+        finder's at that range), so the can stands out of it."""
+        s = self.settings
+        proud = np.zeros(len(points), dtype=bool)
+        if len(scan_lines) == 0:
+            return proud
+        distances = self.structure.distances(points, scan_lines)
+        own, near = distances <= scan_lines[None, :, 4], distances <= 2.0 * scan_lines[None, :, 4]
+        on_known = self.structure.within_each(points)
+        allowed = np.ones(len(points), dtype=bool)
+        for j, segment in enumerate(scan_lines):
+            offset = _signed_offset(points, segment, robot)
+            inliers = offset[own[:, j]]
+            noise = 1.4826 * float(np.median(np.abs(inliers - np.median(inliers)))) if len(inliers) else 0.0
+            ahead = offset > max(s.front_min_in, s.proud_sigmas * noise)
+            across = _across(self.structure.segments, segment)
+            for k in np.nonzero(across)[0]:  # a wall meeting this one at a corner: proud of it too
+                ahead &= ~on_known[:, k] | (_signed_offset(points, self.structure.segments[k], robot) > s.front_min_in)
+            proud |= near[:, j] & ahead
+            allowed &= ~own[:, j] | ahead
+        proud &= allowed
+        kept = np.zeros(len(points), dtype=bool)
+        for cluster in clusters:
+            flags = proud[cluster]
+            start = None
+            for k, flag in enumerate([*flags, False]):
+                if flag and start is None:
+                    start = k
+                elif not flag and start is not None:
+                    if k - start >= s.proud_min_returns:
+                        kept[cluster[start:k]] = True
+                    start = None
+        return kept
 
     def _attached(self, run: np.ndarray, cluster: np.ndarray, structural: np.ndarray, line_of: np.ndarray,
                   points: np.ndarray, lines: np.ndarray, robot: np.ndarray) -> bool:
@@ -460,9 +584,13 @@ class CandidateFinder:
                     math.dist(centroid, track.centre) <= s.associate_centroid_in
                     and _extent(np.vstack([track.points, observation.points])) <= s.max_extent_in):
                 matches.append((gap, track.id, track))
+        proud: set[tuple[int, int]] = set()
+        if observation.proud is not None and observation.proud.any():
+            keys = np.floor(observation.points[observation.proud] / s.outline_voxel_in).astype(np.int64)
+            proud = {(int(a), int(b)) for a, b in keys}
         if not matches:
             track = _Track(self._next_id, _thin(observation.points, s.outline_voxel_in), 1, observation.stamp_s,
-                           observation.stamp_s)
+                           observation.stamp_s, proud)
             self._tracks[track.id] = track
             self._next_id += 1
             return
@@ -478,6 +606,7 @@ class CandidateFinder:
         keep.seen = sum(t.seen for t in joined) + 1
         keep.first_s = min(t.first_s for t in joined)
         keep.last_s = max(observation.stamp_s, *(t.last_s for t in joined))
+        keep.proud = proud.union(*(t.proud for t in joined))
         for t in joined:
             if t is not keep:
                 del self._tracks[t.id]
@@ -512,7 +641,9 @@ class CandidateFinder:
         for track in sorted(self._tracks.values(), key=lambda t: t.id):
             if track.seen < self.settings.min_seen:
                 continue
-            off = track.points[~self.structure.within(track.points)]
+            keys = np.floor(track.points / self.settings.outline_voxel_in).astype(np.int64)
+            proud = np.array([(int(a), int(b)) in track.proud for a, b in keys], dtype=bool)
+            off = track.points[proud | ~self.structure.within(track.points)]
             if len(off) >= self.settings.min_outline_points:
                 kept.append(_candidate(track.id, off, track))
         return kept
@@ -531,7 +662,8 @@ class CandidateFinder:
         off = self._off_structure()
         legs = {i for group in table_legs(self._small(off), self.settings) for i in group}
         return tuple(c for c in off if c.id not in legs and c.extent_in <= self.widest_in
-                     and (grid is None or grid_supports(grid, c, self.settings)))
+                     and (grid is None or (grid_supports(grid, c, self.settings)
+                                           and not continues_structure(grid, c, self.settings))))
 
 
 def _runs(cluster: np.ndarray, structural: np.ndarray, points: np.ndarray, gap_in: float) -> list[np.ndarray]:
@@ -593,6 +725,26 @@ def _is_rectangle(corners: list[tuple[float, float]], s: CandidateSettings) -> b
     return (abs(sides[0] - sides[2]) <= tol and abs(sides[1] - sides[3]) <= tol
             and abs(math.dist(a, c) - math.dist(b, d)) <= tol
             and all(s.table_min_in <= side <= s.table_max_in for side in sides))
+
+
+def continues_structure(grid: OccupancyGrid, candidate: Candidate,
+                        settings: CandidateSettings = CandidateSettings()) -> bool:
+    """The candidate's outline is a straight piece of a longer face of the home: it is
+    straight and at least ``face_min_in`` long (:func:`mapping.faces.straight_face`), and
+    the occupied cells it lies on run on straight, beyond its ends, to at least
+    ``face_run_min_in`` (:func:`mapping.faces.run_along`): longer than any object's face.
+    The outline's core is asked (:meth:`Candidate.core`): a stray return of the wall
+    beside a can would give the can a straight "face" along the wall.
+    A nook's back wall seen between a wall and a wardrobe, or a counter's end face seen
+    past its corner, is object-sized in every scan, and is a piece of wall in the map."""
+    s = settings
+    face = straight_face(candidate.core(), s.face_min_in, s.face_straight_in)
+    if face is None:
+        return False
+    if face.length_in >= s.face_run_min_in:
+        return True
+    return run_along(grid, face, s.face_band_in, s.face_gap_in, s.face_run_min_in,
+                     s.face_side_in) >= s.face_run_min_in
 
 
 def grid_supports(grid: OccupancyGrid, candidate: Candidate, settings: CandidateSettings = CandidateSettings()) -> bool:
