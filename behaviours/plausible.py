@@ -31,6 +31,7 @@ from py_trees.common import Status
 
 from behaviours.base import CslBehaviour
 from behaviours.events import Event
+from learner.choosing.matrix import DescriptionMatrix
 from learner.description import ObjectDescription
 from learner.knowledge import FeatureSpec, Knowledge
 
@@ -95,12 +96,12 @@ class LibraryRanges:
     description each time."""
 
     def __init__(self) -> None:
-        self._cached: tuple[object, dict[str, tuple[float, float]]] | None = None
+        self._cached: tuple[DescriptionMatrix, dict[str, tuple[float, float]]] | None = None
 
-    def of(self, matrix: object, descriptions: Iterable[ObjectDescription]) -> dict[str, tuple[float, float]]:
-        """The ranges of ``descriptions``, those of ``matrix`` (its identity is the key)."""
+    def of(self, matrix: DescriptionMatrix) -> dict[str, tuple[float, float]]:
+        """The ranges of ``matrix``'s descriptions (its identity is the key)."""
         if self._cached is None or self._cached[0] is not matrix:
-            self._cached = (matrix, library_ranges(descriptions))
+            self._cached = (matrix, library_ranges(matrix.descriptions))
         return self._cached[1]
 
 
@@ -108,8 +109,7 @@ def values_checked(behaviour: CslBehaviour, ranges: LibraryRanges, test: str,
                    values: Mapping[str, float | None]) -> dict[str, str]:
     """:func:`implausible_values` of what ``behaviour`` sensed for ``test``, each noted as
     an ``implausible`` event; the features that failed, with why (empty: all plausible)."""
-    matrix = behaviour.services.library.current()
-    bad = implausible_values(values, behaviour.services.knowledge, ranges.of(matrix, matrix.descriptions))
+    bad = implausible_values(values, behaviour.services.knowledge, ranges.of(behaviour.services.library.current()))
     for feature, why in bad.items():
         behaviour.note(Event.IMPLAUSIBLE, test=test, feature=feature, value=values[feature], why=why)
     return bad

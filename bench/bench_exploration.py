@@ -41,8 +41,8 @@ sys.path.insert(0, str(ROOT))
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import ONBOARD, Executive  # noqa: E402
 from experiments.conditions import noise_config, noise_names  # noqa: E402
-from experiments.onboard_truth import TruthAtScans, localisation, map_accuracy  # noqa: E402
-from hero_driver.sim.truth_map import truth_map  # noqa: E402
+from experiments.onboard_truth import TruthAtScans, localisation  # noqa: E402
+from experiments.study_onboard import built_map_accuracy, explore_until_mapped  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
 from mapping import ExplorationGoal, ExplorationSettings, OccupancyGrid  # noqa: E402
 from mapping.candidates import Candidate  # noqa: E402
@@ -51,9 +51,6 @@ from planner.geometry import Pose  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 from reporting.report import FOUND_WITHIN_IN  # noqa: E402
 from robot_profile import load_profile  # noqa: E402
-
-TRUTH_CELL_IN = 2.0  # the onboard study's truth resolution (experiments.study_onboard)
-
 
 @dataclass(frozen=True)
 class Explored:
@@ -72,10 +69,6 @@ class Explored:
     false_candidates: int
     wall_s: float
     trace: tuple[str, ...]
-
-
-class _Mapped(Exception):
-    pass
 
 
 def explore(world: str, preset: str, seed: int, trace: bool = False) -> Explored:
@@ -103,30 +96,14 @@ def explore(world: str, preset: str, seed: int, trace: bool = False) -> Explored
     with tempfile.TemporaryDirectory(prefix="csl-explore-") as tmp:
         learner = LocalLearner(Path(tmp) / "library.sqlite", seed_library=read_library_json(EXAMPLE_LIBRARY))
         executive = Executive(hero, learner, profile=profile, perception=ONBOARD)
-        read = 0
-
-        def stop_when_mapped(tick: int, root: object) -> None:
-            nonlocal read
-            fresh, read = executive.log.events[read:], len(executive.log.events)
-            if any(e["event"] == "mapped" for e in fresh):
-                raise _Mapped
-        executive.on_tick = stop_when_mapped
         began = time.perf_counter()
-        try:
-            executive.run()
-        except _Mapped:
-            pass
-        finally:
-            wall_s = time.perf_counter() - began
-            executive.shutdown()
-            learner.close()
-    mapped = next(e for e in executive.log.events if e["event"] == "mapped")
+        events = explore_until_mapped(executive, learner)
+        wall_s = time.perf_counter() - began
+    mapped = next(e for e in events if e["event"] == "mapped")
     perception = executive.perception
     assert perception is not None and perception.grid is not None
     grid = perception.grid
-    accuracy = map_accuracy(grid, truth_map(spec, catalogue, TRUTH_CELL_IN, objects=True),
-                            truth_map(spec, catalogue, TRUTH_CELL_IN, layer="footprint", objects=True),
-                            (start.x_in, start.y_in))
+    accuracy = built_map_accuracy(grid, spec, catalogue, (start.x_in, start.y_in))
     located = localisation(perception.poses, hero.true_at)
     candidates = perception.finder.candidates(grid)
     objects = hero.truth()

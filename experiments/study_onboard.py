@@ -44,9 +44,12 @@ from experiments.onboard_truth import (Found, Localisation, MapAccuracy, TruthAt
 from experiments.study import RESULTS_DIR, Study
 from experiments.table import ResultRow, StudyResult, mean, num, percent
 from experiments.worker import installed_profile
+from hero_driver.sim.catalogue import CatalogueEntry
 from hero_driver.sim.truth_map import truth_map
+from hero_driver.sim.worldfile import WorldSpec
 from learner.library.format import read_library_json
 from learner.service.local import LocalLearner
+from mapping import OccupancyGrid
 from reporting.built_map import plot_built_map
 from reporting.plots import legs
 from reporting.report import FOUND_WITHIN_IN
@@ -128,7 +131,7 @@ def run_job(job: OnboardJob) -> Episode:
         began = time.perf_counter()
         if job.explore_only:
             present, found, judged, objects_s = len(hero.truth()), None, [], 0.0
-            events = _explore(executive, learner)
+            events = explore_until_mapped(executive, learner)
             truths = []
             hero.close()
         else:
@@ -142,9 +145,7 @@ def run_job(job: OnboardJob) -> Episode:
     accuracy = located = drawn = None
     if onboard and perception is not None and perception.grid is not None:
         grid = perception.grid
-        accuracy = map_accuracy(grid, truth_map(spec, catalogue, TRUTH_CELL_IN, objects=True),
-                                truth_map(spec, catalogue, TRUTH_CELL_IN, layer="footprint", objects=True),
-                                (start.x_in, start.y_in))
+        accuracy = built_map_accuracy(grid, spec, catalogue, (start.x_in, start.y_in))
         located = localisation(perception.poses, hero.true_at)
         if job.map_png is not None:
             plot_built_map(job.map_png, grid, truth_map(spec, catalogue, grid.inches_per_cell),
@@ -157,9 +158,18 @@ def run_job(job: OnboardJob) -> Episode:
                    wall_s, drawn)
 
 
-def _explore(executive: Executive, learner: LocalLearner) -> list[dict]:
+def built_map_accuracy(grid: OccupancyGrid, spec: WorldSpec, catalogue: Mapping[str, CatalogueEntry],
+                       start: tuple[float, float]) -> MapAccuracy:
+    """The built ``grid`` against the home's true map with its objects, at
+    :data:`TRUTH_CELL_IN` (``experiments.onboard_truth.map_accuracy``)."""
+    return map_accuracy(grid, truth_map(spec, catalogue, TRUTH_CELL_IN, objects=True),
+                        truth_map(spec, catalogue, TRUTH_CELL_IN, layer="footprint", objects=True), start)
+
+
+def explore_until_mapped(executive: Executive, learner: LocalLearner) -> list[dict]:
     """Run ``executive`` until the exploration ends (its ``mapped`` event), then shut
-    it down; the events so far."""
+    it down and close ``learner``; the events so far (``bench/bench_exploration.py``
+    runs its episodes this way too)."""
     read = 0  # the events the hook has looked at: a tick may log several after ``mapped``
 
     def stop_when_mapped(tick: int, root: object) -> None:
