@@ -22,7 +22,8 @@ from behaviours.events import Event
 from behaviours.records import DRIVER_BACK, DRIVER_LOST, LostVerb, ObjectRecord, Refusal, Step
 from behaviours.resume import Reconnecting
 from behaviours.services import Services, namespace
-from hero_driver.interface import INTERNAL, OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError
+from hero_driver.interface import INTERNAL, OUT_OF_RANGE, TIMEOUT, UNAVAILABLE, DriverError, MoveResult
+from hero_driver.interface import Pose as DriverPose  # noqa: I001 (the planner has a Pose too)
 from planner import Pose as PlannerPose, Scene
 
 T = TypeVar("T")
@@ -188,7 +189,17 @@ class DriverAction(CslBehaviour):
             if exc.code == TIMEOUT:
                 return self._unanswered(exc)
             return self.failed(exc)
+        if isinstance(result, MoveResult) and result.collided:
+            self._bumped(result.pose)
         return self.finish(result)
+
+    def _bumped(self, pose: DriverPose) -> None:
+        """Tell the perception where a move stopped collided; a place it keeps out from
+        now on is an event (``behaviours.perception.Perception.bumped``)."""
+        kept = self.services.perception.bumped(to_planner_pose(pose))
+        if kept is not None:
+            self.note(Event.BUMPED, at=[round(kept[0], 1), round(kept[1], 1)],
+                      pose=[round(pose.x_in, 1), round(pose.y_in, 1), round(pose.heading_deg, 1)])
 
     def terminate(self, new_status: Status) -> None:
         if new_status == Status.INVALID and self._future is not None and not self._future.done():

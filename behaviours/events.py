@@ -38,6 +38,8 @@ class Event(str, Enum):
                         "(`cluster: true` when vision saw touching objects as one region)")
     CHOOSE = "choose", "a test chosen (how: best, reselect or backtrack), its position, gain, move and sensing seconds"
     MOVE = "move", "the robot drove to a position: seconds, whether it collided, the pose it ended at"
+    BUMPED = "bumped", ("a move stopped collided where the map saw nothing (a table's top above the scan plane): "
+                        "the place it met, kept out of the plans from now on")
     SENSE = "sense", "a sensing procedure applied: the values it yielded and its seconds"
     BRANCH = "branch", "the measured value matched a branch of the run-time tree (value and range)"
     UNRELIABLE = "unreliable", "the value fell between or beyond the branches (or none came): not trusted"

@@ -64,6 +64,10 @@ class Perception(Protocol):
     def unreachable(self, view: Pose) -> None:
         """``view`` could not be reached: not to be offered again."""
 
+    def bumped(self, pose: Pose) -> tuple[float, float] | None:
+        """A move stopped collided at ``pose`` (heading where it drove): where the map
+        now keeps the base out, when the look could not see what it met; else None."""
+
 
 class CeilingCamera:
     """The overhead camera (the module docstring): the driver's image, the navigator's vision."""
@@ -93,3 +97,6 @@ class CeilingCamera:
 
     def unreachable(self, view: Pose) -> None:
         return None
+
+    def bumped(self, pose: Pose) -> tuple[float, float] | None:
+        return None  # the camera sees whatever the base can meet (a mover's stop is `blocked`, not a bump)

@@ -51,6 +51,7 @@ from concurrent.futures import Future
 import dataclasses
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from hero_driver.interface import RangeScan, Scanner
@@ -58,7 +59,7 @@ from mapping import CandidateFinder, CandidateSettings, ExplorationSettings, Occ
 from mapping.exploration import exploration_goals
 from mapping.candidates import Candidate
 from mapping.scan import PlanarScan
-from mapping.scene import bridged, candidate_region, map_scene, refit, seen_through
+from mapping.scene import bridged, candidate_region, map_scene, refit, seen_through, with_keep_out
 from planner import Navigator, Pose, Region, Scene
 
 
@@ -68,6 +69,20 @@ simulator's ``paper`` preset: 1 % of it, an inch at 100 in), and the rules' band
 multiples of it; at the default half inch, far walls broke into object-sized runs
 (seen on the simulated apartments: dozens of false candidates along a bed's side)."""
 
+
+BUMP_RADIUS_IN = 3.0
+"""A place the bumper met where the map holds nothing is kept out of the plans from then
+on (:meth:`OnboardPerception.bumped`): a disc this wide, just ahead of the base (the
+base stops a tenth of an inch short of what it met, heading where it drove). A planar
+scan misses what stands above its plane: a table's top whose legs were not all seen
+yet, a shelf's overhang. Without it the planner, seeing free floor, sent every move
+into the same table edge (seen on the simulated apartment-2 under the ``paper``
+preset: every move of the episode's last thirteen objects ended collided where it
+began, and each such grasp move counted as a failed grasp)."""
+BUMP_CLEAR_IN = 6.0
+"""A bump this near an object's region (or an occupied cell) is not kept: the map
+explains it (the object itself, or an error in where the robot stands), and a disc
+there would close the positions the object is handled from."""
 
 AHEAD_DEG = 2.0
 """Beams this close to the heading measure what lies straight ahead: at a procedure's
@@ -137,6 +152,8 @@ class OnboardPerception:
         self._refused: list[Pose] = []
         self._goal: Pose | None = None  # the view being driven to
         self._candidates: tuple[Candidate, ...] = ()  # those the latest scan's reading kept
+        self._bumps: list[np.ndarray] = []  # places the bumper met (polygons): kept out of the plans
+        self._given: Scene | None = None  # the scene the navigator plans on
 
     @property
     def leg_in(self) -> float:
@@ -146,7 +163,7 @@ class OnboardPerception:
         return self._scanner.scan()
 
     def scene(self, observation: RangeScan) -> Scene:
-        scene = self._read(observation)
+        scene = self._given = self._read(observation)
         self._navigator.observe_scene(scene)
         return scene
 
@@ -186,6 +203,40 @@ class OnboardPerception:
         self._refused.append(view)
         self._goal = None
 
+    def bumped(self, pose: Pose) -> tuple[float, float] | None:
+        """The base stopped collided at ``pose``: unless the map explains it
+        (:data:`BUMP_CLEAR_IN`), the place just ahead is kept out of the plans from now on,
+        at once (:data:`BUMP_RADIUS_IN` says why); that place, or None."""
+        ahead = self._navigator.robot.geometry.base_radius_in + BUMP_RADIUS_IN
+        h = math.radians(pose.heading_deg)
+        x, y = pose.x_in + ahead * math.cos(h), pose.y_in + ahead * math.sin(h)
+        if self._explained(x, y):
+            return None
+        angles = np.linspace(0.0, 2.0 * math.pi, 16, endpoint=False)
+        disc = np.column_stack([x + BUMP_RADIUS_IN * np.cos(angles), y + BUMP_RADIUS_IN * np.sin(angles)])
+        self._bumps.append(disc)
+        if self._given is not None:
+            self._given = with_keep_out(self._given, [disc])
+            self._navigator.observe_scene(self._given)
+        return (x, y)
+
+    def _explained(self, x: float, y: float) -> bool:
+        """Whether an object's region, or an occupied cell of the map, lies within
+        :data:`BUMP_CLEAR_IN` of the point ``(x, y)``."""
+        reach = BUMP_CLEAR_IN
+        if self._given is not None and any(
+                cv2.pointPolygonTest(r.polygon_array().astype(np.float32), (x, y), True) >= -reach
+                for r in self._given.regions):
+            return True
+        if self.grid is None:
+            return False
+        return bool(self.grid.occupied_within(x, y, reach))
+
+    def _keep_out(self) -> list[np.ndarray]:
+        """What the base cannot enter though the scans see nothing there: each table's
+        top (:meth:`mapping.CandidateFinder.table_tops`) and each bump."""
+        return [*self.finder.table_tops(), *self._bumps]
+
     def _read(self, observation: RangeScan) -> Scene:
         scan = planar_scan(observation)
         correction = self.matcher.update(scan)
@@ -220,7 +271,7 @@ class OnboardPerception:
                 self._regions[candidate.id] = (self._regions[candidate.id][0], moved)
             regions.append(moved)
         self._bridged = bridged(self.grid)
-        return map_scene(self._bridged, tuple(regions), pose)
+        return map_scene(self._bridged, tuple(regions), pose, keep_out=self._keep_out())
 
     def _region(self, candidate: Candidate) -> Region:
         """The candidate's region, outlined again only when it was seen again, and no more

@@ -62,6 +62,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -652,6 +653,12 @@ class CandidateFinder:
         """Ids of the sets of four small tracks judged a table's legs."""
         return table_legs(self._small(self._off_structure()), self.settings)
 
+    def table_tops(self) -> tuple[np.ndarray, ...]:
+        """Each table's top as the base meets it (:func:`table_top`): a planar scan sees
+        only the legs, and a base driven between them stops against the top."""
+        small = {c.id: c for c in self._small(self._off_structure())}
+        return tuple(table_top([small[i] for i in group]) for group in table_legs(list(small.values()), self.settings))
+
     def _small(self, candidates: list[Candidate]) -> list[Candidate]:
         """Those that may be a table's leg: their core no wider than ``leg_max_extent_in``."""
         return [c for c in candidates if c.core_extent_in <= self.settings.leg_max_extent_in]
@@ -712,6 +719,21 @@ def table_legs(small: list[Candidate], settings: CandidateSettings = CandidateSe
                 found.append(tuple(c.id for c in four))
                 used |= {c.id for c in four}
     return tuple(found)  # type: ignore[return-value]
+
+
+def table_top(legs: Sequence[Candidate]) -> np.ndarray:
+    """The top of the table whose four ``legs`` these are (a 4x2 polygon, world inches,
+    counter-clockwise): the rectangle through the legs' centroids, widened on every side
+    by half the widest leg's core, since the legs stand flush with the top's corners."""
+    centres = np.array([(c.x_in, c.y_in) for c in legs], dtype=float)
+    middle = centres.mean(axis=0)
+    corners = centres[np.argsort(np.arctan2(*(centres - middle).T[::-1]))]
+    half_leg = max(c.core_extent_in for c in legs) / 2.0
+    widened = []
+    for i, corner in enumerate(corners):
+        away = [corner - corners[i - 1], corner - corners[(i + 1) % 4]]  # along the two sides, outwards
+        widened.append(corner + sum(v / max(float(np.hypot(*v)), 1e-9) for v in away) * half_leg)
+    return np.array(widened)
 
 
 def _is_rectangle(corners: list[tuple[float, float]], s: CandidateSettings) -> bool:

@@ -80,6 +80,19 @@ class OccupancyGrid:
         rows, cols = self.shape
         return (row, col) if 0 <= row < rows and 0 <= col < cols else None
 
+    def occupied_within(self, x_in: float, y_in: float, reach_in: float) -> bool:
+        """Whether any occupied cell's centre lies within ``reach_in`` of a world point."""
+        rows, cols = self.shape
+        row, col = self.grid.to_cell(x_in, y_in)
+        k = reach_in / self.inches_per_cell
+        r0, r1 = max(0, math.floor(row - k)), min(rows, math.ceil(row + k) + 1)
+        c0, c1 = max(0, math.floor(col - k)), min(cols, math.ceil(col + k) + 1)
+        if r0 >= r1 or c0 >= c1:
+            return False
+        rr, cc = np.mgrid[r0:r1, c0:c1]
+        near = np.hypot(rr + 0.5 - row, cc + 0.5 - col) <= k
+        return bool(((self.log_odds[r0:r1, c0:c1] > DECIDED) & near).any())
+
     def states(self) -> np.ndarray:
         """Each cell's :data:`UNKNOWN`, :data:`FREE` or :data:`OCCUPIED` (int8)."""
         states = np.full(self.shape, UNKNOWN, dtype=np.int8)

@@ -166,21 +166,36 @@ def refit(region: Region, returns: np.ndarray) -> Region:
 
 
 def map_scene(grid: OccupancyGrid, regions: Sequence[Region], robot: Pose | None,
-              margin_in: float = CROP_MARGIN_IN) -> Scene:
+              margin_in: float = CROP_MARGIN_IN, keep_out: Sequence[np.ndarray] = ()) -> Scene:
     """The scene of the map as it stands (the module docstring says how; ``grid``
     bridged already: :func:`bridged`), cropped to
     the floor seen so far and ``margin_in`` round it (and the robot): what lies beyond is
-    unknown, hence blocked, and a planner sampling it would only waste its samples."""
+    unknown, hence blocked, and a planner sampling it would only waste its samples.
+    ``keep_out``: polygons (Nx2, world inches) the base cannot enter though the scans see
+    nothing there (a table's top, a place the bumper met): furniture of the scene."""
     image = _cropped(map_image(grid), grid, robot, margin_in)
-    objects = np.zeros(image.shape, dtype=np.uint8)
-    for region in regions:
-        rows, cols = image.grid.to_cell(region.polygon_array()[:, 0], region.polygon_array()[:, 1])
-        corners = np.column_stack([cols, rows]) - 0.5  # pixel centres at whole numbers
-        cv2.fillPoly(objects, [np.round(corners).astype(np.int32)], 1)
-    objects_mask = objects.astype(bool)
+    objects = _filled(image, [region.polygon_array() for region in regions])
     blocked = image.pixels != SHADES[FREE]
-    return Scene(image=image, regions=tuple(regions), robot=robot,
-                 furniture=blocked & ~objects_mask, objects=objects_mask)
+    return with_keep_out(Scene(image=image, regions=tuple(regions), robot=robot,
+                               furniture=blocked & ~objects, objects=objects), keep_out)
+
+
+def with_keep_out(scene: Scene, keep_out: Sequence[np.ndarray]) -> Scene:
+    """``scene`` with the cells inside ``keep_out`` (polygons, world inches) furniture as
+    well, where they are not an object's."""
+    if not keep_out:
+        return scene
+    return dataclasses.replace(scene, furniture=scene.furniture | (_filled(scene.image, keep_out) & ~scene.objects))
+
+
+def _filled(image: CameraImage, polygons: Sequence[np.ndarray]) -> np.ndarray:
+    """The image's cells inside any of ``polygons`` (world inches), as a mask."""
+    mask = np.zeros(image.shape, dtype=np.uint8)
+    for polygon in polygons:
+        rows, cols = image.grid.to_cell(polygon[:, 0], polygon[:, 1])
+        corners = np.column_stack([cols, rows]) - 0.5  # pixel centres at whole numbers
+        cv2.fillPoly(mask, [np.round(corners).astype(np.int32)], 1)
+    return mask.astype(bool)
 
 
 def bridged(grid: OccupancyGrid) -> OccupancyGrid:

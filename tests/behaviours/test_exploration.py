@@ -43,6 +43,9 @@ class Views(CountedLooks):
     def unreachable(self, view: Pose) -> None:
         self.refused.append(view)
 
+    def bumped(self, pose: Pose) -> tuple[float, float] | None:
+        return None
+
 
 def with_views(*views: Pose | None, params: Params = Params()) -> tuple[Services, Views]:
     fresh_board()

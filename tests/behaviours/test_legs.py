@@ -50,6 +50,9 @@ class Scans(CountedLooks):
     def unreachable(self, view: Pose) -> None:
         return None
 
+    def bumped(self, pose: Pose) -> tuple[float, float] | None:
+        return None
+
 
 def in_legs(perception: Scans) -> tuple[Services, FakeDriver]:
     """The session at (60,0) with its first test chosen, the robot standing there; the
@@ -104,6 +107,26 @@ def test_a_leg_that_collided_ends_the_move_without_a_look() -> None:
     assert run(MoveTo(ROBOT, "test"), services) == Status.FAILURE
     assert perception.looks == 0 and len(fake.calls) == 1
     assert get("object").ledger.moving_s == 12.0 and get("object").session.awaiting_reselection
+
+
+def test_a_collided_leg_is_told_to_the_perception_and_a_place_it_keeps_out_is_an_event() -> None:
+    """The perception is told the pose the leg stopped at; what it keeps out (here: it
+    says (138, 50)) is a ``bumped`` event before the move's; when it keeps nothing,
+    no event."""
+    for kept in ((138.0, 50.0), None):
+        perception = Scans(20.0)
+        told: list[Pose] = []
+        perception.bumped = lambda pose, kept=kept: told.append(pose) or kept  # type: ignore[method-assign]
+        services, fake = in_legs(perception)
+        fake.script("move", moved(DriverPose(150.0, 50.0, 180.0), 12.0, collided=True))
+        assert run(MoveTo(ROBOT, "test"), services) == Status.FAILURE
+        assert [(p.x_in, p.y_in, p.heading_deg) for p in told] == [(150.0, 50.0, 180.0)]
+        log = services.log
+        if kept is None:
+            assert log.kinds() == ["move"]
+        else:
+            assert log.kinds() == ["bumped", "move"]
+            assert log.of("bumped")[0]["at"] == [138.0, 50.0] and log.of("bumped")[0]["pose"] == [150.0, 50.0, 180.0]
 
 
 def test_a_perception_without_legs_drives_the_move_whole() -> None:

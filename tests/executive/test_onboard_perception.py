@@ -124,3 +124,29 @@ def test_an_object_seen_again_off_its_kept_region_is_outlined_anew_not_lost() ->
     scans.walls = np.concatenate([room, np.array(box(64.0, 29.0, 66.0, 31.0), dtype=float)])
     scene = look_from(seen, scans, (60.0, 70.0))
     assert [r.centroid for r in scene.regions] == [pytest.approx((65.0, 30.0), abs=1.5)]
+
+
+def test_a_bump_where_the_map_sees_nothing_is_kept_out_of_the_plans_at_once() -> None:
+    """The base (radius 9) stopped collided at (40, 70) facing +x on floor the scans saw
+    free: the disc of 3 in centred 12 in ahead, at (52, 70), is furniture of the
+    navigator's map from then on (inflated by the base: no plan through (52, 70)),
+    and the robot's own place stays plannable (it is 12 in away: the inflation's edge)."""
+    seen, scans, navigator = perception()
+    look_from(seen, scans, (30.0, 70.0), (90.0, 70.0))
+    assert navigator.vision_map.is_free(52.0, 70.0)
+    kept = seen.bumped(Pose(40.0, 70.0, 0.0))
+    assert kept == pytest.approx((52.0, 70.0))
+    assert not navigator.vision_map.is_free(52.0, 70.0) and not navigator.vision_map.is_free(45.0, 70.0)
+    assert navigator.plan(Pose(40.0, 70.0, 180.0), Pose(30.0, 40.0, 0.0)).found
+    scene = seen.scene(seen.look().result())  # and it stays so after the next look
+    assert scene.furniture is not None and not navigator.vision_map.is_free(52.0, 70.0)
+
+
+def test_a_bump_the_map_explains_is_not_kept() -> None:
+    """Stopped facing the box (at 57-63, 27-33) or a wall: the map holds what the base
+    met, so nothing is kept out (a disc there would close the box's positions)."""
+    seen, scans, navigator = perception()
+    look_from(seen, scans, (30.0, 70.0), (90.0, 70.0))
+    assert seen.bumped(Pose(60.0, 50.0, 270.0)) is None  # 12 in ahead: (60, 38), 5 in from the box
+    assert seen.bumped(Pose(30.0, 12.0, 270.0)) is None  # 12 in ahead: (30, 0), the wall
+    assert seen.bumped(Pose(40.0, 70.0, 0.0)) is not None

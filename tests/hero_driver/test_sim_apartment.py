@@ -139,6 +139,22 @@ def test_a_table_is_legs_to_a_ray_and_a_top_to_the_base() -> None:
     assert moved.collided and moved.pose.x_in == pytest.approx(50 - RADIUS - 0.1)
 
 
+def test_a_base_stops_at_a_tables_top_on_a_leg_that_ends_short_of_it() -> None:
+    """The top spans x 50-90. A waypoint at x 40.5, 0.5 in short of where the base
+    (radius 9) would meet the top at x 41: the leg does not reach it, the next one does,
+    and the base stops 0.1 in short, at x 40.9, whatever the legs. The thin segment of
+    the second leg alone lies outside the top's box: with a second top in the home
+    (a stool), pymunk's own query with a radius missed the table's then, and the base
+    went on under it."""
+    table = {"name": "table", "kind": "table", "leg_in": 2, "x_in": 70, "y_in": 25, "width_in": 40, "depth_in": 20}
+    stool = {"name": "stool", "kind": "table", "leg_in": 1, "x_in": 20, "y_in": 40, "width_in": 8, "depth_in": 8}
+    sim = SimWorld(spec(world(furniture=[table, stool], robot={"x_in": 15, "y_in": 25})), noise=NoiseConfig.off())
+    assert sim.physics.sweep_circle((30.0, 25.0), (40.5, 25.0), RADIUS) is None
+    assert sim.physics.sweep_circle((40.5, 25.0), (45.0, 25.0), RADIUS) == pytest.approx(0.5 / 4.5)
+    moved = sim.move([Pose(40.5, 25, 0), Pose(45, 25, 0), Pose(80, 25, 0)], None)
+    assert moved.collided and moved.pose.x_in == pytest.approx(50 - RADIUS - 0.1)
+
+
 def test_a_home_without_a_ceiling_camera_answers_no_camera() -> None:
     sim = SimWorld("apartment", noise=NoiseConfig.off())
     with pytest.raises(DriverError) as caught:

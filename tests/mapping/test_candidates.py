@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 from mapping import OccupancyGrid, PlanarScan, ScanMatcher
-from mapping.candidates import Candidate, CandidateFinder, CandidateSettings, split_and_merge, table_legs
+from mapping.candidates import (Candidate, CandidateFinder, CandidateSettings, split_and_merge, table_legs,
+                                table_top)
 from tests.mapping.synthetic import Drift, Lidar, box, circle, drifting_odometry, loop_poses, rect
 from tests.mapping.synthetic import table_legs as legs_of
 
@@ -88,13 +89,35 @@ def test_a_table_is_its_legs_and_they_are_not_candidates() -> None:
     assert [near(found, 100.0, 70.0)] == [[c.id for c in found]] and len(found) == 1
 
 
+def test_a_tables_top_is_kept_out_though_only_its_legs_are_seen() -> None:
+    """The same table: its top, the rectangle through the legs' centres (46 x 28 in)
+    widened by half a leg, is what the base meets (x 76-124, y 60-90, within the
+    legs' outlines' noise)."""
+    walls = np.array(box(0.0, 0.0, 200.0, 150.0) + legs_of(100.0, 75.0, 48.0, 30.0), dtype=float)
+    finder, _ = explore(walls, [(40.0, 40.0), (160.0, 40.0), (160.0, 120.0), (40.0, 120.0), (100.0, 30.0)])
+    (top,) = finder.table_tops()
+    assert top.shape == (4, 2)
+    assert top[:, 0].min() == pytest.approx(76.0, abs=1.5) and top[:, 0].max() == pytest.approx(124.0, abs=1.5)
+    assert top[:, 1].min() == pytest.approx(60.0, abs=1.5) and top[:, 1].max() == pytest.approx(90.0, abs=1.5)
+
+
+def test_a_tables_top_by_hand() -> None:
+    """Legs (2 in cores) with centres at the corners of a 46 x 28 rectangle, given in
+    any order: the top runs 1 in beyond them on every side, corners counter-clockwise."""
+    legs = [_small(1, 46, 28), _small(2, 0, 0), _small(3, 0, 28), _small(4, 46, 0)]
+    top = table_top(legs)
+    assert sorted(map(tuple, np.round(top, 9))) == [(-1.0, -1.0), (-1.0, 29.0), (47.0, -1.0), (47.0, 29.0)]
+    x, y = top[:, 0], top[:, 1]
+    assert 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) == pytest.approx(48.0 * 30.0)  # > 0: ccw
+
+
 def test_three_legs_alone_are_three_candidates() -> None:
     """The rule needs all four legs: with one missing (hidden, or never seen) the other
     three are small things in the open, and each costs an approach."""
     legs = legs_of(100.0, 75.0, 48.0, 30.0)[4:]  # the leg at (123, 89) left out
     finder, grid = explore(np.array(box(0.0, 0.0, 200.0, 150.0) + legs, dtype=float),
                            [(40.0, 40.0), (160.0, 40.0), (160.0, 120.0), (40.0, 120.0)])
-    assert finder.table_legs() == ()
+    assert finder.table_legs() == () and finder.table_tops() == ()
     assert len(finder.candidates(grid)) == 3
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from mapping import OccupancyGrid, PlanarScan
 from mapping.candidates import Candidate
-from mapping.scene import BRIDGED_LOG_ODDS, PIXEL_IN2, bridged, candidate_region, map_scene, refit, seen_through
+from mapping.scene import (BRIDGED_LOG_ODDS, PIXEL_IN2, bridged, candidate_region, map_scene, refit, seen_through,
+                           with_keep_out)
 from planner.geometry import Pose
 from planner.vision import Region
 from tests.mapping.synthetic import Lidar, box
@@ -42,6 +43,31 @@ def test_the_scene_blocks_unknown_and_occupied_cells_and_keeps_objects_apart() -
     assert np.count_nonzero(scene.objects) == pytest.approx(16, abs=9)  # polygon edges may take a cell more
     assert scene.objects[27:29, 71:73].all() and not (scene.objects & scene.furniture).any()
     assert scene.robot == Pose(40.0, 40.0, 0.0) and scene.regions == (region,)
+
+
+def test_a_kept_out_place_is_furniture_but_never_over_an_object() -> None:
+    """A keep-out square x 20-30, y 60-70 (rows 30-39, cols 20-29) on floor seen free,
+    and one over the region's corner: furniture, except the region's own cells."""
+    grid = OccupancyGrid(0.0, 0.0, 100.0, 100.0, 1.0)
+    grid.log_odds[:, :] = -1.0
+    region = Region(((70.0, 70.0), (74.0, 70.0), (74.0, 74.0), (70.0, 74.0)), (72.0, 72.0), 25, 0.0, False, 4.0, 4.0)
+    square_out = np.array([(20.0, 60.0), (30.0, 60.0), (30.0, 70.0), (20.0, 70.0)])
+    over = np.array([(68.0, 68.0), (72.0, 68.0), (72.0, 72.0), (68.0, 72.0)])
+    plain = map_scene(grid, [region], None, margin_in=0.0)
+    scene = map_scene(grid, [region], None, margin_in=0.0, keep_out=[square_out, over])
+    assert not plain.furniture.any()
+    assert scene.furniture[31:39, 21:29].all() and not scene.furniture[45:55, 45:55].any()
+    assert np.array_equal(scene.objects, plain.objects) and not (scene.objects & scene.furniture).any()
+    assert scene.furniture[31, 68:73].all() and scene.furniture[28:31, 68:70].all()  # the second square off the region
+    assert np.array_equal(with_keep_out(plain, [square_out, over]).furniture, scene.furniture)
+
+
+def test_occupied_within_measures_from_the_point_to_cell_centres() -> None:
+    """One occupied cell, x 50-51, y 49-50 (centre 50.5, 49.5): 3.5 in from (50.5, 53)."""
+    grid = OccupancyGrid(0.0, 0.0, 100.0, 100.0, 1.0)
+    grid.log_odds[50, 50] = 2.0
+    assert grid.occupied_within(50.5, 53.0, 3.6) and not grid.occupied_within(50.5, 53.0, 3.4)
+    assert not grid.occupied_within(-500.0, 53.0, 10.0)  # off the grid: nothing
 
 
 def test_the_scene_is_cropped_to_what_was_seen_and_a_margin() -> None:
