@@ -47,20 +47,28 @@ class GridGraph:
             targets.append(index[there][both])
             weights.append(np.full(int(both.sum()), cost))
         n = rows * cols
-        self._graph = csr_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
-                                 shape=(n, n))
+        forward = csr_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
+                             shape=(n, n))
+        # every step both ways, once: an undirected search would transpose the graph at
+        # every call (each step is stored once, from the lower index, so none is doubled)
+        self._graph = (forward + forward.T).tocsr()
 
-    def distances_from(self, start: tuple[int, int]) -> np.ndarray:
-        """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable.
+    def distances_from(self, start: tuple[int, int], limit: float = math.inf) -> np.ndarray:
+        """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable
+        or, with a finite ``limit``, farther than it.
 
-        A blocked or outside start gives an all-``inf`` field: nothing is reachable
-        from inside an obstacle.
+        Within the limit the distances are those of the whole search to the last bit: a
+        cell's distance is the least over its neighbours of theirs plus the step, and
+        every neighbour nearer than the cell is within the limit too. The search stops
+        there, so a field of a few yards of a large floor costs a fraction of the whole.
+        A blocked or outside start gives an all-``inf`` field: nothing is reachable from
+        inside an obstacle.
         """
         rows, cols = self.free.shape
         r0, c0 = start
         if not (0 <= r0 < rows and 0 <= c0 < cols) or not self.free[r0, c0]:
             return np.full(self.free.shape, np.inf)
-        field = dijkstra(self._graph, directed=False, indices=r0 * cols + c0).reshape(rows, cols)
+        field = dijkstra(self._graph, directed=True, indices=r0 * cols + c0, limit=limit).reshape(rows, cols)
         field[~self.free] = np.inf
         return field
 
