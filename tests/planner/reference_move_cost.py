@@ -1,7 +1,8 @@
 """The estimate mode and its grid search as they were before the distance fields were
 kept per coarse block, without their copies on the map's grid, searched on a graph
-made symmetric once and at first only as far as the learner's moves reach (issue 32):
-kept, unchanged but for this note and their names, as the reference that
+made symmetric once and at first only as far as the learner's moves reach, and before
+the descent read its cells as Python floats (issue 32): kept, unchanged but for this
+note and their names, as the reference that
 tests/planner/test_move_cost_fast.py compares the cheaper estimator with (the same
 price, length, turning and reason for every move). Not used by the product.
 """
@@ -17,7 +18,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from planner.cache import LruCache
 from planner.geometry import Pose
-from planner.grid_search import _STEPS, GRID_TO_EUCLIDEAN, descend
+from planner.grid_search import _STEPS, GRID_TO_EUCLIDEAN
 from planner.move_cost import DETOUR_RATIO, DETOUR_SIMPLIFY_CELLS, FIELD_COARSENING, MoveCost, _turning, arrived, \
     move_seconds
 from planner.paths import ESCAPE_LIMIT_IN, GOAL_BLOCKED, GOAL_OUTSIDE, OK, START_BLOCKED, START_OUTSIDE, UNREACHABLE
@@ -55,6 +56,32 @@ class ReferenceGridGraph:
         field = dijkstra(self._graph, directed=False, indices=r0 * cols + c0).reshape(rows, cols)
         field[~self.free] = np.inf
         return field
+
+
+def reference_descend(field: np.ndarray, goal: tuple[int, int]) -> list[tuple[int, int]]:
+    """The grid's shortest path from the field's source to ``goal`` (cells, source first).
+
+    Follows the steepest descent of a :func:`distance_field` back from the goal; empty
+    when the goal is unreachable.
+    """
+    rows, cols = field.shape
+    if not np.isfinite(field[goal]):
+        return []
+    path = [goal]
+    row, col = goal
+    while field[row, col] > 0:
+        best = (field[row, col], row, col)
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                r, c = row + dr, col + dc
+                if (dr or dc) and 0 <= r < rows and 0 <= c < cols and field[r, c] < best[0]:
+                    best = (field[r, c], r, c)
+        if (best[1], best[2]) == (row, col):
+            break
+        row, col = best[1], best[2]
+        path.append((row, col))
+    path.reverse()
+    return path
 
 
 class ReferenceCostEstimator:
@@ -118,7 +145,7 @@ class ReferenceCostEstimator:
         """The grid's shortest path as a few straight legs (for its turns), descended on
         the coarse field it was searched on."""
         k = FIELD_COARSENING
-        cells = np.array([(col, row) for row, col in descend(coarse, (goal_cell[0] // k, goal_cell[1] // k))],
+        cells = np.array([(col, row) for row, col in reference_descend(coarse, (goal_cell[0] // k, goal_cell[1] // k))],
                          np.float32)
         corners = cv2.approxPolyDP(cells.reshape(-1, 1, 2), DETOUR_SIMPLIFY_CELLS / k, False).reshape(-1, 2)
         centres = corners * k + (k - 1) / 2.0

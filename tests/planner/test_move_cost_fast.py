@@ -17,10 +17,10 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 from hero_driver.sim_driver import SimulatedHero
 from planner import CostEstimator, Navigator, Pose
-from planner.grid_search import GridGraph
+from planner.grid_search import GridGraph, descend
 from planner.move_cost import FIELD_COARSENING, FIELD_REACH_IN, FIELDS_KEPT
 from tests.planner.drawing import Canvas
-from tests.planner.reference_move_cost import ReferenceCostEstimator
+from tests.planner.reference_move_cost import ReferenceCostEstimator, reference_descend
 from tests.planner.sim import navigator
 
 
@@ -128,3 +128,16 @@ def test_a_limited_search_finds_the_whole_searchs_distances_within_its_limit() -
     assert np.isinf(limited[~inside]).all()
     # straight across, 25 steps, the wall is in the way: round its end, farther than the limit
     assert 25.0 < whole[20, 35] < math.inf and math.isinf(limited[20, 35])
+
+
+def test_the_descent_follows_the_same_cells_as_before() -> None:
+    # random walls on a small grid, every reachable goal from a few starts: the same path,
+    # cell for cell, as the descent that indexed numpy's scalars (ties go to the first
+    # lowest neighbour, row by row, in both)
+    rng = np.random.default_rng(1)
+    free = rng.random((30, 40)) > 0.25
+    graph = GridGraph(free)
+    for start in [tuple(int(v) for v in cell) for cell in np.argwhere(free)[::97]]:
+        field = graph.distances_from(start)
+        goals = [tuple(int(v) for v in cell) for cell in np.argwhere(np.isfinite(field))[::7]]
+        assert goals and all(descend(field, g) == reference_descend(field, g) for g in goals)
