@@ -57,6 +57,11 @@ class PlannerMoveCost:
     every move from it would be priced ``inf``. :meth:`stand_at` records the real pose
     for the position it returns, and moves from that position are priced from it (a
     move *to* a position still ends facing the object).
+
+    The pose of each position is worked out once per vision map (:meth:`pose`): the
+    exact rule prices every move between the positions its search explores, and each
+    move names two poses, whose working out (the face's distance along the ray, the
+    range tolerance's steps around an obstacle) is dearer than the price itself.
     """
 
     def __init__(self, navigator: Navigator, region: Region, beam_check: bool = False,
@@ -66,6 +71,8 @@ class PlannerMoveCost:
         self._cache: dict[tuple[Position, Position], float] = {}
         self._blocked: dict[Position, bool] = {}
         self._stood: dict[Position, PlannerPose] = {}
+        self._poses: dict[Position, PlannerPose] = {}
+        self._posed_on: object = None  # the vision map ``_poses`` were worked out on
         self.generation = 0  # learner.costs.MoveCostEstimator: changes with every retarget
 
     def retarget(self, region: Region) -> None:
@@ -77,6 +84,7 @@ class PlannerMoveCost:
         self._cache.clear()
         self._blocked.clear()
         self._stood.clear()
+        self._poses.clear()
 
     def stand_at(self, pose: PlannerPose) -> Position:
         """The learner position of the robot standing at ``pose``; moves from it are
@@ -108,5 +116,15 @@ class PlannerMoveCost:
         return self._blocked[position]
 
     def pose(self, position: Position) -> PlannerPose:
-        """The world pose from which the sonar stands at ``position`` facing the object."""
-        return self.navigator.pose_for(self.region, position.distance_in or 0.0, position.orientation_deg or 0.0)
+        """The world pose from which the sonar stands at ``position`` facing the object
+        (kept until the object moves or the map changes: the pose steps around obstacles
+        on the map it was worked out on)."""
+        on = self.navigator.vision_map
+        if on is not self._posed_on:
+            self._poses.clear()
+            self._posed_on = on
+        found = self._poses.get(position)
+        if found is None:
+            found = self._poses[position] = self.navigator.pose_for(
+                self.region, position.distance_in or 0.0, position.orientation_deg or 0.0)
+        return found

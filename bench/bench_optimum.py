@@ -19,20 +19,30 @@ failure-priced rules) on the same floors, under each ``--noise`` (default ``pape
 the camera's appearance ``--appearance`` on, off or both, and prints per criterion the
 robot minutes per object (sensing, moving, grasping), success, grasps tried as features,
 and the paired difference per seed from the first criterion (mean ± standard error).
+With ``--timed-episodes`` it also times, in CPU ms, every ranking a recognition session
+of those episodes decides by (a session's first, where a search its later ones share is
+paid, and its later ones; max / p90 / median per criterion and camera condition): what a
+criterion costs the robot per decision on a real map, where every move is priced by the
+planner. The episodes then run in this process (``--jobs 1``).
 
     python bench/bench_optimum.py [--synthetic 12] [--seed 0] [--noisy SEEDS] [--noise NAMES]
                                   [--appearance on|off|both] [--noisy-criteria NAMES] [--jobs 1] [--only-noisy]
                                   [--study-starts] [--criteria NAMES] [--timed NAMES] [--libraries NAMES]
+                                  [--timed-episodes]
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import sys
 import time
+from collections import defaultdict
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from types import TracebackType
+from typing import TYPE_CHECKING, TypeVar
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -44,13 +54,16 @@ from learner.choosing.matrix import DescriptionMatrix  # noqa: E402
 from learner.costs import ModelMoveCost  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
 from learner.library.synthetic import synthetic_library  # noqa: E402
+from learner import runtime  # noqa: E402
 from learner.optimum import decision_times, optimal_cost, policy_walk  # noqa: E402
 from learner.position import Position  # noqa: E402
 from experiments.conditions import noise_names  # noqa: E402
 
 if TYPE_CHECKING:
     from experiments.episodes import EpisodeSpec, Results
+    from learner.choosing.node import Context
 
+R = TypeVar("R")
 NOISY_CRITERIA = ("cs-id3", "cs-id3-failure", "cs-id3-failure-rollout", "cs-id3-failure-search", "cs-id3-failure-exact",
                   "cs-id3-failure-search-every-row")
 STARTS = [Position(d, o) for d, o in ((6, 0), (16, 90), (24, 180), (40, 270), (40, 0), (16, 180))]
@@ -94,11 +107,54 @@ def _ms(seconds: list[float]) -> str:
     return f"{max(seconds) * 1000:.0f} / {statistics.median(seconds) * 1000:.1f}" if seconds else "none"
 
 
-def noisy(seeds: list[int], jobs: int, names: list[str], noises: list[str], appearances: list[bool]) -> None:
+class RankingClock:
+    """CPU seconds of every ranking a recognition session decides by in the episodes run
+    in this process, per episode label: each session's first ranking and its later ones.
+
+    While on, ``learner.runtime``'s ``rank`` (the session's call of
+    ``learner.choosing.selection.rank``) is wrapped: what the rollouts and the search
+    rank inside a decision is that decision's time, and the training stage, which ranks
+    through its own import, is not timed.
+    """
+
+    def __init__(self) -> None:
+        self.first: dict[str, list[float]] = defaultdict(list)
+        self.later: dict[str, list[float]] = defaultdict(list)
+        self.label = ""
+        self._sessions: dict[int, object] = {}  # id of a session's scratch -> the scratch (kept: ids stay unique)
+        self._rank = runtime.rank
+
+    def __enter__(self) -> RankingClock:
+        runtime.rank = self._timed  # type: ignore[assignment]
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        runtime.rank = self._rank
+
+    def run(self, label: str, episode: Callable[[], R]) -> R:
+        """Run ``episode`` with its rankings counted under ``label``."""
+        self.label, self._sessions = label, {}
+        return episode()
+
+    def _timed(self, node: object, current: Position, ctx: Context, *args: object) -> object:
+        began = time.process_time()
+        try:
+            return self._rank(node, current, ctx, *args)  # type: ignore[arg-type]
+        finally:
+            took = time.process_time() - began
+            seen = id(ctx.scratch) in self._sessions
+            self._sessions[id(ctx.scratch)] = ctx.scratch
+            (self.later if seen else self.first)[self.label].append(took)
+
+
+def noisy(seeds: list[int], jobs: int, names: list[str], noises: list[str], appearances: list[bool],
+          timed: bool = False) -> None:
     """``names`` in the experiment's execution episodes (the unseen test objects, the
     strategies on, the library trained as ``csl experiment paper`` trains it), on the same
     floors for every criterion, per noise and camera condition: where each spends its
-    robot time, and its paired difference from the first of ``names``."""
+    robot time, and its paired difference from the first of ``names``; ``timed``: and the
+    CPU time of their decisions (:class:`RankingClock`, in this process)."""
     from experiments.conditions import Control
     from experiments.episodes import EpisodeSpec
     from experiments.worker import install_worker
@@ -112,12 +168,35 @@ def noisy(seeds: list[int], jobs: int, names: list[str], noises: list[str], appe
     specs = [EpisodeSpec("noisy", f"{name}, {noise}, appearance {'on' if seen else 'off'}", seed, criterion=name,
                          noise=noise, control=Control(appearance=seen))
              for noise in noises for seen in appearances for name in names for seed in seeds]
-    results = run_all(specs, perform, workers=jobs, group=lambda spec: spec.criterion, initializer=install_worker,
-                      initargs=({"trained": trained.descriptions}, profile))
+    args = {"group": lambda spec: spec.criterion, "initializer": install_worker,
+            "initargs": ({"trained": trained.descriptions}, profile)}
+    if timed:
+        with RankingClock() as clock:
+            results = run_all(specs, lambda spec: clock.run(spec.variant, lambda: perform(spec)), workers=1,
+                              **args)
+    else:
+        results = run_all(specs, perform, workers=jobs, **args)
     for noise in noises:
         for seen in appearances:
             mine = [spec for spec in specs if spec.noise == noise and spec.control.appearance == seen]
             _noisy_table(noise, seen, seeds, names, mine, results, len(trained.descriptions))
+    if timed:
+        print(f"\ndecisions in the episodes above, CPU ms (every ranking a session decides by; max / p90 / median "
+              f"(count); seeds {seeds[0]}-{seeds[-1]}, {len(seeds)} floors)")
+        print("| criterion, noise, camera | a session's first decision | later decisions |")
+        print("|---|---|---|")
+        for label in dict.fromkeys(spec.variant for spec in specs):
+            print(f"| {label} | {_spread(clock.first[label])} | {_spread(clock.later[label])} |")
+
+
+def _spread(seconds: list[float]) -> str:
+    """Max / p90 / median in ms (the p90 by nearest rank), and how many."""
+    if not seconds:
+        return "none"
+    ordered = sorted(seconds)
+    p90 = ordered[math.ceil(0.9 * len(ordered)) - 1]
+    return (f"{ordered[-1] * 1000:.0f} / {p90 * 1000:.0f} / {statistics.median(ordered) * 1000:.1f} "
+            f"({len(ordered)})")
 
 
 def _noisy_table(noise: str, seen: bool, seeds: list[int], names: list[str], specs: list[EpisodeSpec],
@@ -177,6 +256,8 @@ def main() -> None:
                          f"(default {','.join(NOISY_CRITERIA)})")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes for the noisy episodes (default 1)")
     ap.add_argument("--only-noisy", action="store_true", help="skip the optimum tables")
+    ap.add_argument("--timed-episodes", action="store_true",
+                    help="also time every decision of the noisy episodes (CPU; runs them in this process)")
     ap.add_argument("--study-starts", action="store_true",
                     help="start from the study's poses (csl experiment paper: (24,0), (60,90), (100,180))")
     ap.add_argument("--criteria", default=",".join(MEASURED), metavar="NAMES",
@@ -188,6 +269,8 @@ def main() -> None:
     args = ap.parse_args()
     if args.jobs < 1:
         ap.error("--jobs must be >= 1")
+    if args.timed_episodes and (args.jobs != 1 or not args.noisy):
+        ap.error("--timed-episodes times the --noisy episodes in this process: give --noisy SEEDS and --jobs 1")
     names = [n for n in args.criteria.split(",") if n]
     timed = [n for n in args.timed.split(",") if n]
     noisy_names = [n for n in args.noisy_criteria.split(",") if n]
@@ -204,7 +287,7 @@ def main() -> None:
         if not noisy_names:
             ap.error("--noisy-criteria names no criterion")
         appearances = {"on": [True], "off": [False], "both": [True, False]}[args.appearance]
-        noisy(args.noisy, args.jobs, noisy_names, noises, appearances)
+        noisy(args.noisy, args.jobs, noisy_names, noises, appearances, timed=args.timed_episodes)
     if args.only_noisy:
         return
     knowledge = load_knowledge(KNOWLEDGE)

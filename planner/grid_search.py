@@ -47,20 +47,28 @@ class GridGraph:
             targets.append(index[there][both])
             weights.append(np.full(int(both.sum()), cost))
         n = rows * cols
-        self._graph = csr_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
-                                 shape=(n, n))
+        forward = csr_matrix((np.concatenate(weights), (np.concatenate(sources), np.concatenate(targets))),
+                             shape=(n, n))
+        # every step both ways, once: an undirected search would transpose the graph at
+        # every call (each step is stored once, from the lower index, so none is doubled)
+        self._graph = (forward + forward.T).tocsr()
 
-    def distances_from(self, start: tuple[int, int]) -> np.ndarray:
-        """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable.
+    def distances_from(self, start: tuple[int, int], limit: float = math.inf) -> np.ndarray:
+        """Grid distance (in cells) from ``start`` to every cell; ``inf`` where unreachable
+        or, with a finite ``limit``, farther than it.
 
-        A blocked or outside start gives an all-``inf`` field: nothing is reachable
-        from inside an obstacle.
+        Within the limit the distances are those of the whole search to the last bit: a
+        cell's distance is the least over its neighbours of theirs plus the step, and
+        every neighbour nearer than the cell is within the limit too. The search stops
+        there, so a field of a few yards of a large floor costs a fraction of the whole.
+        A blocked or outside start gives an all-``inf`` field: nothing is reachable from
+        inside an obstacle.
         """
         rows, cols = self.free.shape
         r0, c0 = start
         if not (0 <= r0 < rows and 0 <= c0 < cols) or not self.free[r0, c0]:
             return np.full(self.free.shape, np.inf)
-        field = dijkstra(self._graph, directed=False, indices=r0 * cols + c0).reshape(rows, cols)
+        field = dijkstra(self._graph, directed=True, indices=r0 * cols + c0, limit=limit).reshape(rows, cols)
         field[~self.free] = np.inf
         return field
 
@@ -73,24 +81,29 @@ def distance_field(free: np.ndarray, start: tuple[int, int]) -> np.ndarray:
 def descend(field: np.ndarray, goal: tuple[int, int]) -> list[tuple[int, int]]:
     """The grid's shortest path from the field's source to ``goal`` (cells, source first).
 
-    Follows the steepest descent of a :func:`distance_field` back from the goal; empty
-    when the goal is unreachable.
+    Follows the steepest descent of a :func:`distance_field` back from the goal (the
+    first of the lowest neighbours, row by row, while it is lower); empty when the goal
+    is unreachable. Cells are read as Python floats (``item``): a detour's turns are
+    priced by a descent, and numpy's scalar indexing would be most of its time.
     """
     rows, cols = field.shape
     if not np.isfinite(field[goal]):
         return []
+    value = field.item
     path = [goal]
     row, col = goal
-    while field[row, col] > 0:
-        best = (field[row, col], row, col)
-        for dr in (-1, 0, 1):
-            for dc in (-1, 0, 1):
-                r, c = row + dr, col + dc
-                if (dr or dc) and 0 <= r < rows and 0 <= c < cols and field[r, c] < best[0]:
-                    best = (field[r, c], r, c)
-        if (best[1], best[2]) == (row, col):
+    here = value(row, col)
+    while here > 0:
+        best, best_row, best_col = here, row, col
+        for r in (row - 1, row, row + 1):
+            if not 0 <= r < rows:
+                continue
+            for c in (col - 1, col, col + 1):
+                if (r != row or c != col) and 0 <= c < cols and value(r, c) < best:
+                    best, best_row, best_col = value(r, c), r, c
+        if (best_row, best_col) == (row, col):
             break
-        row, col = best[1], best[2]
+        row, col, here = best_row, best_col, best
         path.append((row, col))
     path.reverse()
     return path

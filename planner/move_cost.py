@@ -81,15 +81,24 @@ def price_plan(model: RobotMotion, plan: PlanResult) -> MoveCost:
 
 # The estimate mode searches a grid this many times coarser than the camera's.
 FIELD_COARSENING = 2
+# Distance fields an estimator keeps (one per start block): the exact rule prices moves
+# from every position its search explores, tens per object on one map, and comes back
+# to them. The fields of the coarse grid alone are kept, so these take about the memory
+# eight fields did with their copies on the map's own grid.
+FIELDS_KEPT = 32
+# How far a start's first distance field reaches (inches): past the longest move between
+# two positions around one object that the learner usually prices. A goal beyond it
+# costs a second, whole field from that start.
+FIELD_REACH_IN = 100.0
 
 
 class CostEstimator:
-    """Estimate mode on one vision map: distance fields cached per start cell."""
+    """Estimate mode on one vision map: distance fields cached per start block."""
 
-    def __init__(self, vision_map: VisionMap, model: RobotMotion, cache_size: int = 8) -> None:
+    def __init__(self, vision_map: VisionMap, model: RobotMotion, cache_size: int = FIELDS_KEPT) -> None:
         self.map = vision_map
         self.model = model
-        self._fields: LruCache[tuple[np.ndarray, np.ndarray]] = LruCache(cache_size)
+        self._fields: LruCache[np.ndarray] = LruCache(cache_size)
         self._graph: GridGraph | None = None  # built on the first field: a map may never be priced
 
     @property
@@ -97,34 +106,35 @@ class CostEstimator:
         """How many distance fields were computed (each costs one Dijkstra)."""
         return self._fields.misses
 
-    def field_from(self, cell: tuple[int, int]) -> np.ndarray:
-        """Grid distances (inches, any-angle corrected) from a free cell, on the map's grid."""
-        return self._field(cell)[0]
-
-    def _field(self, cell: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-        """The field on the map's grid (inches) and on the coarse grid it was searched on.
+    def _field(self, cell: tuple[int, int], goal_cell: tuple[int, int]) -> np.ndarray:
+        """The distances (inches, any-angle corrected) from a free cell's block to the
+        blocks of the coarse grid the search runs on: at least as far as ``goal_cell``'s
+        (``inf`` there: the goal cannot be reached).
 
         Pricing needs inches, not the camera's 0.8 in cells: the map is coarsened
         :data:`FIELD_COARSENING` times (a block is free when any of its cells is;
-        inflated obstacles are far thicker than a block, so no wall opens) and the search
-        over a quarter of the cells takes ~2 ms instead of ~10.
+        inflated obstacles are far thicker than a block, so no wall opens) and the
+        search runs over a quarter of the cells. Every cell of a block starts the same
+        search, so fields are kept per block: the learner prices from many positions a
+        few inches apart. A free cell's distance is its block's (:meth:`estimate`
+        prices free goals only), so no field on the map's own grid is made. A start's
+        first search stops at :data:`FIELD_REACH_IN`, where the learner's moves around
+        one object end; a goal beyond it, or none reachable, gets the whole search (the
+        distances within the reach are the same to the last bit, ``GridGraph.distances_from``).
         """
         k = FIELD_COARSENING
-        rows, cols = self.map.free.shape
         if self._graph is None:
+            rows, cols = self.map.free.shape
             padded = np.zeros((-(-rows // k) * k, -(-cols // k) * k), dtype=bool)
             padded[:rows, :cols] = self.map.free
             self._graph = GridGraph(padded.reshape(padded.shape[0] // k, k, padded.shape[1] // k, k).any(axis=(1, 3)))
-        graph = self._graph
-
-        def make() -> tuple[np.ndarray, np.ndarray]:
-            coarse = graph.distances_from((cell[0] // k, cell[1] // k)) * (k * self.map.image.inches_per_pixel
-                                                                           * GRID_TO_EUCLIDEAN)
-            fine = np.repeat(np.repeat(coarse, k, axis=0), k, axis=1)[:rows, :cols]
-            fine[~self.map.free] = np.inf
-            return fine, coarse
-
-        return self._fields.get_or_make(cell, make)
+        graph, block, goal_block = self._graph, (cell[0] // k, cell[1] // k), (goal_cell[0] // k, goal_cell[1] // k)
+        scale = k * self.map.image.inches_per_pixel * GRID_TO_EUCLIDEAN
+        near = self._fields.get_or_make((block, False),
+                                        lambda: graph.distances_from(block, FIELD_REACH_IN / scale) * scale)
+        if math.isfinite(near[goal_block]):
+            return near
+        return self._fields.get_or_make((block, True), lambda: graph.distances_from(block) * scale)
 
     def estimate(self, start: Pose, goal: Pose) -> MoveCost:
         """The estimated cost of moving from ``start`` to ``goal``.
@@ -145,8 +155,9 @@ class CostEstimator:
         if reason is not None:
             return MoveCost(math.inf, math.inf, math.inf, False, reason)
         escape = math.hypot(exit_point[0] - start.x_in, exit_point[1] - start.y_in)
-        field, coarse = self._field(self.map.cell_of(*exit_point))
-        length = float(field[goal_cell]) + escape
+        coarse = self._field(self.map.cell_of(*exit_point), goal_cell)
+        k = FIELD_COARSENING
+        length = float(coarse[goal_cell[0] // k, goal_cell[1] // k]) + escape
         if not math.isfinite(length):
             return MoveCost(math.inf, math.inf, math.inf, False, UNREACHABLE)
         # The field measures cell to cell; the straight line is a floor on the length.

@@ -93,6 +93,9 @@ def free_pose_for_position(region: Region, distance_in: float, orientation_deg: 
 # A neighbour this close to the beam's corridor still echoes into it (the footprint is
 # known to a pixel or so, docs/planner.md "Clutter"): the beam is not clear.
 BEAM_MARGIN_IN = 1.0
+# Beyond the margin by more than this, a neighbour's bounding box needs no closer look:
+# far above any rounding in the gap's arithmetic, far below anything a footprint shows.
+_BOX_SLACK_IN = 1e-6
 
 
 def beam_corridor(region: Region, distance_in: float, orientation_deg: float) -> np.ndarray:
@@ -121,8 +124,23 @@ def beam_blockers(region: Region, distance_in: float, orientation_deg: float,
     beam's corridor from this position: each would echo into the procedure, so a
     reading taken there may describe the neighbour, not the object."""
     corridor = beam_corridor(region, distance_in, orientation_deg)
-    return [o for o in others if o.centroid != region.centroid
-            and _convex_gap(corridor, _convex_hull(o.polygon_array())) <= margin_in]
+    # Two shapes are at least as far apart as their bounding boxes: a neighbour whose box
+    # lies beyond the margin of the corridor's is no blocker, and most of a floor's are
+    # (the beam check is asked at every position the learner prices). The boxes are of
+    # the points the hulls are made of, with a hair to spare, so the gap alone decides
+    # every neighbour it ever did.
+    reach = margin_in + _BOX_SLACK_IN
+    low, high = corridor.min(axis=0) - reach, corridor.max(axis=0) + reach
+    blockers = []
+    for o in others:
+        if o.centroid == region.centroid:
+            continue
+        points = _hull_points(o.polygon_array())
+        if (points.max(axis=0) < low).any() or (points.min(axis=0) > high).any():
+            continue
+        if _convex_gap(corridor, _convex_hull(points)) <= margin_in:
+            blockers.append(o)
+    return blockers
 
 
 def neighbours(region: Region, regions: Sequence[Region], same_within_in: float) -> list[Region]:
@@ -132,9 +150,14 @@ def neighbours(region: Region, regions: Sequence[Region], same_within_in: float)
     return [r for r in regions if math.hypot(r.centroid[0] - cx, r.centroid[1] - cy) > same_within_in]
 
 
+def _hull_points(points: np.ndarray) -> np.ndarray:
+    """``points`` as :func:`_convex_hull` takes them (OpenCV's hull is of 32-bit floats)."""
+    return np.asarray(points, dtype=np.float32)
+
+
 def _convex_hull(points: np.ndarray) -> np.ndarray:
     """Counter-clockwise hull of ``points`` (Nx2 floats), as an Mx2 array."""
-    hull = cv2.convexHull(np.asarray(points, dtype=np.float32)).reshape(-1, 2)
+    hull = cv2.convexHull(_hull_points(points)).reshape(-1, 2)
     return hull.astype(float)
 
 

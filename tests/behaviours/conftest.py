@@ -189,6 +189,7 @@ class FakeNavigator:
     scenes: deque[tuple[Region, ...]] = field(default_factory=deque)
     observed: int = 0
     latest: tuple[Region, ...] = ()  # what the last ``observe`` found (``scene``)
+    vision_map: object = None  # one map throughout: poses never change (PlannerMoveCost keeps them per map)
 
     def pose_for(self, region: Region, distance_in: float, orientation_deg: float) -> Pose:
         theta = math.radians(orientation_deg)

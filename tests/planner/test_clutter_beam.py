@@ -7,7 +7,7 @@ import math
 
 from hypothesis import given, strategies as st
 
-from planner.positions import BEAM_MARGIN_IN, beam_blockers, beam_corridor, neighbours
+from planner.positions import BEAM_MARGIN_IN, _convex_gap, _convex_hull, beam_blockers, beam_corridor, neighbours
 from planner.vision import Region
 
 
@@ -60,3 +60,25 @@ def test_neighbours_leave_out_the_object_seen_anew() -> None:
     anew, other = square(0.3, 0.4, 4.0), square(0.9, 1.2, 2.0)
     assert neighbours(TARGET, [TARGET, anew, other], 1.0) == [other]
     assert neighbours(TARGET, [TARGET, anew, other], 2.0) == []
+
+
+def test_a_neighbour_off_the_corridors_corner_is_judged_by_its_gap_not_its_box() -> None:
+    # the corridor from (10, 0) spans x -2..12, y -2..2; a 2 in square whose near corner
+    # lies 0.8 in past the corridor's corner on both axes (its box 0.8 in off each side,
+    # within the margin) is 0.8 * sqrt(2) = 1.13 in from it: beyond the margin, no blocker
+    corner = square(13.0 + 0.8, 3.0 + 0.8, 2.0)
+    assert beam_blockers(TARGET, 10.0, 0.0, [corner]) == []
+    # its near corner 0.6 in past on both axes: 0.85 in away, a blocker
+    assert beam_blockers(TARGET, 10.0, 0.0, [square(13.6, 3.6, 2.0)]) != []
+
+
+@given(st.floats(0.0, 40.0), st.floats(0.0, 360.0, exclude_max=True),
+       st.lists(st.tuples(st.floats(-50.0, 50.0), st.floats(-50.0, 50.0), st.floats(0.5, 8.0)), max_size=6))
+def test_the_box_shortcut_never_changes_which_neighbours_block(distance: float, orientation: float,
+                                                              squares: list[tuple[float, float, float]]) -> None:
+    # every neighbour judged by its gap to the corridor alone, as before the shortcut
+    others = [square(x, y, side) for x, y, side in squares]
+    corridor = beam_corridor(TARGET, distance, orientation)
+    by_gap = [o for o in others if o.centroid != TARGET.centroid
+              and _convex_gap(corridor, _convex_hull(o.polygon_array())) <= BEAM_MARGIN_IN]
+    assert beam_blockers(TARGET, distance, orientation, others) == by_gap
