@@ -31,11 +31,12 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from experiments.ablations import MEASURED  # noqa: E402
-from experiments.conditions import EXECUTION_NOISE, OURS, PAPERS  # noqa: E402
+from experiments.conditions import EXECUTION_NOISE, OURS, PAPERS, Control  # noqa: E402
 from experiments.config import parse_seeds  # noqa: E402
 from experiments.episodes import EpisodeRow, EpisodeSpec, run_job  # noqa: E402
 from experiments.study_incremental import TUMBLER, own_grasps, strict, tumbler_story  # noqa: E402
 from experiments.study_training import run_training  # noqa: E402
+from experiments.table import mean, paired  # noqa: E402
 from experiments.worker import install_worker  # noqa: E402
 from learner.knowledge import GraspingProcedure  # noqa: E402
 from robot_profile import RobotProfile, load_profile  # noqa: E402
@@ -108,27 +109,37 @@ def main() -> None:
     base = load_profile()
     grasps = own_grasps(TUMBLER)
     print(f"{len(seeds)} chains (seeds {args.seeds}) x {args.episodes} episodes, noise {args.noise}, "
-          f"{conditions.name}, harm on {args.grasps}")
-    print("| criterion | harm (s) | robot min / object | strict misclassified by episode | handled "
-          "| tumbler strict, right next time | knocked over next time | learned as itself, right next time |")
-    print("|---|---|---|---|---|---|---|---|")
+          f"{conditions.name}, harm on {args.grasps}; paired columns: against harm {harms[0]:g}, by seed")
+    print("| criterion | harm (s) | robot min / object | paired | strict misclassified by episode | paired (all "
+          "episodes) | handled | tumbler strict, right next time | knocked over next time "
+          "| learned as itself, right next time |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for criterion in criteria:
+        first: list[Chain] | None = None
         for harm in harms:
-            profile = with_harm(base, harm, args.grasps)
-            library = run_training(profile).descriptions
-            specs = [EpisodeSpec("harm", f"harm {harm:g}", seed, criterion=criterion, noise=args.noise,
-                                 control=conditions.control(), episodes=args.episodes) for seed in seeds]
-            with ProcessPoolExecutor(args.jobs, initializer=install_worker,
-                                     initargs=({"trained": library}, profile)) as pool:
-                chains = list(pool.map(run_job, specs))
+            chains = run_chains(with_harm(base, harm, args.grasps), criterion, conditions.control(), seeds, args)
             rows = [r for c in chains for r in c]
             nxt = next_encounters(chains)
             learned = tumbler_story(chains, grasps, wrong=strict).learned
             curve = " ".join(f"{s:.2f}" for s in per_episode(chains, args.episodes))
-            print(f"| {criterion} | {harm:g} | {sum(r.robot_s for r in rows) / len(rows) / 60:.2f} | {curve} "
-                  f"| {sum(r.success for r in rows)}/{len(rows)} | {nxt.right} of {nxt.of} | {nxt.knocked} of {nxt.of} "
-                  f"| {learned.right} of {learned.of} |", flush=True)
+            first = first or chains
+            minutes = paired([mean(r.robot_s / 60 for r in c) for c in chains],
+                             [mean(r.robot_s / 60 for r in c) for c in first]) if chains is not first else "-"
+            wrong = paired([mean(float(strict(r)) for r in c) for c in chains],
+                           [mean(float(strict(r)) for r in c) for c in first]) if chains is not first else "-"
+            print(f"| {criterion} | {harm:g} | {mean(r.robot_s for r in rows) / 60:.2f} | {minutes} | {curve} "
+                  f"| {wrong} | {sum(r.success for r in rows)}/{len(rows)} | {nxt.right} of {nxt.of} "
+                  f"| {nxt.knocked} of {nxt.of} | {learned.right} of {learned.of} |", flush=True)
 
+
+def run_chains(profile: RobotProfile, criterion: str, control: Control, seeds: Sequence[int],
+               args: argparse.Namespace) -> list[Chain]:
+    """One chain per seed with ``profile`` (its library trained with it), in the seeds' order."""
+    library = run_training(profile).descriptions
+    specs = [EpisodeSpec("harm", profile.source, seed, criterion=criterion, noise=args.noise, control=control,
+                         episodes=args.episodes) for seed in seeds]
+    with ProcessPoolExecutor(args.jobs, initializer=install_worker, initargs=({"trained": library}, profile)) as pool:
+        return list(pool.map(run_job, specs))
 
 if __name__ == "__main__":
     main()
