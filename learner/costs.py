@@ -190,13 +190,15 @@ def with_learned_grasp_costs(knowledge: Knowledge, records: Iterable[GraspCostRe
     """``knowledge`` with each recorded grasp priced by what it has cost, not by the file.
 
     A grasp's ``time_s`` (what a leaf's grasp costs when it holds) becomes the Bayesian
-    mean of the attempts that held, and its ``feature_cost_s`` (what a failure costs, side
-    effects included: what a grasp tried as a feature is charged) the mean of those that
-    failed, each with the file's value as the prior of ``weight`` attempts. The penalty is
-    what separates the two, never below 0: a failure is not priced under the grasp's own
-    time. Everything that prices a grasp reads these two, so ranking grasps as tests and
-    ordering an ambiguous leaf's grasps both use the learned costs. A grasp with no record
-    keeps the file's costs; a record of a grasp the knowledge lacks is ignored.
+    mean of the attempts that held, and its ``failure_time_s`` (what a failure costs in
+    robot seconds, side effects included) the mean of those that failed, each with the
+    file's value as the prior of ``weight`` attempts. The penalty is what separates the
+    two, never below 0: a failure is not priced under the grasp's own time. The failure
+    harm is kept as the file sets it: it is a price on what a failure does, not seconds,
+    so no number of attempts can learn it away. Everything that prices a grasp reads
+    these (``feature_cost_s`` adds the harm), so ranking grasps as tests and ordering an
+    ambiguous leaf's grasps both use the learned costs. A grasp with no record keeps the
+    file's costs; a record of a grasp the knowledge lacks is ignored.
     """
     by_grasp = {r.grasp: r for r in records}
     grasping = []
@@ -206,7 +208,7 @@ def with_learned_grasp_costs(knowledge: Knowledge, records: Iterable[GraspCostRe
             grasping.append(g)
             continue
         time_s = bayesian_mean(g.time_s, r.success_s, r.successes, weight)
-        failure_s = bayesian_mean(g.feature_cost_s, r.failure_s, r.failures, weight)
+        failure_s = bayesian_mean(g.failure_time_s, r.failure_s, r.failures, weight)
         grasping.append(dataclasses.replace(g, time_s=time_s, side_effect_penalty_s=max(0.0, failure_s - time_s)))
     return dataclasses.replace(knowledge, grasping=tuple(grasping),
                                source=f"{knowledge.source} (learned grasp costs)")

@@ -54,17 +54,33 @@ class SensingProcedure:
 
 @dataclass(frozen=True)
 class GraspingProcedure:
-    """A grasp; tried as a binary feature its cost is time plus the side-effect penalty."""
+    """A grasp; tried as a binary feature its cost is time plus the side-effect penalty,
+    priced with its failure harm.
+
+    ``side_effect_penalty_s`` is robot time (the recovery a failure causes, which
+    learned grasp costs replace by what failures really cost); ``failure_harm_s`` is not
+    time at all but the price of what a failure does beyond it (a tumbler knocked over,
+    an object pushed, an arm strained), which no measured seconds can learn away, so it
+    stays as the profile sets it (0: none, the paper's pricing)."""
 
     name: str
     time_s: float
     range_in: tuple[float, float]
     side_effect_penalty_s: float
     verifiable: bool  # the finger sensor can confirm success; else never tried as a feature
+    failure_harm_s: float = 0.0
+
+    @property
+    def failure_time_s(self) -> float:
+        """The robot seconds a failed attempt costs: its time and its side-effect penalty."""
+        return self.time_s + self.side_effect_penalty_s
 
     @property
     def feature_cost_s(self) -> float:
-        return self.time_s + self.side_effect_penalty_s
+        """What a failed attempt is *priced* at wherever a choice weighs one (a grasp
+        tried as a feature, an ambiguous leaf's order, a wrong leaf grasp in a search):
+        its seconds plus its harm. A decision price, never robot time spent."""
+        return self.failure_time_s + self.failure_harm_s
 
     def applicable_at(self, distance_in: float) -> bool:
         return self.range_in[0] - 1e-9 <= distance_in <= self.range_in[1] + 1e-9

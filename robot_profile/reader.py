@@ -248,14 +248,17 @@ def _grasping(entry: object, where: str) -> GraspingProcedure:
     entry = fields.as_table(entry, where)
     name = fields.name(entry, where)
     where = f"{where} ({_shown(name)})"
-    fields.only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "verifiable"}, where)
+    fields.only_keys(entry, {"name", "time_s", "range_in", "side_effect_penalty_s", "failure_harm_s", "verifiable"},
+                     where)
     penalty = fields.cost(entry, "side_effect_penalty_s", where) if "side_effect_penalty_s" in entry else 0.0
+    harm = fields.cost(entry, "failure_harm_s", where) if "failure_harm_s" in entry else 0.0
     return GraspingProcedure(
         name=name,
         time_s=fields.cost(entry, "time_s", where),
         range_in=_range(entry, where),
         side_effect_penalty_s=penalty,
         verifiable=fields.flag(entry, "verifiable", True, where),
+        failure_harm_s=harm,
     )
 
 

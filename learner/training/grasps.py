@@ -15,7 +15,7 @@ attempts succeed independently with chance ``p`` at cost ``c``: highest ``p / c`
 far, every earlier attempt's outcome counted per grasp with a uniform prior,
 ``(holds + 1) / (attempts + 2)``; ``c`` is the move to the approach plus the attempt's
 expected cost, ``p * time_s + (1 - p) * feature_cost_s`` (a failure pays the
-side-effect penalty). Every attempt's robot seconds and every move are counted.
+side-effect penalty and is priced with its harm). Every attempt's robot seconds and every move are counted.
 """
 
 from __future__ import annotations

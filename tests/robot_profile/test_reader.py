@@ -40,6 +40,15 @@ def test_procedures_are_found_by_name_or_not_at_all() -> None:
     assert profile.sensing_procedure("Top-Pinch") is None and profile.grasping_procedure("H-Scan-0.3") is None
 
 
+def test_a_grasps_failure_harm_is_read_and_0_when_left_out() -> None:
+    data = _data()
+    data["grasping"][2]["failure_harm_s"] = 300
+    pinch, wrap = profile_from_dict(data, "k.toml").grasping[2], profile_from_dict(data, "k.toml").grasping[1]
+    assert (pinch.name, pinch.failure_harm_s, wrap.failure_harm_s) == ("Top-Pinch", 300.0, 0.0)
+    # priced with its harm (63 + 40 + 300) but a failure's robot seconds stay 63 + 40
+    assert (pinch.feature_cost_s, pinch.failure_time_s) == (403.0, 103.0)
+
+
 def _data() -> dict:
     with HERO.open("rb") as fh:
         return tomllib.load(fh)
@@ -68,6 +77,10 @@ def _data() -> dict:
         (lambda d: d["grasping"][0].update(verifiable="yes"),
          "grasping[0] (Front-Pinch): 'verifiable' must be true or false"),
         (lambda d: d["grasping"][1].update(name="Front-Pinch"), "procedure 'Front-Pinch' is defined twice"),
+        (lambda d: d["grasping"][3].update(failure_harm_s=-120),
+         "grasping[3] (Top-Vert-Grip): 'failure_harm_s' must not be negative, got -120"),
+        (lambda d: d["grasping"][0].update(failure_harm_s="high"),
+         "grasping[0] (Front-Pinch): 'failure_harm_s' must be a number, got 'high'"),
         (lambda d: d.update(grasping=[]), "no [[grasping]] procedures"),
     ],
 )

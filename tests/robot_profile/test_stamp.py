@@ -96,6 +96,7 @@ def test_what_the_robot_does_changes_the_stamp(path: tuple[Any, ...], value: Any
     (("sensing", 0, "features", 0, "error"), 0.25),
     (("sensing", 0, "features", 0, "span"), [0, 64]),
     (("grasping", 0, "side_effect_penalty_s"), 10),
+    (("grasping", 0, "failure_harm_s"), 300),
     (("grasping", 0, "verifiable"), False),
 ])
 def test_what_only_the_learner_knows_leaves_it(path: tuple[Any, ...], value: Any) -> None:
