@@ -29,6 +29,17 @@ def desc(oid: str, grasp: str, *obs: tuple[str, Position, float], at: Position =
     return ObjectDescription(oid, grasp, at, tuple(sorted(Observation(f, p, v) for f, p, v in obs)))
 
 
+def three_wraps_and_a_tumbler() -> list[ObjectDescription]:
+    """Three Front-Wrap objects and one Top-Pinch one; a 5° vertical sweep tells all four
+    apart (heights 30, 40, 70, 60, each its own range with the 5° error)."""
+    return [
+        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
+        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
+        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
+        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
+    ]
+
+
 def four_objects() -> list[ObjectDescription]:
     """Cup, open box, tumbler, closed box: four grasps, H(C) = 2 bits.
 

@@ -28,7 +28,7 @@ from learner.decision_tree import grow
 from learner.knowledge import MoveModel
 from learner.optimum import optimal_cost, policy_walk
 from learner.runtime import RecognitionSession
-from tests.learner.fixtures import ANY, P, context, desc, hero
+from tests.learner.fixtures import ANY, P, context, desc, hero, three_wraps_and_a_tumbler
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix
 
@@ -290,16 +290,6 @@ def test_the_default_criterion_is_unchanged_by_the_refined_forms() -> None:
 
 # -- rollout: the test, then finishing with the one-step rule ---------------------------
 
-def _three_wraps_and_a_tumbler() -> list:
-    """Three Front-Wrap objects and one Top-Pinch one; a 5° vertical sweep tells all four
-    apart (heights 30, 40, 70, 60, each its own range with the 5° error)."""
-    return [
-        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
-        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
-        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
-        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
-    ]
-
 
 def test_the_rollout_tries_the_grasp_the_ratio_finds_too_dear() -> None:
     # Robot at (6,0), every test at 6 in: no move. H(C) = H(3/4, 1/4) = 0.811 bits, and
@@ -312,7 +302,7 @@ def test_the_rollout_tries_the_grasp_the_ratio_finds_too_dear() -> None:
     #   sweep: 42 s;
     #   Front-Wrap: paid only when it fails (the tumbler, 1/4): 1/4 x 90 = 22.5 s;
     #   Top-Pinch: fails for the three wraps: 3/4 x 103 = 77.25 s.
-    lib = _three_wraps_and_a_tumbler()
+    lib = three_wraps_and_a_tumbler()
     h = H(0.75, 0.25)
     greedy = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3"), {})
     assert str(greedy[0].test) == "Height-Degree-5°(6,*)" and greedy[0].score == pytest.approx(h**2 / 42)
@@ -330,7 +320,7 @@ def test_the_rollout_walk_costs_the_optimum_where_the_ratio_pays_twice_as_much()
     # branch is its Top-Pinch leaf: (0 + 0 + 0 + 90) / 4 = 22.5 s. No policy does better:
     # the optimum is that same blind Front-Wrap.
     k = hero()
-    m, est = DescriptionMatrix(_three_wraps_and_a_tumbler(), k), ModelMoveCost(k.move)
+    m, est = DescriptionMatrix(three_wraps_and_a_tumbler(), k), ModelMoveCost(k.move)
     assert policy_walk(m, criterion("cs-id3"), est, P(6, 0)).expected_cost == pytest.approx(42.0)
     for name in ("cs-id3-rollout", "idx-rollout"):
         walk = policy_walk(m, criterion(name), est, P(6, 0))

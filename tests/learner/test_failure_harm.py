@@ -21,7 +21,7 @@ from learner.knowledge import Knowledge
 from learner.optimum import optimal_cost
 from learner.runtime import RecognitionSession
 from tests.learner import test_optimum as worked
-from tests.learner.fixtures import ANY, P, desc, hero
+from tests.learner.fixtures import P, desc, hero, three_wraps_and_a_tumbler
 
 
 def harmed(k: Knowledge, **harm_s: float) -> Knowledge:
@@ -41,14 +41,6 @@ def test_learned_costs_keep_the_harm_and_learn_only_the_seconds() -> None:
     assert (wrap.failure_time_s, wrap.feature_cost_s) == pytest.approx((195.0, 395.0))
 
 
-def _three_wraps_and_a_tumbler() -> list:
-    return [
-        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
-        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
-        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
-        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
-    ]
-
 
 @pytest.mark.parametrize(("harm", "first", "grasp_cost"), [
     (0.0, "Front-Wrap(6,*)", 22.5),  # 1/4 x 90, under the 42 s sweep
@@ -58,7 +50,7 @@ def test_the_failure_share_rule_charges_a_failure_its_harm(harm: float, first: s
     # cs-id3-failure: Front-Wrap fails on the tumbler only, at 1/4 of the rows; both it
     # and the 42 s V-Sweep-5° gain all of H(3/4, 1/4), so the cheaper wins
     k = harmed(hero(), Front_Wrap=harm)
-    ctx = Context(DescriptionMatrix(_three_wraps_and_a_tumbler(), k), criterion("cs-id3-failure"), ModelMoveCost(k.move))
+    ctx = Context(DescriptionMatrix(three_wraps_and_a_tumbler(), k), criterion("cs-id3-failure"), ModelMoveCost(k.move))
     ranked = rank(Node.root(4), P(6, 0), ctx, {})
     assert str(ranked[0].test) == first
     wrap = next(s for s in ranked if str(s.test) == "Front-Wrap(6,*)")

@@ -25,7 +25,7 @@ from learner.choosing.selection import rank
 from learner.costs import ModelMoveCost
 from learner.knowledge import MoveModel
 from learner.optimum import optimal_cost, policy_walk
-from tests.learner.fixtures import ANY, P, context, desc, hero
+from tests.learner.fixtures import ANY, P, context, desc, hero, three_wraps_and_a_tumbler
 from tests.learner.test_optimum import SLOTS, STARTS, libraries
 from tests.learner.test_optimum import matrix as optimum_matrix
 
@@ -35,16 +35,6 @@ WALK_ROLLOUT = with_walk_rollout(CRITERIA["cs-id3-failure"])  # cs-id3-failure-r
 
 def H(*p: float) -> float:  # noqa: N802 - entropy in bits, as the paper writes it
     return -sum(x * math.log2(x) for x in p if x > 0)
-
-
-def _three_wraps_and_a_tumbler() -> list:
-    """Heights 30, 40, 70 (Front-Wrap) and 60 (Top-Pinch): the sweep tells all apart."""
-    return [
-        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
-        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
-        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
-        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
-    ]
 
 
 def _soda_can_lacks_the_sweep() -> list:
@@ -61,7 +51,7 @@ def test_a_grasp_test_is_priced_by_its_chance_of_failing() -> None:
     # cs-id3: sweep 0.811^2 / 42 = 0.0157 beats Front-Wrap 0.811^2 / 90.
     # cs-id3-failure: Front-Wrap fails on the tumbler only, C = 1/4 x 90 = 22.5:
     #   0.811^2 / 22.5 = 0.0292 beats the sweep; Top-Pinch fails on three, 3/4 x 103 = 77.25.
-    lib, h = _three_wraps_and_a_tumbler(), H(0.75, 0.25)
+    lib, h = three_wraps_and_a_tumbler(), H(0.75, 0.25)
     assert str(rank(Node.root(4), P(6, 0), context(lib, name="cs-id3"), {})[0].test) == "Height-Degree-5°(6,*)"
     ranked = rank(Node.root(4), P(6, 0), context(lib, name="cs-id3-failure"), {})
     priced = {str(s.test): s.scored_on for s in ranked}
@@ -118,7 +108,7 @@ def test_the_walk_rollout_estimates_what_the_walk_pays() -> None:
 def test_the_failure_rollout_takes_the_grasp_at_its_expected_price() -> None:
     # Three wraps and a tumbler: the walk rollout ranks Front-Wrap 1/4 x 90 = 22.5 s first,
     # the sweep at 42 s, Top-Pinch 3/4 x 103 = 77.25 s.
-    ranked = rank(Node.root(4), P(6, 0), context(_three_wraps_and_a_tumbler(), name=WALK_ROLLOUT), {})
+    ranked = rank(Node.root(4), P(6, 0), context(three_wraps_and_a_tumbler(), name=WALK_ROLLOUT), {})
     totals = {str(s.test): s.scored_on[1] for s in ranked}
     assert totals == pytest.approx({"Front-Wrap(6,*)": 22.5, "Height-Degree-5°(6,*)": 42.0, "Top-Pinch(6,*)": 77.25})
     assert str(ranked[0].test) == "Front-Wrap(6,*)"

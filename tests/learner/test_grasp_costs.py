@@ -23,7 +23,7 @@ from learner.costs import GraspCostRecord, ModelMoveCost, bayesian_mean, with_le
 from learner.library.store import LibraryStore
 from learner.runtime import RecognitionSession
 from learner.service.local import LocalLearner
-from tests.learner.fixtures import ANY, P, desc, hero
+from tests.learner.fixtures import P, desc, hero, three_wraps_and_a_tumbler
 
 
 def test_the_bayesian_mean_counts_the_prior_as_weight_attempts() -> None:
@@ -64,19 +64,11 @@ def test_learned_knowledge_prices_a_hold_and_a_failure_by_their_own_attempts() -
     assert with_learned_grasp_costs(k, []).grasping == k.grasping
 
 
-def _three_wraps_and_a_tumbler() -> list:
-    return [
-        desc("cup", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 30)),
-        desc("soda-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 40)),
-        desc("tennis-can", "Front-Wrap", ("Height-Degree-5°", P(6, ANY), 70)),
-        desc("tumbler", "Top-Pinch", ("Height-Degree-5°", P(6, ANY), 60)),
-    ]
-
 
 def test_a_grasp_learned_dear_is_no_longer_tried_as_a_feature() -> None:
     # cs-id3-failure with the file: Front-Wrap fails on the tumbler only, 1/4 x 90 = 22.5 s,
     # and beats the 42 s sweep (both gain all of H(3/4, 1/4)).
-    lib = _three_wraps_and_a_tumbler()
+    lib = three_wraps_and_a_tumbler()
     k = hero()
     filed = Context(DescriptionMatrix(lib, k), criterion("cs-id3-failure"), ModelMoveCost(k.move))
     assert str(rank(Node.root(4), P(6, 0), filed, {})[0].test) == "Front-Wrap(6,*)"
