@@ -24,7 +24,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,7 +34,7 @@ from experiments.ablations import MEASURED  # noqa: E402
 from experiments.conditions import EXECUTION_NOISE, OURS, PAPERS, Control  # noqa: E402
 from experiments.config import parse_seeds  # noqa: E402
 from experiments.episodes import EpisodeRow, EpisodeSpec, run_job  # noqa: E402
-from experiments.study_incremental import TUMBLER, own_grasps, strict, tumbler_story  # noqa: E402
+from experiments.study_incremental import TUMBLER, after_wrong, curve, own_grasps, strict  # noqa: E402
 from experiments.study_training import run_training  # noqa: E402
 from experiments.table import mean, paired  # noqa: E402
 from experiments.worker import install_worker  # noqa: E402
@@ -53,33 +53,6 @@ def with_harm(profile: RobotProfile, harm_s: float, grasps: str) -> RobotProfile
     return replace(profile, grasping=tuple(replace(g, failure_harm_s=harm_s) if harmed(g) else g
                                            for g in profile.grasping),
                    source=f"{profile.source} (failure harm {harm_s:g} s on {grasps})")
-
-
-@dataclass(frozen=True)
-class NextEncounters:
-    """The encounters of the tumbler that followed a strictly misclassified one."""
-
-    of: int
-    right: int  # strictly right
-    knocked: int  # knocked it over
-
-
-def next_encounters(chains: Sequence[Chain], object_id: str = TUMBLER) -> NextEncounters:
-    """Every encounter of ``object_id`` that follows a strictly misclassified one in its chain."""
-    after = []
-    for chain in chains:
-        encounters = sorted((r for r in chain if r.object == object_id), key=lambda r: r.episode)
-        after += [later for now, later in zip(encounters, encounters[1:]) if strict(now)]
-    return NextEncounters(len(after), sum(not strict(r) for r in after), sum(r.knocked_over for r in after))
-
-
-def per_episode(chains: Sequence[Chain], episodes: int) -> list[float]:
-    """The share of objects strictly misclassified in each episode of the chains."""
-    shares = []
-    for e in range(episodes):
-        rows = [r for c in chains for r in c if r.episode == e]
-        shares.append(sum(strict(r) for r in rows) / len(rows) if rows else float("nan"))
-    return shares
 
 
 def main() -> None:
@@ -119,17 +92,19 @@ def main() -> None:
         for harm in harms:
             chains = run_chains(with_harm(base, harm, args.grasps), criterion, conditions.control(), seeds, args)
             rows = [r for c in chains for r in c]
-            nxt = next_encounters(chains)
-            learned = tumbler_story(chains, grasps, wrong=strict).learned
-            curve = " ".join(f"{s:.2f}" for s in per_episode(chains, args.episodes))
+            read = curve(chains, args.episodes, grasps)
+            nxt = [after for _, after in after_wrong(chains, wrong=strict)]
+            learned = read.strict_story.learned
+            shares = " ".join(f"{s:.2f}" for s in read.strict_errors)
             first = first or chains
             minutes = paired([mean(r.robot_s / 60 for r in c) for c in chains],
                              [mean(r.robot_s / 60 for r in c) for c in first]) if chains is not first else "-"
             wrong = paired([mean(float(strict(r)) for r in c) for c in chains],
                            [mean(float(strict(r)) for r in c) for c in first]) if chains is not first else "-"
-            print(f"| {criterion} | {harm:g} | {mean(r.robot_s for r in rows) / 60:.2f} | {minutes} | {curve} "
-                  f"| {wrong} | {sum(r.success for r in rows)}/{len(rows)} | {nxt.right} of {nxt.of} "
-                  f"| {nxt.knocked} of {nxt.of} | {learned.right} of {learned.of} |", flush=True)
+            print(f"| {criterion} | {harm:g} | {mean(r.robot_s for r in rows) / 60:.2f} | {minutes} | {shares} "
+                  f"| {wrong} | {sum(r.success for r in rows)}/{len(rows)} | {sum(not strict(r) for r in nxt)} of "
+                  f"{len(nxt)} | {sum(r.knocked_over for r in nxt)} of {len(nxt)} | {learned.right} of {learned.of} |",
+                  flush=True)
 
 
 def run_chains(profile: RobotProfile, criterion: str, control: Control, seeds: Sequence[int],

@@ -65,6 +65,17 @@ def strict(row: EpisodeRow) -> bool:
     return row.misclassified_strict
 
 
+def after_wrong(chains: Iterable[Sequence[EpisodeRow]], object_id: str = TUMBLER,
+                wrong: Wrong = lenient) -> list[tuple[EpisodeRow, EpisodeRow]]:
+    """Each encounter of ``object_id`` misclassified (as ``wrong`` reads it) with one
+    more encounter after it in its chain, paired with that next encounter."""
+    pairs = []
+    for chain in chains:
+        encounters = sorted((r for r in chain if r.object == object_id), key=lambda r: r.episode)
+        pairs += [(now, after) for now, after in zip(encounters, encounters[1:]) if wrong(now)]
+    return pairs
+
+
 def tumbler_story(chains: Iterable[Sequence[EpisodeRow]], grasps: frozenset[str],
                   object_id: str = TUMBLER, wrong: Wrong = lenient) -> TumblerStory:
     """Every encounter of ``object_id`` misclassified (as ``wrong`` reads it) with one
@@ -72,17 +83,10 @@ def tumbler_story(chains: Iterable[Sequence[EpisodeRow]], grasps: frozenset[str]
     ``learned`` only those that ended with the object held by one of ``grasps``, its
     own: the encounter the paper describes, where the misclassified object's
     description is saved and so known next time."""
-    learned_right = learned = any_right = any_end = 0
-    for chain in chains:
-        encounters = sorted((r for r in chain if r.object == object_id), key=lambda r: r.episode)
-        for now, after in zip(encounters, encounters[1:]):
-            if not wrong(now):
-                continue
-            right = not wrong(after)
-            any_end, any_right = any_end + 1, any_right + right
-            if now.success and now.grasp in grasps:
-                learned, learned_right = learned + 1, learned_right + right
-    return TumblerStory(Tally(learned_right, learned), Tally(any_right, any_end))
+    pairs = after_wrong(chains, object_id, wrong)
+    learned = [(now, after) for now, after in pairs if now.success and now.grasp in grasps]
+    return TumblerStory(Tally(sum(not wrong(after) for _, after in learned), len(learned)),
+                        Tally(sum(not wrong(after) for _, after in pairs), len(pairs)))
 
 
 def later_knock_overs(chains: Iterable[Sequence[EpisodeRow]], object_id: str = TUMBLER) -> Tally:

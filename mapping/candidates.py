@@ -424,6 +424,10 @@ def _signed_offset(points: np.ndarray, segment: np.ndarray, towards: np.ndarray)
     return (points - a) @ normal
 
 
+LegSets = tuple[tuple[int, int, int, int], ...]
+"""Sets of four track ids, each judged a table's legs."""
+
+
 class CandidateFinder:
     """Object candidates from scans at corrected poses, fused into tracks with stable ids."""
 
@@ -431,6 +435,8 @@ class CandidateFinder:
         self.settings = settings
         self.structure = StructureLines(settings.extend_in)
         self._tracks: dict[int, _Track] = {}
+        self._scans = 0  # counts changes to the tracks and structure lines (each observe and update)
+        self._reading: tuple[int, list[Candidate], dict[int, Candidate], LegSets] | None = None  # _read's, at _scans
         self._next_id = 1
 
     def update(self, scan: PlanarScan, pose: Pose | None = None) -> list[Observation]:
@@ -440,10 +446,12 @@ class CandidateFinder:
         observations = self.observe(scan, pose)
         for observation in observations:
             self._associate(observation)
+        self._scans += 1  # the tracks changed after the structure did
         return observations
 
     def observe(self, scan: PlanarScan, pose: Pose | None = None) -> list[Observation]:
         """The scan's object-like runs (and its structure lines added to the known ones)."""
+        self._scans += 1
         s = self.settings
         x0, y0, heading = (scan.x_in, scan.y_in, scan.heading_deg) if pose is None else (
             pose.x_in, pose.y_in, pose.heading_deg)
@@ -649,15 +657,25 @@ class CandidateFinder:
                 kept.append(_candidate(track.id, off, track))
         return kept
 
-    def table_legs(self) -> tuple[tuple[int, int, int, int], ...]:
+    def table_legs(self) -> LegSets:
         """Ids of the sets of four small tracks judged a table's legs."""
-        return table_legs(self._small(self._off_structure()), self.settings)
+        return self._read()[2]
 
     def table_tops(self) -> tuple[np.ndarray, ...]:
         """Each table's top as the base meets it (:func:`table_top`): a planar scan sees
         only the legs, and a base driven between them stops against the top."""
-        small = {c.id: c for c in self._small(self._off_structure())}
-        return tuple(table_top([small[i] for i in group]) for group in table_legs(list(small.values()), self.settings))
+        _, small, groups = self._read()
+        return tuple(table_top([small[i] for i in group]) for group in groups)
+
+    def _read(self) -> tuple[list[Candidate], dict[int, Candidate], LegSets]:
+        """The tracks off the structure, the small ones by id, and the sets of four judged
+        a table's legs: worked out once per change (:meth:`observe`, :meth:`update`), since the
+        candidates and the tables' tops both ask for them after every scan."""
+        if self._reading is None or self._reading[0] != self._scans:
+            off = self._off_structure()
+            small = self._small(off)
+            self._reading = (self._scans, off, {c.id: c for c in small}, table_legs(small, self.settings))
+        return self._reading[1:]
 
     def _small(self, candidates: list[Candidate]) -> list[Candidate]:
         """Those that may be a table's leg: their core no wider than ``leg_max_extent_in``."""
@@ -666,8 +684,8 @@ class CandidateFinder:
     def candidates(self, grid: OccupancyGrid | None = None) -> tuple[Candidate, ...]:
         """The tracks the rules keep, by id, each with the part of its outline off the
         structure lines (module docstring)."""
-        off = self._off_structure()
-        legs = {i for group in table_legs(self._small(off), self.settings) for i in group}
+        off, _, groups = self._read()
+        legs = {i for group in groups for i in group}
         return tuple(c for c in off if c.id not in legs and c.extent_in <= self.widest_in
                      and (grid is None or (grid_supports(grid, c, self.settings)
                                            and not continues_structure(grid, c, self.settings))))
