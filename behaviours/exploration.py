@@ -165,7 +165,8 @@ class UntilMapped(py_trees.decorators.Decorator):
         if view is not None and self.rounds < limit:
             self.feedback_message = f"round {self.rounds}"
             return Status.RUNNING  # the child starts afresh: look again from where the robot now stands
-        reason = "the home is mapped" if view is None else f"the bound of {limit} views was spent"
+        reason = ((self._services.perception.stranded or "the home is mapped") if view is None
+                  else f"the bound of {limit} views was spent")
         spent = _explored(self.bb)
         found = self.bb.get(SEEN) if self.bb.exists(SEEN) else 0
         self._services.log.event(Event.MAPPED, behaviour=self.name, views=self.rounds, seconds=round(spent, 1),

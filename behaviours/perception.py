@@ -41,6 +41,7 @@ class Perception(Protocol):
     corrects_heading: bool
     leg_in: float | None
     measures_ahead: bool  # distance_ahead can answer: a move's final approach is checked (behaviours.legs)
+    stranded: str | None  # why next_view offered none though the floor is not all seen (None: it is)
 
     def look(self) -> Future[Any]:
         """Start one look (the robot's time: a scan may turn the base in place)."""
@@ -59,7 +60,8 @@ class Perception(Protocol):
 
     def next_view(self, robot: Pose) -> Pose | None:
         """Where to look from next to see more of the floor (None: nothing more to see,
-        or nothing more reachable)."""
+        or nothing more reachable; ``stranded`` then says whether the robot itself
+        could go nowhere)."""
 
     def unreachable(self, view: Pose) -> None:
         """``view`` could not be reached: not to be offered again."""
@@ -76,6 +78,7 @@ class CeilingCamera:
     corrects_heading = False
     leg_in = None  # it sees the robot wherever it drives: a move is driven whole, as in the paper
     measures_ahead = False  # from above, the distance to an object's face is the map's, not a measurement
+    stranded = None  # it sees the whole room: there is never a view to offer
 
     def __init__(self, driver: Driver, navigator: Navigator) -> None:
         self._driver, self._navigator = driver, navigator

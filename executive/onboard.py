@@ -61,6 +61,7 @@ from mapping.candidates import Candidate
 from mapping.scan import PlanarScan
 from mapping.scene import bridged, candidate_region, map_scene, refit, seen_through, with_keep_out
 from planner import Navigator, Pose, Region, Scene
+from planner.paths import ESCAPE_LIMIT_IN
 
 
 ONBOARD_CANDIDATES = CandidateSettings(range_sigma_in=1.0)
@@ -153,6 +154,7 @@ class OnboardPerception:
         self._goal: Pose | None = None  # the view being driven to
         self._candidates: tuple[Candidate, ...] = ()  # those the latest scan's reading kept
         self._bumps: list[np.ndarray] = []  # places the bumper met (polygons): kept out of the plans
+        self.stranded: str | None = None  # behaviours.perception.Perception.stranded
         self._given: Scene | None = None  # the scene the navigator plans on
 
     @property
@@ -190,6 +192,7 @@ class OnboardPerception:
             return self._navigator.move_cost(robot, pose).seconds
 
         goals = exploration_goals(self._bridged, robot, self._candidates, cost, self.exploration)
+        self.stranded = None if goals else self._stranded(robot)
         kept = self._goal
         if kept is not None and math.hypot(kept.x_in - robot.x_in, kept.y_in - robot.y_in) <= self.exploration.arrived_in:
             kept = None  # reached: choose anew
@@ -202,6 +205,17 @@ class OnboardPerception:
     def unreachable(self, view: Pose) -> None:
         self._refused.append(view)
         self._goal = None
+
+    def _stranded(self, robot: Pose) -> str | None:
+        """Why no view can be reached when the robot itself can go nowhere: it stands
+        in an obstacle of its own map, farther in than a plan may start
+        (``planner.paths.ESCAPE_LIMIT_IN``). Then every view is priced unreachable, and
+        "the home is mapped" would be a claim nobody checked."""
+        floor = self._navigator.vision_map
+        if floor.nearest_free(robot.x_in, robot.y_in, ESCAPE_LIMIT_IN) is not None:
+            return None
+        return (f"no view can be reached: the robot at ({robot.x_in:.0f}, {robot.y_in:.0f}) stands in an obstacle "
+                f"of its map, more than {ESCAPE_LIMIT_IN:g} in from free floor")
 
     def bumped(self, pose: Pose) -> tuple[float, float] | None:
         """The base stopped collided at ``pose``: unless the map explains it

@@ -741,17 +741,16 @@ def table_legs(small: list[Candidate], settings: CandidateSettings = CandidateSe
 
 def table_top(legs: Sequence[Candidate]) -> np.ndarray:
     """The top of the table whose four ``legs`` these are (a 4x2 polygon, world inches,
-    counter-clockwise): the rectangle through the legs' centroids, widened on every side
-    by half the widest leg's core, since the legs stand flush with the top's corners."""
+    counter-clockwise): the rectangle through the legs' centroids. The true top reaches
+    half a leg beyond it (the legs stand flush with its corners), which the base's
+    inflation covers many times over. Widening it by the legs' size as the scans see it
+    put its edge inches out: range noise widens a 2 in leg to 5-10 in, and in the
+    simulated apartment-2 a base the simulator had stopped against the true edge stood
+    deeper inside the inflated top than a plan's start may be (``planner.paths.ESCAPE_LIMIT_IN``),
+    so every view was priced unreachable and the exploration ended there."""
     centres = np.array([(c.x_in, c.y_in) for c in legs], dtype=float)
     middle = centres.mean(axis=0)
-    corners = centres[np.argsort(np.arctan2(*(centres - middle).T[::-1]))]
-    half_leg = max(c.core_extent_in for c in legs) / 2.0
-    widened = []
-    for i, corner in enumerate(corners):
-        away = [corner - corners[i - 1], corner - corners[(i + 1) % 4]]  # along the two sides, outwards
-        widened.append(corner + sum(v / max(float(np.hypot(*v)), 1e-9) for v in away) * half_leg)
-    return np.array(widened)
+    return centres[np.argsort(np.arctan2(*(centres - middle).T[::-1]))]
 
 
 def _is_rectangle(corners: list[tuple[float, float]], s: CandidateSettings) -> bool:

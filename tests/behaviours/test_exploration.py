@@ -26,6 +26,7 @@ class Views(CountedLooks):
     verb = "scan"
     corrects_heading = True
     leg_in = LEG_IN
+    stranded = None
 
     def __init__(self, *views: Pose | None) -> None:
         super().__init__()
@@ -74,6 +75,13 @@ def test_the_robot_looks_and_goes_to_each_view_until_none_is_left() -> None:
     assert [e["next"] for e in log.of("view")] == [[30.0, 0.0, 0.0], [30.0, 40.0, 90.0], None]
     assert log.of("mapped")[0] == {"event": "mapped", "behaviour": "explore the home", "views": 3, "seconds": 120.0, "candidates": 0,
                                    "reason": "the home is mapped"}
+
+
+def test_no_view_because_the_robot_is_stranded_is_said_so_not_mapped() -> None:
+    services, views = with_views(None)
+    views.stranded = "no view can be reached: the robot stands in an obstacle"  # type: ignore[misc]
+    assert run(explore(ROBOT), services, max_ticks=20) == Status.SUCCESS
+    assert services.log.of("mapped")[0]["reason"] == "no view can be reached: the robot stands in an obstacle"
 
 
 def test_a_view_with_no_path_or_a_collision_is_unreachable_and_exploring_goes_on() -> None:

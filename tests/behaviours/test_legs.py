@@ -28,6 +28,7 @@ class Scans(CountedLooks):
 
     verb = "scan"
     corrects_heading = True
+    stranded = None
 
     def __init__(self, leg_in: float | None, *seen: Pose, ahead: tuple[float | None, ...] = ()) -> None:
         super().__init__()

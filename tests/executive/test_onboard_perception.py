@@ -150,3 +150,15 @@ def test_a_bump_the_map_explains_is_not_kept() -> None:
     assert seen.bumped(Pose(60.0, 50.0, 270.0)) is None  # 12 in ahead: (60, 38), 5 in from the box
     assert seen.bumped(Pose(30.0, 12.0, 270.0)) is None  # 12 in ahead: (30, 0), the wall
     assert seen.bumped(Pose(40.0, 70.0, 0.0)) is not None
+
+
+def test_no_view_from_inside_an_obstacle_of_the_map_is_stranded_not_mapped() -> None:
+    """The robot put inside the box (60, 30) of its own map, 10 in from free floor once
+    inflated: no view can be reached, and the perception says why; from the open floor
+    a view is offered and nothing is stranded."""
+    seen, scans, _ = perception()
+    look_from(seen, scans, (30.0, 70.0), (90.0, 70.0))
+    assert seen.next_view(Pose(90.0, 70.0, 0.0)) is not None and seen.stranded is None
+    assert seen.next_view(Pose(60.0, 30.0, 0.0)) is None
+    assert seen.stranded == ("no view can be reached: the robot at (60, 30) stands in an obstacle of its map, "
+                             "more than 4 in from free floor")

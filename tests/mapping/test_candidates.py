@@ -90,25 +90,24 @@ def test_a_table_is_its_legs_and_they_are_not_candidates() -> None:
 
 
 def test_a_tables_top_is_kept_out_though_only_its_legs_are_seen() -> None:
-    """The same table: its top, the rectangle through the legs' centres (46 x 28 in)
-    widened by half a leg, is what the base meets (x 76-124, y 60-90, within the
-    legs' outlines' noise)."""
+    """The same table: its top as kept out is the rectangle through the legs' centres,
+    x 77-123, y 61-89 (46 x 28 in, within the legs' outlines' noise)."""
     walls = np.array(box(0.0, 0.0, 200.0, 150.0) + legs_of(100.0, 75.0, 48.0, 30.0), dtype=float)
     finder, _ = explore(walls, [(40.0, 40.0), (160.0, 40.0), (160.0, 120.0), (40.0, 120.0), (100.0, 30.0)])
     (top,) = finder.table_tops()
     assert top.shape == (4, 2)
-    assert top[:, 0].min() == pytest.approx(76.0, abs=1.5) and top[:, 0].max() == pytest.approx(124.0, abs=1.5)
-    assert top[:, 1].min() == pytest.approx(60.0, abs=1.5) and top[:, 1].max() == pytest.approx(90.0, abs=1.5)
+    assert top[:, 0].min() == pytest.approx(77.0, abs=1.5) and top[:, 0].max() == pytest.approx(123.0, abs=1.5)
+    assert top[:, 1].min() == pytest.approx(61.0, abs=1.5) and top[:, 1].max() == pytest.approx(89.0, abs=1.5)
 
 
 def test_a_tables_top_by_hand() -> None:
-    """Legs (2 in cores) with centres at the corners of a 46 x 28 rectangle, given in
-    any order: the top runs 1 in beyond them on every side, corners counter-clockwise."""
+    """Legs with centres at the corners of a 46 x 28 rectangle, given in any order: the
+    top is that rectangle, corners counter-clockwise (a positive signed area)."""
     legs = [_small(1, 46, 28), _small(2, 0, 0), _small(3, 0, 28), _small(4, 46, 0)]
     top = table_top(legs)
-    assert sorted(map(tuple, np.round(top, 9))) == [(-1.0, -1.0), (-1.0, 29.0), (47.0, -1.0), (47.0, 29.0)]
+    assert sorted(map(tuple, top)) == [(0.0, 0.0), (0.0, 28.0), (46.0, 0.0), (46.0, 28.0)]
     x, y = top[:, 0], top[:, 1]
-    assert 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) == pytest.approx(48.0 * 30.0)  # > 0: ccw
+    assert 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) == pytest.approx(46.0 * 28.0)
 
 
 def test_three_legs_alone_are_three_candidates() -> None:
