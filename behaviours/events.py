@@ -33,7 +33,8 @@ class Event(str, Enum):
     EXPLORE_MOVE = "explore_move", ("exploring: the robot drove to the next view (seconds, whether it collided, "
                                     "the pose it ended at); or `unreachable` and why")
     MAPPED = "mapped", ("exploration ended (views, robot seconds, candidates found); `reason` says why: the home "
-                        "is mapped, or the views' bound was spent")
+                        "is mapped, the views' bound was spent, or no view can be reached from where the robot "
+                        "stands")
     OBJECT = "object", ("work starts on an object: where it lies and where the robot stands relative to it "
                         "(`cluster: true` when vision saw touching objects as one region)")
     CHOOSE = "choose", "a test chosen (how: best, reselect or backtrack), its position, gain, move and sensing seconds"
