@@ -325,9 +325,13 @@ class ZenohDriver:
     def _set_state(self, state: RobotState, published: bool = False) -> None:
         """Believe ``state``: a verb's own reply always, a publication when what was
         asked of the robot explains it (:class:`StateCheck`); one that nothing explains
-        is refused, counted and logged, and the last believed state stays."""
+        is refused, counted and logged, and the last believed state stays. A stale
+        publication (older than the state believed) is dropped without a count."""
         with self._lock:
             if not self._alive:
+                return
+            if published and self._check.stale(state):
+                log.debug("%s: stale state publication dropped (clock %.1f s)", self.robot, state.clock_s)
                 return
             why = self._check.judge(state) if published else ""
             if why:

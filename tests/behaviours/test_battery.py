@@ -16,14 +16,14 @@ import pytest
 from py_trees.common import Status
 
 from behaviours.actions import LocateObjects
-from behaviours.battery import BatteryLow, Charge, DriveToDock, dock_of, guarded
+from behaviours.battery import BatteryLow, Charge, DriveToDock, LookFromDock, dock_of, guarded
 from behaviours.guard import KeepPlace
 from behaviours.services import Params
 from hero_driver.interface import Charger, Pose as DriverPose, RobotState
 from learner.position import Position
 from planner import Scene
 from tests.behaviours.conftest import (PENDING, ROBOT, FakeDriver, FakeNavigator, fresh_board, get, image,
-                                       make_services, moved, put, run, setup, start_object, tick)
+                                       make_services, moved, put, REGION, run, setup, start_object, tick)
 
 DOCK = DriverPose(100.0, 110.0, 90.0)
 
@@ -129,19 +129,29 @@ def test_no_path_to_the_dock_fails_and_says_so() -> None:
     assert services.driver.calls == []  # type: ignore[attr-defined]
 
 
-def test_charge_logs_the_visit_and_resumes_the_object_from_the_dock() -> None:
+def test_charge_logs_the_visit_then_a_look_resumes_the_object_from_the_dock() -> None:
+    """DriveToDock left the robot at (96, 104), short of the dock; the beacon put it on
+    the dock at (100, 110). After the charge the robot's pose is unknown until
+    ``LookFromDock`` has looked: then the pose is the dock's, and the object in hand
+    (at (100, 50)) resumes from there, 60 in away at bearing 90°."""
     services = guard_services(0.1)
     fresh_board()
     record, _ = start_object(services, start=Position(6.0, 0.0))
-    put("pose", DOCK)
+    put("pose", DriverPose(96.0, 104.0, 90.0))
     put("dock_trip", {"from": [106.0, 50.0, 180.0], "level": 0.1, "moving_s": 150.0, "collided": False})
     driver: ChargingDriver = services.driver  # type: ignore[assignment]
     driver.clock_s = 500.0
+    driver.pose = DOCK
     driver.script("charge", RobotState(DOCK, 500.0 + 1620.0, 1.0))
     assert run(Charge(ROBOT), services) == Status.SUCCESS
     assert services.log.events == [{  # type: ignore[attr-defined]
         "event": "charge", "object": 0, "behaviour": "Charge", "level_before": 0.1, "level": 1.0,
         "charging_s": 1620.0, "moving_s": 150.0, "came_from": [106.0, 50.0, 180.0], "dock": [100.0, 110.0, 90.0]}]
+    assert record.session.position == Position(6.0, 0.0)  # not placed yet: the look does that
+    driver.script("camera", image())
+    services.navigator.scenes.append((REGION,))  # type: ignore[attr-defined]
+    assert run(LookFromDock(ROBOT), services) == Status.SUCCESS
+    assert driver.verbs()[-1] == "camera" and get("pose") == DOCK
     assert record.session.position == Position(60.0, 90.0)
     assert record.outcome is None  # nothing about the object changed but where the robot stands
 
@@ -185,10 +195,12 @@ def test_the_guard_pauses_the_work_charges_and_resumes_it_where_it_was() -> None
     work = py_trees.composites.Sequence("work", memory=True, children=[first, Drain(driver, 0.1), second])
     root = setup(guarded(work, ROBOT), services)
     driver.script("move", moved(DOCK, seconds=100.0)).script("charge", RobotState(DOCK, 1900.0, 1.0))
+    driver.script("camera", image())
+    services.navigator.scenes.append(())  # type: ignore[attr-defined]
     root.tick_once()  # first done, the battery drained, second started (2 ticks left)
     assert (first.starts, second.starts, second.left) == (1, 1, 2)
-    root.tick_once()  # BatteryLow? fires: to the dock and charged; the work is paused, not reset
-    assert driver.verbs() == ["move", "charge"] and driver.level == 0.1  # the fake's level is the test's
+    root.tick_once()  # BatteryLow? fires: to the dock, charged, a look; the work is paused, not reset
+    assert driver.verbs() == ["move", "charge", "camera"] and driver.level == 0.1  # the fake's level is the test's
     assert work.status == Status.RUNNING and second.status == Status.RUNNING
     driver.level = 1.0
     root.tick_once()  # charged: the work continues with second, first is not run again
