@@ -7,9 +7,11 @@ and whether to fix its own arguments (2) or to look at the robot or the learner 
 
 A run is also judged by what the robot said that the executive could check
 (docs/executive.md, "Verifying the robot"): a driver that failed verbs (``internal`` or
-malformed replies), claimed grasps the camera did not confirm, or reported durations
-its profile rules out has results nobody should trust, whatever the objects' outcomes
-say, so the run ends 3: look at the robot.
+malformed replies), claimed grasps the camera did not confirm, reported durations
+its profile rules out, or sensed values of a feature most of which were implausible (a
+sensor in another unit; an occasional outlier is noise, and only said) has results
+nobody should trust, whatever the objects' outcomes say, so the run ends 3: look at
+the robot.
 """
 
 from __future__ import annotations
@@ -31,7 +33,11 @@ BAD_INPUT = 2
 LOST = 3
 """The robot's driver or the learner service refused, vanished or could not be reached;
 or the driver is suspect: it failed verbs, or said what the executive checked and found
-untrue (a grasp held that the camera saw on the floor, a duration its profile rules out)."""
+untrue (a grasp held that the camera saw on the floor, a duration its profile rules out,
+most values of a feature outside what the feature can be)."""
+
+WRONG_UNIT_MIN = 3
+"""Implausible values of one feature before most of them being so makes the driver suspect."""
 
 HANDLED_OUTCOMES = frozenset({"grasped", "left"})
 NOT_FAILED = HANDLED_OUTCOMES | {"gone"}
@@ -77,16 +83,29 @@ class Doubts:
     durations_ignored: int
     range_refusals: int
     refused_states: int = 0  # state publications nothing asked of the robot explained (the driver link's count)
+    readings: Mapping[str, int] = dataclasses.field(default_factory=dict)  # values sensed per feature
+
+    @property
+    def wrong_units(self) -> dict[str, int]:
+        """The features most of whose values were implausible (at least
+        :data:`WRONG_UNIT_MIN` of them): a sensor answering in another unit, not noise.
+        A sonar's outliers make a value implausible now and then; a sonar that reads
+        centimetres where the profile says inches makes nearly every one so."""
+        return {f: n for f, n in self.implausible.items()
+                if n >= WRONG_UNIT_MIN and 2 * n > max(self.readings.get(f, 0), n)}
 
     @classmethod
     def of(cls, events: Iterable[Mapping[str, object]]) -> Doubts:
         faults: Counter[str] = Counter()
         implausible: Counter[str] = Counter()
+        readings: Counter[str] = Counter()
         unverified: list[int] = []
         ignored = refusals = 0
         for e in events:
             kind = e.get("event")
-            if kind == Event.DRIVER_FAULT:
+            if kind == Event.SENSE and isinstance(values := e.get("values"), Mapping):
+                readings.update(str(f) for f in values)
+            elif kind == Event.DRIVER_FAULT:
                 faults[str(e.get("verb"))] += 1
             elif kind == Event.IMPLAUSIBLE:
                 implausible[str(e.get("feature"))] += 1
@@ -96,7 +115,7 @@ class Doubts:
                 ignored += 1
             elif kind == Event.DRIVER_ERROR and e.get("code") == OUT_OF_RANGE:
                 refusals += 1
-        return cls(dict(faults), tuple(unverified), dict(implausible), ignored, refusals)
+        return cls(dict(faults), tuple(unverified), dict(implausible), ignored, refusals, readings=dict(readings))
 
     def lines(self, robot: str, refusals: bool = False) -> list[str]:
         """One line per kind of doubt, for the run's closing lines (none: nothing
@@ -112,7 +131,11 @@ class Doubts:
         if self.durations_ignored:
             out.append(f"driver {robot} suspect: {self.durations_ignored} grasp durations implausible against the "
                        "profile's times, left out of the learned grasp costs; check the unit of duration_s")
-        if self.implausible:
+        if self.wrong_units:
+            out.append(f"driver {robot} suspect: most values of {', '.join(sorted(self.wrong_units))} were implausible "
+                       f"({', '.join(f'{f}: {n} of {self.readings.get(f, n)}' for f, n in sorted(self.wrong_units.items()))}); "
+                       "check that sensor's unit against the profile")
+        elif self.implausible:
             out.append(f"{sum(self.implausible.values())} implausible values ({_counts(self.implausible)}): "
                        "those tests were reselected; check the sensors' units")
         if self.refused_states:
@@ -127,7 +150,8 @@ class Doubts:
     @property
     def driver_suspect(self) -> bool:
         """The driver failed verbs or said what was checked and found untrue."""
-        return bool(self.faults or self.unverified or self.durations_ignored or self.refused_states)
+        return bool(self.faults or self.unverified or self.durations_ignored or self.refused_states
+                    or self.wrong_units)
 
 
 def run_status(outcomes: Sequence[str | None], events: Iterable[Mapping[str, object]],

@@ -52,6 +52,29 @@ def test_implausible_values_are_counted_and_fail_the_run_only_when_an_object_fai
     assert run_status(["grasped", "failed"], events) == (SOME_FAILED, "1 of 2 objects were not handled", [line])
 
 
+def test_a_feature_whose_values_were_mostly_implausible_makes_the_driver_suspect() -> None:
+    """Width sensed 5 times, 4 of them implausible: a sensor in another unit (the run
+    ends 3 whatever its objects' outcomes). Height sensed 10 times, 2 implausible: a
+    sonar's outliers, said and no more. Three implausible of three is enough; two of
+    two is not (:data:`WRONG_UNIT_MIN`)."""
+    def sensed(feature: str, n: int) -> list[dict[str, object]]:
+        return [{"event": "sense", "procedure": "p", "values": {feature: 1.0}}] * n
+
+    def bad(feature: str, n: int) -> list[dict[str, object]]:
+        return [{"event": "implausible", "feature": feature}] * n
+
+    events = sensed("Width", 5) + bad("Width", 4) + sensed("Height", 10) + bad("Height", 2)
+    status, why, lines = run_status(["grasped", "left"], events, "r1")
+    assert status == LOST
+    assert lines == ["driver r1 suspect: most values of Width were implausible (Width: 4 of 5); check that "
+                     "sensor's unit against the profile"]
+    assert why == f"{lines[0]}; all 2 objects were handled"
+    noise = sensed("Height", 10) + bad("Height", 2)
+    assert run_status(["grasped"], noise)[0] == ALL_HANDLED
+    assert run_status(["grasped"], sensed("Width", 3) + bad("Width", 3))[0] == LOST
+    assert run_status(["grasped"], sensed("Width", 2) + bad("Width", 2))[0] == ALL_HANDLED
+
+
 def test_refusals_for_range_are_said_only_when_the_run_did_not_succeed() -> None:
     events = [{"event": "driver_error", "object": 0, "code": "out_of_range", "message": "m"}] * 4
     assert run_status(["grasped"], events) == (ALL_HANDLED, "all 1 objects were handled", [])
