@@ -50,11 +50,17 @@ MIN_RIM_POINTS = 3  # returns beyond the object's reach that say something else 
 # the ratio is within ROUND_SIGMAS of those standard errors over 1, the rectangle does
 # not fit better by more than that either (a box's corner seen from one side, two
 # faces, can pass for an arc within heavy noise; a rectangle fits it exactly), the
-# circle is no wider than MAX_ACROSS_IN, and the returns go round at least
+# circle is no wider than ROUND_MAX_ACROSS_IN (below), and the returns go round at least
 # ROUND_MIN_ARC_DEG of it (a can seen from one side shows almost 180°; a flat face a
 # small circle fits, far less).
 ROUND_SIGMAS = 3.0
 ROUND_MIN_ARC_DEG = 120.0
+# Every round footprint in the catalogue is an upright cylinder no wider than 4 in (the
+# 20 oz tumbler's); a wider circle that explains the returns is a lying cylinder's or a
+# small box's rectangle blurred by the range noise, whose axis the executive needs (a
+# lying can's grasp and sweeps are placed along it). Two SIZE_TOLERANCE_IN of slack for
+# the radius a noisy arc fits.
+ROUND_MAX_ACROSS_IN = 4.0
 ROUND_POLYGON_SIDES = 36
 COMPLETE_ARC_GAP_DEG = 90.0  # a round outline is complete when no gap round it is wider
 # The survey: four views at 24 in (docs/mapping.md): every face of a box within 45° of
@@ -232,7 +238,8 @@ def _fit(points: np.ndarray, origins: np.ndarray, sigma: float) -> Outline:
         widest_gap = math.degrees(float(np.diff(np.concatenate([angles, angles[:1] + 2.0 * math.pi])).max()))
         within = 1.0 + ROUND_SIGMAS / math.sqrt(2.0 * (n - 3))  # a ratio of RMS residuals the noise explains
         if (circle_rms <= noise_rms * within and circle_rms <= rect_rms * within
-                and 2.0 * r <= MAX_ACROSS_IN + SIZE_TOLERANCE_IN and 360.0 - widest_gap >= ROUND_MIN_ARC_DEG):
+                and 2.0 * r <= ROUND_MAX_ACROSS_IN + 2.0 * SIZE_TOLERANCE_IN
+                and 360.0 - widest_gap >= ROUND_MIN_ARC_DEG):
             polygon = tuple((cx + r * math.cos(2.0 * math.pi * k / ROUND_POLYGON_SIDES),
                              cy + r * math.sin(2.0 * math.pi * k / ROUND_POLYGON_SIDES))
                             for k in range(ROUND_POLYGON_SIDES))
