@@ -37,10 +37,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
 
 from executive.defaults import EXAMPLE_LIBRARY  # noqa: E402
 from executive.executive import ONBOARD, Executive  # noqa: E402
-from experiments.conditions import noise_config, noise_names  # noqa: E402
+from experiments.conditions import noise_config  # noqa: E402
 from experiments.onboard_truth import TruthAtScans, localisation  # noqa: E402
 from experiments.study_onboard import built_map_accuracy, explore_until_mapped  # noqa: E402
 from learner.library.format import read_library_json  # noqa: E402
@@ -51,6 +52,7 @@ from planner.geometry import Pose  # noqa: E402
 from learner.service.local import LocalLearner  # noqa: E402
 from reporting.report import FOUND_WITHIN_IN  # noqa: E402
 from robot_profile import load_profile  # noqa: E402
+from home_args import add_home_arguments, home_presets  # noqa: E402
 
 @dataclass(frozen=True)
 class Explored:
@@ -124,17 +126,11 @@ def _run(job: tuple[str, str, int, bool]) -> Explored:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--homes", default="apartment,apartment-2")
-    parser.add_argument("--presets", default="clean,paper", help="noise presets, comma-separated")
-    parser.add_argument("--seeds", type=int, default=2, help="seeds 0..N-1 (default 2)")
-    parser.add_argument("--jobs", type=int, default=1, help="episodes run at once, each in a process (default 1)")
+    add_home_arguments(parser, presets="clean,paper")
     parser.add_argument("--trace", action="store_true", help="print each exploration choice")
     args = parser.parse_args(argv)
-    presets = args.presets.split(",")
-    unknown = [p for p in presets if p not in noise_names()]
-    if unknown or args.seeds < 1 or args.jobs < 1:
-        print(f"bench_exploration: bad arguments: presets {unknown or 'ok'} (valid: {', '.join(noise_names())}), "
-              f"--seeds {args.seeds} and --jobs {args.jobs} must be >= 1", file=sys.stderr)
+    presets = home_presets(args, "bench_exploration")
+    if presets is None:
         return 2
     jobs = [(w, p, s, args.trace) for w in args.homes.split(",") for p in presets for s in range(args.seeds)]
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:

@@ -46,8 +46,8 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
 from bench_mapping_sim import report_goals  # noqa: E402
+from home_args import add_home_arguments, home_presets  # noqa: E402
 
-from experiments.conditions import noise_names  # noqa: E402
 from experiments.runner import run_all  # noqa: E402
 from experiments.study import perform  # noqa: E402
 from experiments.study_onboard import HEADERS, LAB, OnboardJob, goals, pooled, table_row  # noqa: E402
@@ -58,20 +58,14 @@ from robot_profile import load_profile  # noqa: E402
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--homes", default="apartment,apartment-2")
-    parser.add_argument("--presets", default="paper", help="noise presets, comma-separated (default paper)")
-    parser.add_argument("--seeds", type=int, default=2, help="seeds 0..N-1 (default 2)")
-    parser.add_argument("--jobs", type=int, default=1, help="episodes run at once, each in a process (default 1)")
+    add_home_arguments(parser, presets="paper")
     parser.add_argument("--explore-only", action="store_true",
                         help="end each onboard episode when the home is mapped: map and localisation only")
     parser.add_argument("--leg-in", type=float, default=None,
                         help="override OnboardSettings.leg_in for the run (a probe; default: as shipped)")
     args = parser.parse_args(argv)
-    presets = args.presets.split(",")
-    unknown = [p for p in presets if p not in noise_names()]
-    if unknown or args.seeds < 1 or args.jobs < 1:
-        print(f"bench_onboard: bad arguments: presets {unknown or 'ok'} (valid: {', '.join(noise_names())}), "
-              f"--seeds {args.seeds} and --jobs {args.jobs} must be >= 1", file=sys.stderr)
+    presets = home_presets(args, "bench_onboard")
+    if presets is None:
         return 2
     homes = args.homes.split(",")
     seeds = range(args.seeds)
