@@ -132,7 +132,8 @@ class DriverAction(CslBehaviour):
     by that branch, until it says a driver is back and the objects are located again
     (``DRIVER_BACK``). Then it fails, so the step under way starts over from where the
     robot now stands; or, with nothing located yet (the first image), it sends its verb
-    again. A procedure refused as out of range is recorded on the step for the
+    again. A driver gone between two verbs (the behaviour's start asked where the robot
+    stands, or sent its verb, with none alive) is a verb lost the same way. A procedure refused as out of range is recorded on the step for the
     re-approach branch (:meth:`refused_for_range`, ``behaviours.reapproach``). An
     ``internal`` reply (the driver failed, or its reply was malformed: the zenoh client
     says so with that code) is also a ``driver_fault`` event under the behaviour's
@@ -162,7 +163,15 @@ class DriverAction(CslBehaviour):
             self.feedback_message = f"object {obj.index} was given up: no verb is sent for it"
             self._skip = Status.FAILURE
             return
-        started = self.start()
+        try:
+            started = self.start()
+        except DriverError as exc:
+            if exc.code != UNAVAILABLE:
+                raise
+            # the driver went between two verbs: asked where the robot stands (or sent the
+            # verb) with none alive, this is the verb lost with it, for update to handle so
+            started = Future()
+            started.set_exception(exc)
         if isinstance(started, Status):
             self._skip = started
         else:

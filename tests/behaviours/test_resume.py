@@ -146,6 +146,46 @@ def test_without_a_wait_or_a_driver_that_can_come_back_the_episode_stops(service
             run(ApplyTest(ROBOT), chosen)
 
 
+class Stateless(ComingBack):
+    """Gone between two verbs: asked its state with no driver alive, it raises as the
+    zenoh client does (``no current state``)."""
+
+    def state(self):  # noqa: ANN201
+        if not self.back:
+            raise DriverError(UNAVAILABLE, "no current state for r1: no driver alive")
+        return super().state()
+
+
+class WhereFirst(ApplyTest):
+    """A verb whose start asks where the robot stands before sending it (as a move does)."""
+
+    def start(self):  # noqa: ANN201
+        self.services.driver.state()
+        return super().start()
+
+
+def test_a_driver_gone_between_two_verbs_is_waited_for_as_a_lost_verb() -> None:
+    """The driver went while nothing was in flight: the next behaviour's start asks the
+    state and is refused. With a wait that is the verb lost with its driver (the guard
+    waits); without one the episode stops, as for a verb in flight."""
+    driver = Stateless()
+    services = make_services(driver=driver, params=Params(wait_driver_s=10.0))
+    fresh_board()
+    record, step = start_object(services)
+    step.test = record.session.decide()
+    action = WhereFirst(ROBOT)
+    behaviour = setup(reconnecting(action, ROBOT), services)
+    assert tick(behaviour, max_ticks=3) == Status.RUNNING
+    assert action.feedback_message == "driver for r1 lost: waiting up to 10 s for one to come back"
+    assert driver.verbs() == []  # nothing was sent to a driver that is not there
+    plain = make_services(driver=Stateless())
+    fresh_board()
+    record, step = start_object(plain)
+    step.test = record.session.decide()
+    with pytest.raises(DriverError, match="no current state"):
+        run(WhereFirst(ROBOT), plain)
+
+
 def test_a_first_image_lost_with_its_driver_is_asked_again() -> None:
     services, driver = waiting()
     fresh_board()
