@@ -15,7 +15,7 @@ import numpy as np
 from mapping import OccupancyGrid, PlanarScan
 from mapping.candidates import Candidate, CandidateFinder, CandidateSettings, continues_structure
 from mapping.faces import run_along, straight_face
-from tests.mapping.synthetic import Lidar, box, circle, rect
+from tests.mapping.synthetic import Lidar, box, circle
 
 ONBOARD = CandidateSettings(range_sigma_in=1.0)
 
