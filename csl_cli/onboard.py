@@ -20,6 +20,7 @@ so that the ceiling camera's path reads as it did:
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,7 +31,7 @@ from csl_cli.args import CEILING, ONBOARD
 from executive.executive import Executive
 from executive.exit_status import ALL_HANDLED, SOME_FAILED
 from hero_driver.interface import NO_CAMERA, VERB_BY_NAME, Driver, DriverError, Scanner
-from reporting.report import Truth, found_truth
+from reporting.report import FOUND_WITHIN_IN, Truth, found_truth
 
 SCAN_FEATURE = VERB_BY_NAME["scan"].feature
 """The driver protocol's optional feature that brings the ``scan`` verb."""
@@ -130,14 +131,52 @@ def never_found(records: Sequence[ObjectRecord], present: Sequence[Truth]) -> li
     return [t for t in present if id(t) not in found]
 
 
-def judged(status: int, why: str, missing: Sequence[Truth], present: Sequence[Truth]) -> tuple[int, str]:
-    """The run's exit status and line with the objects never found counted: an episode
-    whose located objects were all handled still failed its job (exit 1) when the
-    home held objects it never found; a worse status stays."""
-    if not missing:
+def still_there(records: Sequence[ObjectRecord], present: Sequence[Truth],
+                on_floor: Sequence[tuple[float, float] | None]) -> list[Truth]:
+    """The objects the run reported ``gone`` (taken away while the robot worked on them)
+    that the simulator still has on the floor where the robot last saw them (within
+    :data:`~reporting.report.FOUND_WITHIN_IN`). ``present``: the simulator's truth at the
+    start; ``on_floor``: each of those objects' position now, in the same order, None when
+    it left the floor (held, or put away).
+
+    ``gone`` does not fail a run (``executive.exit_status.NOT_FAILED``): no executive can
+    retrieve an object someone took. Without a ceiling camera the robot judges "gone"
+    from its own scans, and a scan that saw past an object (a grazing view beside a shelf,
+    a wall's returns read as the place empty) reports an object gone that never left; in
+    the simulator that is checked, and fails the run."""
+    out = []
+    for record in records:
+        truth = found_truth(record, present) if record.outcome == "gone" else None
+        if truth is None:
+            continue
+        now = on_floor[present.index(truth)] if len(on_floor) == len(present) else None
+        x, y = record.region.centroid
+        if now is not None and math.hypot(now[0] - x, now[1] - y) <= FOUND_WITHIN_IN:
+            out.append(truth)
+    return out
+
+
+def judged(status: int, why: str, missing: Sequence[Truth], present: Sequence[Truth],
+           left_there: Sequence[Truth] = ()) -> tuple[int, str]:
+    """The run's exit status and line with the objects never found counted, and those
+    reported gone that are still there (:func:`still_there`): an episode whose located
+    objects were all handled still failed its job (exit 1) when the home held objects it
+    never found or wrongly gave up as gone; a worse status stays."""
+    said = []
+    if missing:
+        said.append(f"{len(missing)} of {len(present)} objects the simulator placed {_was(len(missing))} never found")
+    if left_there:
+        said.append(f"{len(left_there)} reported gone {_was(len(left_there))} still on the floor")
+    if not said:
         return status, why
-    said = f"{len(missing)} of {len(present)} objects the simulator placed {_was(len(missing))} never found"
-    return (SOME_FAILED, said) if status == ALL_HANDLED else (status, f"{why}; {said}")
+    return (SOME_FAILED, "; ".join(said)) if status == ALL_HANDLED else (status, "; ".join([why, *said]))
+
+
+def still_there_line(left_there: Sequence[Truth]) -> str:
+    """The closing line naming each object reported gone that never left the floor."""
+    return (f"csl: {_count(len(left_there), 'object')} reported gone {_was(len(left_there))} still on the floor "
+            "where the robot last saw them (its scans saw past them): "
+            + ", ".join(f"{t.name} at ({t.x_in:.0f}, {t.y_in:.0f})" for t in left_there))
 
 
 def never_found_line(missing: Sequence[Truth], present: Sequence[Truth]) -> str:

@@ -430,6 +430,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
     as_json = args.json  # --json: one document on stdout, after the plots
     explored = onboard.exploration(log.events) if scans else None
     missing = onboard.never_found(result.objects, truths) if scans else []
+    left_there = onboard.still_there(result.objects, truths, _on_floor(driver)) if scans else []
     if not as_json:
         print_report(table)
         if explored is not None:
@@ -460,7 +461,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
                 for record in result.objects]
     # the zenoh link refuses state publications nothing it asked explains (hero_driver/zenoh_link/state_check.py)
     status, why, doubts = run_status(outcomes, log.events, driver.robot, getattr(driver, "refused_states", 0))
-    status, why = onboard.judged(status, why, missing, truths)  # objects of the home never found fail it too
+    status, why = onboard.judged(status, why, missing, truths, left_there)  # never found, or wrongly gone: failed
     history = _append_history(args, setup, learner, library, outcomes, table, log.events)
     for index, message in unanswered.items():
         print(f"csl: object {index} not handled: the robot did not answer in time ({message})", file=sys.stderr)
@@ -471,6 +472,8 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         print(f"csl: {line}", file=sys.stderr)
     if missing:
         print(onboard.never_found_line(missing, truths), file=sys.stderr)
+    if left_there:
+        print(onboard.still_there_line(left_there), file=sys.stderr)
     if as_json:
         document = episode_json(table, ticks=result.ticks, wall_s=result.wall_s, out=args.out,
                                 plots=not args.no_plots, library=library, library_created=created, status=status,
@@ -478,6 +481,7 @@ def _report_episode(args: argparse.Namespace, driver: Driver, learner: LearnerSe
         if scans:
             document["exploration"] = None if explored is None else dataclasses.asdict(explored)
             document["never_found"] = [t.name for t in missing] if truths else None
+            document["gone_but_there"] = [t.name for t in left_there] if truths else None
         print_json(document)
         return status
     if library is not None and args.command == "demo":
@@ -540,6 +544,15 @@ def _unanswered(events: list[dict[str, object]]) -> dict[int, str]:
             if isinstance(index, int):
                 found.setdefault(index, str(event.get("message")))
     return found
+
+
+def _on_floor(driver: Driver) -> list[tuple[float, float] | None]:
+    """Where each object the simulator holds is now, None for one that left the floor
+    (held or put away); empty for a driver that is not the in-process simulator."""
+    truth = getattr(driver, "truth", None)
+    if truth is None:
+        return []
+    return [None if t.held or t.binned else (t.x_in, t.y_in) for t in truth()]
 
 
 def _truths(driver: Driver, at_start: list[Truth]) -> list[Truth]:

@@ -22,7 +22,7 @@ import pytest
 from csl_cli import args as cli_args
 from csl_cli.demo_library import training_key
 from csl_cli.main import main
-from csl_cli.onboard import Exploration, exploration, judged, never_found
+from csl_cli.onboard import Exploration, exploration, judged, never_found, still_there, still_there_line
 from executive import executive
 from executive.exit_status import ALL_HANDLED, LOST, SOME_FAILED
 from hero_driver.sim.catalogue import profile_and_catalogue
@@ -266,6 +266,30 @@ def test_an_object_counts_as_found_only_when_a_located_one_is_nearest_and_near_i
     assert judged(SOME_FAILED, "1 of 4 objects were not handled", [can, box], [cup, box, can]) == (
         SOME_FAILED, "1 of 4 objects were not handled; 2 of 3 objects the simulator placed were never found")
     assert judged(LOST, "2 driver faults", [], [cup]) == (LOST, "2 driver faults")
+
+
+def test_an_object_reported_gone_that_never_left_the_floor_fails_the_run() -> None:
+    """Three records reported ``gone``: the cup's is still where the robot last saw it
+    (2 in away): the scans saw past it, and the run fails (exit 1) with one line naming
+    it. The box was really taken (now 200 in away), the can left the floor (held or put
+    away: None); neither is held against the run, nor is a record not reported gone."""
+    cup, box, can = (Truth("cup", ("Top-Pinch",), 10.0, 10.0), Truth("box", ("No-Grab",), 100.0, 10.0),
+                     Truth("can", ("Front-Pinch",), 100.0, 60.0))
+
+    def gone(x: float, y: float, outcome: str = "gone") -> SimpleNamespace:
+        seen = SimpleNamespace(centroid=(x, y))
+        return SimpleNamespace(first_region=seen, region=seen, outcome=outcome)
+
+    records = [gone(11.0, 9.0), gone(100.0, 12.0), gone(100.0, 61.0), gone(12.0, 10.0, "grasped")]
+    on_floor = [(12.0, 10.0), (300.0, 10.0), None]
+    assert still_there(records, [cup, box, can], on_floor) == [cup]
+    assert still_there(records, [cup, box, can], []) == []  # not the simulator: nothing to check against
+    assert judged(ALL_HANDLED, "all 4 objects were handled", [], [cup, box, can], [cup]) == (
+        SOME_FAILED, "1 reported gone was still on the floor")
+    assert judged(ALL_HANDLED, "w", [can], [cup, box, can], [cup]) == (
+        SOME_FAILED, "1 of 3 objects the simulator placed was never found; 1 reported gone was still on the floor")
+    assert still_there_line([cup]) == ("csl: 1 object reported gone was still on the floor where the robot last "
+                                       "saw them (its scans saw past them): cup at (10, 10)")
 
 
 def test_the_built_map_is_drawn_beside_the_truth_or_alone(tmp_path: Path) -> None:
