@@ -133,9 +133,9 @@ class DriverAction(CslBehaviour):
     (``DRIVER_BACK``). Then it fails, so the step under way starts over from where the
     robot now stands; or, with nothing located yet (the first image), it sends its verb
     again. A driver gone between two verbs (the behaviour's start asked where the robot
-    stands, or sent its verb, with none alive) is a verb lost the same way. A procedure refused as out of range is recorded on the step for the
-    re-approach branch (:meth:`refused_for_range`, ``behaviours.reapproach``). An
-    ``internal`` reply (the driver failed, or its reply was malformed: the zenoh client
+    stands, or sent its verb, with none alive) is a verb lost the same way. A procedure
+    refused as out of range is recorded on the step for the re-approach branch
+    (:meth:`refused_for_range`, ``behaviours.reapproach``). An ``internal`` reply (the driver failed, or its reply was malformed: the zenoh client
     says so with that code) is also a ``driver_fault`` event under the behaviour's
     :meth:`verb`: the run's exit status counts them (``executive.exit_status``).
     """

@@ -170,11 +170,11 @@ class LookFromDock(LookAction):
     def finish(self, result: Any) -> Status:
         self.bb.pose = self.services.driver.state().pose  # the base moved onto the contacts
         self.look(result)
+        pose = self.robot_pose()
         obj = self.bb.get("object")
         if obj is not None and not obj.done:  # resume from here: the session keeps what it measured
             obj.estimator.retarget(obj.region)  # forget prices made on the low charge (dock detours)
-            obj.session.position = obj.estimator.stand_at(self.robot_pose())
-        pose = self.robot_pose()
+            obj.session.position = obj.estimator.stand_at(pose)
         self.feedback_message = f"at ({pose.x_in:.0f}, {pose.y_in:.0f}) after the charge"
         return Status.SUCCESS
 

@@ -144,14 +144,14 @@ def still_there(records: Sequence[ObjectRecord], present: Sequence[Truth],
     from its own scans, and a scan that saw past an object (a grazing view beside a shelf,
     a wall's returns read as the place empty) reports an object gone that never left; in
     the simulator that is checked, and fails the run."""
+    if len(on_floor) != len(present):
+        return []  # not the simulator's truth for these objects: nothing to check against
+    now_of = {id(truth): now for truth, now in zip(present, on_floor)}
     out = []
     for record in records:
         truth = found_truth(record, present) if record.outcome == "gone" else None
-        if truth is None:
-            continue
-        now = on_floor[present.index(truth)] if len(on_floor) == len(present) else None
-        x, y = record.region.centroid
-        if now is not None and math.hypot(now[0] - x, now[1] - y) <= FOUND_WITHIN_IN:
+        now = None if truth is None else now_of[id(truth)]
+        if now is not None and math.dist(now, record.region.centroid) <= FOUND_WITHIN_IN:
             out.append(truth)
     return out
 
